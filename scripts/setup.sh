@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Idempotent setup: install the Debian packages comlearn needs (only the missing ones), then
+# configure and build one CMake preset. Safe to run again; a second run only rebuilds what changed.
+# usage: scripts/setup.sh [PRESET]      (PRESET: default | asan; default: default)
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+preset=${1:-default}
+
+# Build tools and libraries, all from Debian 12. libjchart2d-java feeds lcm-spy's message viewer;
+# a JDK builds the Java jar of our message types for lcm-spy.
+pkgs=(gcc g++ make cmake pkg-config git
+      libode-dev liblcm-dev liblcm-bin liblcm-java libccd-dev libassimp-dev
+      liburdfdom-dev liburdfdom-tools check libglib2.0-dev libjchart2d-java
+      default-jdk-headless iproute2 binutils)
+
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "setup: need root to install packages: ${missing[*]}" >&2
+    exit 1
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+fi
+
+cd "$here"
+cmake --preset "$preset" >&2
+cmake --build --preset "$preset" -j "$(nproc)" >&2
