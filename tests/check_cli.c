@@ -1,0 +1,157 @@
+#define _POSIX_C_SOURCE 200809L
+/* check_cli: the comlearn program as a user runs it: output values and exit codes. */
+#include <check.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#ifndef COMLEARN_BIN
+#error "COMLEARN_BIN must name the comlearn executable"
+#endif
+
+static char tmpdir[256];
+
+/* Run a shell command; capture stdout into out (NUL-terminated); return the exit status. */
+static int run(const char *cmd, char *out, size_t out_size) {
+  FILE *p = popen(cmd, "r");
+  ck_assert_ptr_nonnull(p);
+  size_t n = fread(out, 1, out_size - 1, p);
+  out[n] = '\0';
+  int st = pclose(p);
+  ck_assert(WIFEXITED(st));
+  return WEXITSTATUS(st);
+}
+
+/* The three numbers after "key": [ in a JSON text. */
+static void json_vec(const char *json, const char *key, double v[3]) {
+  char pat[128];
+  snprintf(pat, sizeof pat, "\"%s\": [", key);
+  const char *p = strstr(json, pat);
+  ck_assert_msg(p != NULL, "key %s missing in %s", key, json);
+  p += strlen(pat);
+  char *end;
+  for (int i = 0; i < 3; ++i) {
+    v[i] = strtod(p, &end);
+    ck_assert_msg(end != p, "bad number for %s", key);
+    p = end + 1;
+  }
+}
+
+static double json_num(const char *json, const char *key) {
+  char pat[128];
+  snprintf(pat, sizeof pat, "\"%s\": ", key);
+  const char *p = strstr(json, pat);
+  ck_assert_msg(p != NULL, "key %s missing", key);
+  return strtod(p + strlen(pat), NULL);
+}
+
+/* A 4 x 6 x 2 cm box whose geometry sits at (0.01, -0.02, 0.005) in the link frame, with a true
+ * CoM elsewhere (an uneven body) so the truth cannot be confused with the geometry. */
+static void write_box_urdf(const char *path) {
+  FILE *f = fopen(path, "w");
+  ck_assert_ptr_nonnull(f);
+  fprintf(f,
+          "<?xml version=\"1.0\"?>\n<robot name=\"cli_box\">\n <link name=\"body\">\n"
+          "  <inertial><origin xyz=\"0.013 -0.021 0.004\"/><mass value=\"0.2\"/>\n"
+          "   <inertia ixx=\"6.67e-5\" iyy=\"3.33e-5\" izz=\"8.67e-5\" ixy=\"0\" ixz=\"0\" "
+          "iyz=\"0\"/></inertial>\n"
+          "  <collision><origin xyz=\"0.01 -0.02 0.005\"/>"
+          "<geometry><box size=\"0.04 0.06 0.02\"/></geometry></collision>\n"
+          " </link>\n</robot>\n");
+  fclose(f);
+}
+
+static void setup(void) {
+  snprintf(tmpdir, sizeof tmpdir, "/tmp/check_cli.XXXXXX");
+  ck_assert_ptr_nonnull(mkdtemp(tmpdir));
+}
+
+static void teardown(void) {
+  char cmd[512];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+  ck_assert_int_eq(system(cmd), 0);
+}
+
+START_TEST(inspect_box_json) {
+  char urdf[512], cmd[1024], out[8192];
+  snprintf(urdf, sizeof urdf, "%s/box.urdf", tmpdir);
+  write_box_urdf(urdf);
+  snprintf(cmd, sizeof cmd, "'%s' inspect --json --truth '%s'", COMLEARN_BIN, urdf);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+
+  double center[3], com[3], size[3], truth[3];
+  json_vec(out, "bbox_center_m", center);
+  json_vec(out, "uniform_com_m", com);
+  json_vec(out, "size_m", size);
+  json_vec(out, "truth_com_m", truth);
+  const double want_center[3] = {0.01, -0.02, 0.005}, want_size[3] = {0.04, 0.06, 0.02};
+  const double want_truth[3] = {0.013, -0.021, 0.004};
+  for (int k = 0; k < 3; ++k) {
+    ck_assert_double_eq_tol(center[k], want_center[k], 1e-9);
+    ck_assert_double_eq_tol(com[k], want_center[k], 1e-9);
+    ck_assert_double_eq_tol(size[k], want_size[k], 1e-9);
+    ck_assert_double_eq_tol(truth[k], want_truth[k], 1e-9);
+  }
+  ck_assert_double_eq_tol(json_num(out, "volume_m3"), 0.04 * 0.06 * 0.02, 1e-15);
+  ck_assert_double_eq_tol(json_num(out, "hull_volume_m3"), 0.04 * 0.06 * 0.02, 1e-15);
+  ck_assert_double_eq_tol(json_num(out, "truth_mass_kg"), 0.2, 1e-12);
+  /* |truth - uniform| = |(0.003, -0.001, -0.001)| */
+  ck_assert_double_eq_tol(json_num(out, "truth_minus_uniform_m"), 0.00331662479, 1e-9);
+}
+END_TEST
+
+START_TEST(inspect_without_truth_reports_no_truth) {
+  char urdf[512], cmd[1024], out[8192];
+  snprintf(urdf, sizeof urdf, "%s/box.urdf", tmpdir);
+  write_box_urdf(urdf);
+  snprintf(cmd, sizeof cmd, "'%s' inspect --json '%s'", COMLEARN_BIN, urdf);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert_ptr_null(strstr(out, "truth"));
+  ck_assert_ptr_nonnull(strstr(out, "\"robot\": \"cli_box\""));
+  ck_assert_ptr_nonnull(strstr(out, "\"link\": \"body\""));
+}
+END_TEST
+
+START_TEST(bad_input_exit_codes) {
+  char urdf[512], cmd[1024], out[8192];
+  snprintf(cmd, sizeof cmd, "'%s' 2>/dev/null", COMLEARN_BIN);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  snprintf(cmd, sizeof cmd, "'%s' frobnicate 2>/dev/null", COMLEARN_BIN);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  snprintf(cmd, sizeof cmd, "'%s' inspect 2>/dev/null", COMLEARN_BIN);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  snprintf(cmd, sizeof cmd, "'%s' inspect --bogus x.urdf 2>/dev/null", COMLEARN_BIN);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  snprintf(cmd, sizeof cmd, "'%s' inspect '%s/missing.urdf' 2>&1", COMLEARN_BIN, tmpdir);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  ck_assert_msg(strstr(out, "missing.urdf") != NULL, "error must name the file: %s", out);
+
+  snprintf(urdf, sizeof urdf, "%s/box.urdf", tmpdir);
+  write_box_urdf(urdf);
+  snprintf(cmd, sizeof cmd, "'%s' inspect --link nosuch '%s' 2>&1", COMLEARN_BIN, urdf);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  ck_assert_msg(strstr(out, "nosuch") != NULL, "error must name the link: %s", out);
+
+  snprintf(cmd, sizeof cmd, "'%s' --help", COMLEARN_BIN);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "--truth"));
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("cli");
+  TCase *tc = tcase_create("inspect");
+  tcase_add_checked_fixture(tc, setup, teardown);
+  tcase_set_timeout(tc, 60);
+  tcase_add_test(tc, inspect_box_json);
+  tcase_add_test(tc, inspect_without_truth_reports_no_truth);
+  tcase_add_test(tc, bad_input_exit_codes);
+  suite_add_tcase(s, tc);
+  SRunner *r = srunner_create(s);
+  srunner_run_all(r, CK_NORMAL);
+  int failed = srunner_ntests_failed(r);
+  srunner_free(r);
+  return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
