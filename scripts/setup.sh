@@ -7,11 +7,11 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 preset=${1:-default}
 
 # Build tools and libraries, all from Debian 12. libjchart2d-java feeds lcm-spy's message viewer;
-# a JDK builds the Java jar of our message types for lcm-spy.
+# a JDK builds the Java jar of our message types for lcm-spy, and a JRE with AWT runs lcm-spy.
 pkgs=(gcc g++ make cmake pkg-config git
       libode-dev liblcm-dev liblcm-bin liblcm-java libccd-dev libassimp-dev
       liburdfdom-dev liburdfdom-tools check libglib2.0-dev libjchart2d-java
-      default-jdk-headless iproute2 binutils)
+      default-jdk-headless default-jre iproute2 binutils)
 
 missing=()
 for p in "${pkgs[@]}"; do
