@@ -14,7 +14,10 @@
  * On error, output structs are left zeroed (safe to free). No function prints anything.
  *
  * Thread safety: functions touch only their arguments; distinct objects may be used from
- * distinct threads. Loading (assimp, urdfdom) is reentrant per call.
+ * distinct threads. Loading is reentrant per call, with two process-wide side effects of the
+ * third-party libraries: assimp keeps its last error text in one global string (concurrent failing
+ * loads may report each other's assimp detail), and the first URDF load installs a silent
+ * console_bridge output handler for the whole process (see model_object_load).
  */
 #ifndef COMLEARN_MODEL_H
 #define COMLEARN_MODEL_H
@@ -69,6 +72,7 @@ typedef struct {
 typedef struct {
   size_t merged_vertices;      /* exact-duplicate vertices joined */
   size_t removed_degenerate;   /* triangles with a repeated vertex index or zero area, dropped */
+  size_t removed_unreferenced; /* vertices no remaining triangle uses, dropped */
   int flipped;                 /* 1 when the mesh was inside-out and every triangle was flipped */
 } model_mesh_report_t;
 
@@ -78,21 +82,52 @@ void model_mesh_free(model_mesh_t *mesh);
 /* Deep copy of src into dst (dst must not own arrays). May allocate. */
 model_status_t model_mesh_copy(const model_mesh_t *src, model_mesh_t *dst);
 
-/* Validate a mesh in place: every number finite; exact-duplicate vertices joined; degenerate
- * triangles dropped; every edge shared by exactly two triangles with opposite orientation
- * (else MODEL_E_OPEN or MODEL_E_ORIENT); a mesh whose signed volume is negative (inside-out) is
- * repaired by flipping all triangles. `report` may be NULL. May reallocate the arrays. */
+/* Validate a mesh in place, O(n log n) (sorting vertices and edges). In this order:
+ *   rejected  MODEL_E_ARG         NULL arrays, a vertex index out of range, > 2^32 vertices
+ *   rejected  MODEL_E_DEGENERATE  no vertices or triangles
+ *   rejected  MODEL_E_NONFINITE   a NaN or infinite coordinate (the message names the vertex)
+ *   repaired  vertices with bit-identical coordinates are joined (report->merged_vertices)
+ *   repaired  triangles with a repeated vertex (after joining) or an exactly zero cross product
+ *             are dropped (report->removed_degenerate); when the dropped triangle filled a hole
+ *             the mesh then fails the closedness test below
+ *   repaired  vertices no triangle uses are dropped (report->removed_unreferenced)
+ *   rejected  MODEL_E_DEGENERATE  fewer than 4 triangles left
+ *   rejected  MODEL_E_OPEN        an undirected edge used by 1 triangle (boundary) or by more than
+ *                                 2 (non-manifold, e.g. two solids sharing an edge)
+ *   rejected  MODEL_E_ORIENT      an edge used twice in the same direction (neighbouring
+ *                                 triangles wound oppositely: which side is outside is unknown)
+ *   rejected  MODEL_E_DEGENERATE  |signed volume| <= 1e-12 * (largest bbox extent)^3
+ *   repaired  signed volume < 0 (inside-out): every triangle flipped (report->flipped = 1)
+ * Orientation is judged for the whole mesh, not per shell: a shell inside another with inward
+ * triangles is a cavity and is kept as it is. Vertices shared by otherwise separate sheets
+ * (non-manifold vertices) are accepted. Surviving vertices keep their relative order.
+ * On success the arrays may have been reallocated; on error the mesh is left unchanged.
+ * `report` may be NULL; it is filled as far as the check got. Allocates temporary memory. */
 model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
                                 model_error_t *err);
 
-/* Load a mesh file through assimp (STL, OBJ, PLY, DAE and whatever else assimp reads), all its
- * meshes merged with their node transforms applied, triangulated, scaled per axis by scale[3]
- * (NULL means 1,1,1), then model_mesh_check()ed. DAE files carry a unit; it is honoured. */
+/* Load a mesh file through assimp's C API: STL (ascii and binary), OBJ, PLY (ascii and binary),
+ * DAE, glTF and whatever else assimp 5.2 reads (chosen by extension, then by content). Every mesh
+ * the node tree references is merged in, with its node transforms applied (in double); polygons
+ * are triangulated, points and lines dropped. Vertices are joined by position (assimp's
+ * JoinIdenticalVertices after dropping normals and texture coordinates; STL's three vertices per
+ * facet become one), then scaled per axis by scale[3] (NULL means 1,1,1; a negative component
+ * mirrors, and the winding is flipped with it so the mesh stays outward), then model_mesh_check()ed
+ * and `report` filled. Collada: <unit meter="..."> is honoured; <up_axis> is ignored (no Y-up
+ * rotation: coordinates as written, as ROS's rviz and geometric_shapes do). Files store floats,
+ * so coordinates carry float precision.
+ * Errors (the message names the file): MODEL_E_ARG (NULL/empty path, NULL out, a zero scale),
+ * MODEL_E_NONFINITE (non-finite scale or vertex), MODEL_E_NOFILE (missing, unreadable, a folder),
+ * MODEL_E_PARSE (empty, corrupt, truncated, unknown format, no triangles), and every error of
+ * model_mesh_check(). On error *out is zeroed. Allocates. */
 model_status_t model_mesh_load(const char *path, const double scale[3], model_mesh_t *out,
                                model_mesh_report_t *report, model_error_t *err);
 
-/* Write a mesh through assimp's exporter. format: "stl" (binary), "stlb", "obj", "ply",
- * "plyb", "collada" - any assimp export format id. */
+/* Write a mesh through assimp's exporter (aiExportScene on a one-mesh scene built here). format is
+ * an assimp export id: "stl" (ascii), "stlb" (binary), "obj" (also writes NAME.mtl beside it),
+ * "ply" (ascii), "plyb" (binary), "collada", "glb2", ... Coordinates are written as float.
+ * MODEL_E_ARG (NULL, empty mesh, index out of range), MODEL_E_NONFINITE, MODEL_E_UNSUPPORTED (no
+ * exporter of that id), MODEL_E_NOFILE (assimp could not write the file). Allocates temporarily. */
 model_status_t model_mesh_save(const model_mesh_t *mesh, const char *path, const char *format,
                                model_error_t *err);
 
@@ -121,8 +156,15 @@ typedef struct {
  * prior (the uniform-density CoM). density_kg_m3 must be finite and > 0. */
 model_status_t model_mesh_mass(const model_mesh_t *mesh, double density_kg_m3, model_mass_t *out);
 
-/* Convex hull of a mesh's vertices as a closed, outward mesh whose vertices are a subset of the
- * input's. Coplanar hull facets come out triangulated. Allocates. */
+/* Convex hull of a mesh's vertices (its triangles are ignored) as a closed, outward mesh whose
+ * vertices are a subset of the input's, in input order. Quickhull with conflict lists: a point
+ * counts as outside a face only when it is more than 1e-10 x (bounding-box diagonal) above it, so
+ * duplicate, interior and coplanar points are discarded; every input point lies within that
+ * tolerance of the inner side of every hull face. Coplanar hull facets come out triangulated, and
+ * a point in the middle of a flat facet may remain a vertex. Iterations are capped at the point
+ * count. MODEL_E_ARG (NULL), MODEL_E_NONFINITE, MODEL_E_HULL (fewer than 4 points, all
+ * coincident, collinear or coplanar, or a numerical failure - reported, never patched). On error
+ * *hull is zeroed. Allocates; about 10-20 ms for 5000 points all on the hull. */
 model_status_t model_mesh_hull(const model_mesh_t *mesh, model_mesh_t *hull, model_error_t *err);
 
 /* An object as the estimator sees it: the collision geometry of one URDF link. */
@@ -134,10 +176,38 @@ typedef struct {
   model_aabb_t aabb;      /* bounding box of mesh, link frame */
 } model_object_t;
 
-/* Load a link's geometry from a URDF: its <collision> elements (or <visual> when it has none):
- * meshes (relative and package:// paths resolved against the URDF's folder, `scale` honoured) and
- * boxes, each placed by its <origin>. link_name NULL means the root link. Reads no inertial data.
- * urdfdom's console output is silenced and its exceptions caught. */
+/* Load a link's geometry from a URDF: all its <collision> elements (or all <visual> elements
+ * when it has no <collision>), each placed in the link frame by its <origin> (xyz, rpy as URDF
+ * defines it: R = Rz(yaw) Ry(pitch) Rx(roll)):
+ *   <mesh>      loaded with model_mesh_load(), `scale` honoured (applied before the origin)
+ *   <box>       8 vertices, 12 triangles, exact
+ *   <sphere>    tessellated: UV sphere, 16 bands x 32 segments, vertices on the sphere (inscribed,
+ *               1.6 % less volume than the sphere)
+ *   <cylinder>  tessellated: 64-sided prism along z, vertices on the circles (inscribed)
+ * Mesh file names:
+ *   absolute "/..." or "file:///..."  used as is
+ *   relative "a/b.stl", "../b.stl"    relative to the folder holding the URDF
+ *   "package://NAME/REST" (also Gazebo's "model://NAME/REST")  for each folder D from the URDF's
+ *               folder up to the root (64 levels at most), the first that exists of: D/REST when D
+ *               is named NAME, D/NAME/REST, D/REST. No ROS_PACKAGE_PATH lookup.
+ *   any other "scheme://"             MODEL_E_UNSUPPORTED
+ * mesh_path gets the canonical path (realpath) of the first mesh. All elements are concatenated
+ * into one mesh and model_mesh_check()ed as a whole: elements must not share an edge (a
+ * non-manifold edge is MODEL_E_OPEN); overlapping elements are accepted but their common volume
+ * counts twice in mass properties. link_name NULL means the root link. Names longer than 127
+ * bytes are truncated.
+ * Reads no inertial data: this code cannot even name urdfdom's inertial member (a compile-time
+ * guard) and a CTest checks the archive's symbols. urdfdom still parses the whole file, inertial
+ * included, into a model that is freed before returning.
+ * urdfdom: every exception is caught; its console output is captured by an output handler that
+ * prints nothing (installed once per process with console_bridge::useOutputHandler, log level
+ * ERROR); and because urdfdom drops an element it cannot parse (e.g. a <collision> with "nan" in
+ * it) and carries on, any error it logs rejects the file as MODEL_E_PARSE with urdfdom's text.
+ * Errors (messages name the URDF, the link and the mesh): MODEL_E_ARG, MODEL_E_NOFILE (URDF or
+ * mesh missing), MODEL_E_PARSE (malformed XML, not a URDF, an element urdfdom rejected, a bad
+ * package URI), MODEL_E_NOLINK (lists the links), MODEL_E_NOGEOM, MODEL_E_UNSUPPORTED,
+ * MODEL_E_NONFINITE, MODEL_E_DEGENERATE (a zero box, sphere or cylinder) and the mesh errors.
+ * On error *out is zeroed. Allocates. */
 model_status_t model_object_load(const char *urdf_path, const char *link_name,
                                  model_object_t *out, model_error_t *err);
 

@@ -1,0 +1,527 @@
+/* hull.c - 3-D convex hull by quickhull with conflict lists.
+ *
+ * Points are centred on their bounding box; a point counts as outside a face only when it is more
+ * than tol = 1e-10 * (bbox diagonal) above it, so coplanar, duplicate and interior points are
+ * discarded instead of creating slivers. A point outside a deleted face is either outside one of
+ * the new cone faces or inside the new hull (the points of the cone above a visible face all lie
+ * between the eye and the old surface), so conflicts are only redistributed to new faces. Each
+ * iteration turns one point into a hull vertex, so n iterations bound the loop. The horizon is
+ * walked depth first, which lists its edges as one closed loop; a horizon that is not a single
+ * loop (possible only through rounding) is reported as MODEL_E_HULL rather than patched. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "model_internal.h"
+
+#define NONE UINT32_MAX
+
+typedef struct {
+  uint32_t v[3];     /* counter-clockwise seen from outside */
+  uint32_t nb[3];    /* face across the edge v[i] -> v[i+1] */
+  double n[3];       /* unit outward normal */
+  double d;          /* plane: n . x = d */
+  uint32_t conflict; /* head of this face's outside-point list */
+  uint8_t alive;
+  uint8_t visible;
+} face_t;
+
+typedef struct {
+  const double (*p)[3];  /* centred points */
+  size_t n;
+  double tol;
+  face_t *faces;
+  size_t face_count, face_cap;
+  uint32_t *next;        /* conflict list links, per point */
+  uint32_t *stack;       /* faces that may have conflicts */
+  size_t stack_count, stack_cap;
+} hull_t;
+
+static int grow(void **arr, size_t *cap, size_t need, size_t elem) {
+  if (need <= *cap) {
+    return 1;
+  }
+  size_t cap2 = *cap > 0 ? *cap : 64;
+  while (cap2 < need) {
+    cap2 *= 2;
+  }
+  void *p = realloc(*arr, cap2 * elem);
+  if (p == NULL) {
+    return 0;
+  }
+  *arr = p;
+  *cap = cap2;
+  return 1;
+}
+
+static double face_dist(const hull_t *h, const face_t *f, uint32_t i) {
+  const double *q = h->p[i];
+  return f->n[0] * q[0] + f->n[1] * q[1] + f->n[2] * q[2] - f->d;
+}
+
+/* New face a, b, c; plane through its centroid. Returns its index or NONE (no memory). */
+static uint32_t face_new(hull_t *h, uint32_t a, uint32_t b, uint32_t c) {
+  if (h->face_count >= UINT32_MAX - 1 ||
+      !grow((void **)&h->faces, &h->face_cap, h->face_count + 1, sizeof *h->faces)) {
+    return NONE;
+  }
+  face_t *f = &h->faces[h->face_count];
+  memset(f, 0, sizeof *f);
+  f->v[0] = a;
+  f->v[1] = b;
+  f->v[2] = c;
+  f->nb[0] = f->nb[1] = f->nb[2] = NONE;
+  f->conflict = NONE;
+  f->alive = 1;
+  const double *pa = h->p[a], *pb = h->p[b], *pc = h->p[c];
+  double u[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+  double w[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
+  double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+  double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (len > 0.0) {
+    for (int k = 0; k < 3; ++k) {
+      f->n[k] = n[k] / len;
+    }
+  }
+  f->d = (f->n[0] * (pa[0] + pb[0] + pc[0]) + f->n[1] * (pa[1] + pb[1] + pc[1]) +
+          f->n[2] * (pa[2] + pb[2] + pc[2])) / 3.0;
+  return (uint32_t)h->face_count++;
+}
+
+static int push_face(hull_t *h, uint32_t f) {
+  if (!grow((void **)&h->stack, &h->stack_cap, h->stack_count + 1, sizeof *h->stack)) {
+    return 0;
+  }
+  h->stack[h->stack_count++] = f;
+  return 1;
+}
+
+/* Give point i to the first face in faces[] it is outside of; 0 when it is inside all. */
+static int assign_point(hull_t *h, uint32_t i, const uint32_t *faces, size_t count) {
+  for (size_t k = 0; k < count; ++k) {
+    face_t *f = &h->faces[faces[k]];
+    if (face_dist(h, f, i) > h->tol) {
+      h->next[i] = f->conflict;
+      f->conflict = i;
+      return 1;
+    }
+  }
+  return 0;
+}
+
+/* Index of the edge of face g that runs b -> a (the twin of a -> b), or -1. */
+static int twin_edge(const face_t *g, uint32_t a, uint32_t b) {
+  for (int k = 0; k < 3; ++k) {
+    if (g->v[k] == b && g->v[(k + 1) % 3] == a) {
+      return k;
+    }
+  }
+  return -1;
+}
+
+static model_status_t initial_simplex(hull_t *h, model_error_t *err, uint32_t tet[4]) {
+  /* Two points farthest apart along an axis. */
+  uint32_t lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  for (uint32_t i = 0; i < h->n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      if (h->p[i][k] < h->p[lo[k]][k]) {
+        lo[k] = i;
+      }
+      if (h->p[i][k] > h->p[hi[k]][k]) {
+        hi[k] = i;
+      }
+    }
+  }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (h->p[hi[k]][k] - h->p[lo[k]][k] > h->p[hi[axis]][axis] - h->p[lo[axis]][axis]) {
+      axis = k;
+    }
+  }
+  uint32_t a = lo[axis], b = hi[axis];
+  if (!(h->p[b][axis] - h->p[a][axis] > h->tol)) {
+    return model_fail(err, MODEL_E_HULL, "convex hull: all %zu points coincide", h->n);
+  }
+  /* Farthest from the line a-b. */
+  const double *pa = h->p[a], *pb = h->p[b];
+  double dir[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+  double dlen = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  uint32_t c = NONE;
+  double best = 0.0;
+  for (uint32_t i = 0; i < h->n; ++i) {
+    const double *q = h->p[i];
+    double r[3] = {q[0] - pa[0], q[1] - pa[1], q[2] - pa[2]};
+    double x[3] = {r[1] * dir[2] - r[2] * dir[1], r[2] * dir[0] - r[0] * dir[2],
+                   r[0] * dir[1] - r[1] * dir[0]};
+    double dist = sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]) / dlen;
+    if (dist > best) {
+      best = dist;
+      c = i;
+    }
+  }
+  if (c == NONE || !(best > h->tol)) {
+    return model_fail(err, MODEL_E_HULL, "convex hull: all %zu points are collinear", h->n);
+  }
+  /* Farthest from the plane a-b-c. */
+  const double *pc = h->p[c];
+  double u[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+  double w[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
+  double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+  double nlen = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  uint32_t d = NONE;
+  double best_signed = 0.0;
+  best = 0.0;
+  for (uint32_t i = 0; i < h->n; ++i) {
+    const double *q = h->p[i];
+    double s = (n[0] * (q[0] - pa[0]) + n[1] * (q[1] - pa[1]) + n[2] * (q[2] - pa[2])) / nlen;
+    if (fabs(s) > best) {
+      best = fabs(s);
+      best_signed = s;
+      d = i;
+    }
+  }
+  if (d == NONE || !(best > h->tol)) {
+    return model_fail(err, MODEL_E_HULL, "convex hull: all %zu points are coplanar", h->n);
+  }
+  /* Orient a-b-c away from d. */
+  if (best_signed > 0.0) {
+    uint32_t t = b;
+    b = c;
+    c = t;
+  }
+  tet[0] = a;
+  tet[1] = b;
+  tet[2] = c;
+  tet[3] = d;
+  return MODEL_OK;
+}
+
+static model_status_t build(hull_t *h, model_error_t *err) {
+  uint32_t tet[4] = {0, 0, 0, 0};
+  model_status_t st = initial_simplex(h, err, tet);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  const uint32_t a = tet[0], b = tet[1], c = tet[2], d = tet[3];
+  /* a-b-c faces away from d; the other three faces wind to match. */
+  uint32_t f0 = face_new(h, a, b, c);
+  uint32_t f1 = face_new(h, a, d, b);
+  uint32_t f2 = face_new(h, b, d, c);
+  uint32_t f3 = face_new(h, c, d, a);
+  if (f0 == NONE || f1 == NONE || f2 == NONE || f3 == NONE) {
+    return MODEL_E_NOMEM;
+  }
+  uint32_t first[4] = {f0, f1, f2, f3};
+  for (int i = 0; i < 4; ++i) {
+    face_t *f = &h->faces[first[i]];
+    for (int k = 0; k < 3; ++k) {
+      for (int j = 0; j < 4; ++j) {
+        if (j != i && twin_edge(&h->faces[first[j]], f->v[k], f->v[(k + 1) % 3]) >= 0) {
+          f->nb[k] = first[j];
+        }
+      }
+    }
+  }
+  for (uint32_t i = 0; i < h->n; ++i) {
+    if (i != a && i != b && i != c && i != d) {
+      (void)assign_point(h, i, first, 4);
+    }
+  }
+  for (int i = 0; i < 4; ++i) {
+    if (h->faces[first[i]].conflict != NONE && !push_face(h, first[i])) {
+      return MODEL_E_NOMEM;
+    }
+  }
+
+  /* Work arrays reused by every iteration. */
+  typedef struct {
+    uint32_t face;
+    uint8_t first, count, i;
+  } frame_t;
+  frame_t *frames = NULL;
+  size_t frame_cap = 0;
+  uint32_t *visible = NULL, *horizon_face = NULL, *new_faces = NULL;
+  uint8_t *horizon_edge = NULL;
+  size_t visible_cap = 0, horizon_cap = 0, horizon_edge_cap = 0, new_cap = 0;
+  st = MODEL_OK;
+
+  size_t iterations = 0;
+  while (h->stack_count > 0) {
+    uint32_t fi = h->stack[--h->stack_count];
+    if (!h->faces[fi].alive || h->faces[fi].conflict == NONE) {
+      continue;
+    }
+    if (++iterations > h->n) {
+      st = model_fail(err, MODEL_E_HULL, "convex hull: iteration cap (%zu) reached", h->n);
+      break;
+    }
+    /* The eye: the farthest outside point of this face. */
+    uint32_t eye = NONE;
+    double far = -1.0;
+    for (uint32_t q = h->faces[fi].conflict; q != NONE; q = h->next[q]) {
+      double dist = face_dist(h, &h->faces[fi], q);
+      if (dist > far) {
+        far = dist;
+        eye = q;
+      }
+    }
+
+    /* Depth-first over the faces visible from the eye; edges to invisible faces form the
+     * horizon, in loop order. */
+    size_t nvis = 0, nhor = 0, nframes = 0;
+    if (!grow((void **)&frames, &frame_cap, 1, sizeof *frames) ||
+        !grow((void **)&visible, &visible_cap, 1, sizeof *visible)) {
+      st = MODEL_E_NOMEM;
+      break;
+    }
+    h->faces[fi].visible = 1;
+    visible[nvis++] = fi;
+    frames[nframes++] = (frame_t){fi, 0, 3, 0};
+    while (nframes > 0 && st == MODEL_OK) {
+      frame_t *fr = &frames[nframes - 1];
+      if (fr->i == fr->count) {
+        --nframes;
+        continue;
+      }
+      int e = (fr->first + fr->i) % 3;
+      fr->i++;
+      const face_t *f = &h->faces[fr->face];
+      uint32_t g = f->nb[e];
+      if (g == NONE) {
+        st = model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency");
+        break;
+      }
+      if (h->faces[g].visible) {
+        continue;
+      }
+      if (face_dist(h, &h->faces[g], eye) > h->tol) {
+        int j = twin_edge(&h->faces[g], f->v[e], f->v[(e + 1) % 3]);
+        if (j < 0 || !grow((void **)&frames, &frame_cap, nframes + 1, sizeof *frames) ||
+            !grow((void **)&visible, &visible_cap, nvis + 1, sizeof *visible)) {
+          st = j < 0 ? model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency")
+                     : MODEL_E_NOMEM;
+          break;
+        }
+        h->faces[g].visible = 1;
+        visible[nvis++] = g;
+        frames[nframes++] = (frame_t){g, (uint8_t)((j + 1) % 3), 2, 0};
+      } else {
+        if (!grow((void **)&horizon_face, &horizon_cap, nhor + 1, sizeof *horizon_face) ||
+            !grow((void **)&horizon_edge, &horizon_edge_cap, nhor + 1, sizeof *horizon_edge)) {
+          st = MODEL_E_NOMEM;
+          break;
+        }
+        horizon_face[nhor] = fr->face;
+        horizon_edge[nhor] = (uint8_t)e;
+        ++nhor;
+      }
+    }
+    if (st != MODEL_OK) {
+      break;
+    }
+    /* The horizon must be one closed loop. */
+    int loop_ok = nhor >= 3;
+    for (size_t k = 0; k < nhor && loop_ok; ++k) {
+      const face_t *f = &h->faces[horizon_face[k]];
+      const face_t *g = &h->faces[horizon_face[(k + 1) % nhor]];
+      loop_ok = f->v[(horizon_edge[k] + 1) % 3] == g->v[horizon_edge[(k + 1) % nhor]];
+    }
+    if (!loop_ok) {
+      st = model_fail(err, MODEL_E_HULL,
+                      "convex hull: numerical failure (horizon of %zu edges is not one loop)",
+                      nhor);
+      break;
+    }
+
+    /* The cone of new faces from the horizon to the eye. */
+    if (!grow((void **)&new_faces, &new_cap, nhor, sizeof *new_faces)) {
+      st = MODEL_E_NOMEM;
+      break;
+    }
+    for (size_t k = 0; k < nhor && st == MODEL_OK; ++k) {
+      const face_t *f = &h->faces[horizon_face[k]];
+      int e = horizon_edge[k];
+      uint32_t va = f->v[e], vb = f->v[(e + 1) % 3], outer = f->nb[e];
+      uint32_t nf = face_new(h, va, vb, eye);  /* may move h->faces */
+      if (nf == NONE) {
+        st = MODEL_E_NOMEM;
+        break;
+      }
+      new_faces[k] = nf;
+      h->faces[nf].nb[0] = outer;
+      int j = twin_edge(&h->faces[outer], va, vb);
+      if (j < 0) {
+        st = model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency");
+        break;
+      }
+      h->faces[outer].nb[j] = nf;
+    }
+    if (st != MODEL_OK) {
+      break;
+    }
+    for (size_t k = 0; k < nhor; ++k) {
+      h->faces[new_faces[k]].nb[1] = new_faces[(k + 1) % nhor];
+      h->faces[new_faces[k]].nb[2] = new_faces[(k + nhor - 1) % nhor];
+    }
+
+    /* Retire the visible faces; their points go to the new faces or are inside. */
+    for (size_t k = 0; k < nvis; ++k) {
+      face_t *f = &h->faces[visible[k]];
+      f->alive = 0;
+      uint32_t q = f->conflict;
+      f->conflict = NONE;
+      while (q != NONE) {
+        uint32_t nq = h->next[q];
+        if (q != eye) {
+          (void)assign_point(h, q, new_faces, nhor);
+        }
+        q = nq;
+      }
+    }
+    for (size_t k = 0; k < nhor; ++k) {
+      if (h->faces[new_faces[k]].conflict != NONE && !push_face(h, new_faces[k])) {
+        st = MODEL_E_NOMEM;
+        break;
+      }
+    }
+    if (st != MODEL_OK) {
+      break;
+    }
+  }
+  free(frames);
+  free(visible);
+  free(horizon_face);
+  free(horizon_edge);
+  free(new_faces);
+  return st;
+}
+
+model_status_t model_mesh_hull(const model_mesh_t *mesh, model_mesh_t *hull, model_error_t *err) {
+  if (hull == NULL) {
+    return model_fail(err, MODEL_E_ARG, "hull output is NULL");
+  }
+  memset(hull, 0, sizeof *hull);
+  if (mesh == NULL || (mesh->vertex_count > 0 && mesh->vertices_m == NULL)) {
+    return model_fail(err, MODEL_E_ARG, "hull input mesh is NULL");
+  }
+  const size_t n = mesh->vertex_count;
+  if (n < 4) {
+    return model_fail(err, MODEL_E_HULL, "convex hull needs >= 4 points, got %zu", n);
+  }
+  if (n >= UINT32_MAX) {
+    return model_fail(err, MODEL_E_ARG, "convex hull: too many points (%zu)", n);
+  }
+  double lo[3], hi[3];
+  memcpy(lo, mesh->vertices_m[0], sizeof lo);
+  memcpy(hi, mesh->vertices_m[0], sizeof hi);
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      double v = mesh->vertices_m[i][k];
+      if (!isfinite(v)) {
+        return model_fail(err, MODEL_E_NONFINITE, "convex hull: vertex %zu is not finite", i);
+      }
+      lo[k] = fmin(lo[k], v);
+      hi[k] = fmax(hi[k], v);
+    }
+  }
+  double center[3], diag2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    center[k] = 0.5 * (lo[k] + hi[k]);
+    diag2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+  }
+
+  hull_t h;
+  memset(&h, 0, sizeof h);
+  model_status_t st = MODEL_OK;
+  double(*p)[3] = malloc(n * sizeof *p);
+  h.next = malloc(n * sizeof *h.next);
+  uint32_t *newindex = malloc(n * sizeof *newindex);
+  if (p == NULL || h.next == NULL || newindex == NULL) {
+    st = MODEL_E_NOMEM;
+    goto done;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      p[i][k] = mesh->vertices_m[i][k] - center[k];
+    }
+    h.next[i] = NONE;
+    newindex[i] = NONE;
+  }
+  h.p = (const double(*)[3])p;
+  h.n = n;
+  h.tol = fmax(1e-10 * sqrt(diag2), 8.0 * DBL_MIN);
+  st = build(&h, err);
+  if (st != MODEL_OK) {
+    goto done;
+  }
+
+  size_t nf = 0, nv = 0;
+  for (size_t f = 0; f < h.face_count; ++f) {
+    if (h.faces[f].alive) {
+      ++nf;
+      for (int k = 0; k < 3; ++k) {
+        if (newindex[h.faces[f].v[k]] == NONE) {
+          newindex[h.faces[f].v[k]] = 0; /* mark; numbered below in input order */
+        }
+      }
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (newindex[i] == 0) {
+      newindex[i] = (uint32_t)nv++;
+    }
+  }
+  st = model_mesh_alloc(hull, nv, nf);
+  if (st != MODEL_OK) {
+    goto done;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (newindex[i] != NONE) {
+      memcpy(hull->vertices_m[newindex[i]], mesh->vertices_m[i], sizeof hull->vertices_m[0]);
+    }
+  }
+  size_t t = 0;
+  for (size_t f = 0; f < h.face_count; ++f) {
+    if (h.faces[f].alive) {
+      for (int k = 0; k < 3; ++k) {
+        hull->triangles[t][k] = newindex[h.faces[f].v[k]];
+      }
+      ++t;
+    }
+  }
+  /* The construction is closed and outward by design; verify it in O(faces) rather than trust
+   * rounding: every edge has a live twin that points back, and the volume is positive. */
+  double volume6 = 0.0;
+  int broken = 0;
+  for (size_t f = 0; f < h.face_count && !broken; ++f) {
+    const face_t *fa = &h.faces[f];
+    if (!fa->alive) {
+      continue;
+    }
+    for (int k = 0; k < 3 && !broken; ++k) {
+      uint32_t g = fa->nb[k];
+      int j = g == NONE ? -1 : twin_edge(&h.faces[g], fa->v[k], fa->v[(k + 1) % 3]);
+      broken = j < 0 || !h.faces[g].alive || h.faces[g].nb[j] != f;
+    }
+    const double *a = p[fa->v[0]], *b = p[fa->v[1]], *c = p[fa->v[2]];
+    volume6 += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+               a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  if (broken || !(volume6 > 0.0)) {
+    st = model_fail(err, MODEL_E_HULL, "convex hull: numerical failure (%s)",
+                    broken ? "broken face adjacency" : "non-positive volume");
+    model_mesh_free(hull);
+  }
+
+done:
+  if (st == MODEL_E_NOMEM) {
+    (void)model_fail(err, st, "convex hull: out of memory for %zu points", n);
+  }
+  free(p);
+  free(h.next);
+  free(h.faces);
+  free(h.stack);
+  free(newindex);
+  return st;
+}

@@ -1,0 +1,189 @@
+/* inertial.c - the inertial truth of a URDF link, and physical checks of mass properties.
+ * Part of comlearn_model_sim only. */
+#include <math.h>
+#include <string.h>
+
+#include "comlearn/model_inertial.h"
+#include "model_internal.h"
+
+enum { JACOBI_MAX_SWEEPS = 64 };
+
+static const double SYMMETRY_TOL = 1e-9;
+static const double TRIANGLE_TOL = 1e-9;
+
+model_status_t model_inertia_principal(const double inertia_kg_m2[3][3], double moments[3],
+                                       double axes[3][3]) {
+  if (inertia_kg_m2 == NULL || moments == NULL || axes == NULL) {
+    return MODEL_E_ARG;
+  }
+  double a[3][3], v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  double scale = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (!isfinite(inertia_kg_m2[i][j])) {
+        return MODEL_E_INERTIAL;
+      }
+      /* Symmetrise: only the symmetric part has real eigenvalues and orthogonal axes. */
+      a[i][j] = 0.5 * (inertia_kg_m2[i][j] + inertia_kg_m2[j][i]);
+      scale += a[i][j] * a[i][j];
+    }
+  }
+  /* Cyclic Jacobi: rotate each off-diagonal pair to zero; converges quadratically. */
+  int converged = 0;
+  for (int sweep = 0; sweep < JACOBI_MAX_SWEEPS; ++sweep) {
+    double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+    if (off <= 1e-32 * scale) {
+      converged = 1;
+      break;
+    }
+    for (int p = 0; p < 2; ++p) {
+      for (int q = p + 1; q < 3; ++q) {
+        if (a[p][q] == 0.0) {
+          continue;
+        }
+        double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+        double t = (theta >= 0.0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+        double c = 1.0 / sqrt(t * t + 1.0);
+        double s = t * c;
+        /* a <- J^T a J with J the rotation in the (p, q) plane. */
+        for (int k = 0; k < 3; ++k) {
+          double akp = a[k][p], akq = a[k][q];
+          a[k][p] = c * akp - s * akq;
+          a[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 3; ++k) {
+          double apk = a[p][k], aqk = a[q][k];
+          a[p][k] = c * apk - s * aqk;
+          a[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 3; ++k) {
+          double vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = c * vkp - s * vkq;
+          v[k][q] = s * vkp + c * vkq;
+        }
+      }
+    }
+  }
+  if (!converged) {
+    return MODEL_E_INERTIAL;
+  }
+  /* Sort ascending (columns move with their moments), then make the frame right-handed. */
+  int order[3] = {0, 1, 2};
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i + 1; j < 3; ++j) {
+      if (a[order[j]][order[j]] < a[order[i]][order[i]]) {
+        int t = order[i];
+        order[i] = order[j];
+        order[j] = t;
+      }
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    moments[i] = a[order[i]][order[i]];
+    for (int k = 0; k < 3; ++k) {
+      axes[k][i] = v[k][order[i]];
+    }
+  }
+  double det = axes[0][0] * (axes[1][1] * axes[2][2] - axes[1][2] * axes[2][1]) -
+               axes[0][1] * (axes[1][0] * axes[2][2] - axes[1][2] * axes[2][0]) +
+               axes[0][2] * (axes[1][0] * axes[2][1] - axes[1][1] * axes[2][0]);
+  if (det < 0.0) {
+    for (int k = 0; k < 3; ++k) {
+      axes[k][2] = -axes[k][2];
+    }
+  }
+  return MODEL_OK;
+}
+
+model_status_t model_mass_check(const model_mass_t *mass, model_error_t *err) {
+  if (mass == NULL) {
+    return model_fail(err, MODEL_E_ARG, "mass properties are NULL");
+  }
+  const double(*I)[3] = mass->inertia_kg_m2;
+  int finite = isfinite(mass->mass_kg);
+  for (int i = 0; i < 3; ++i) {
+    finite = finite && isfinite(mass->com_m[i]);
+    for (int j = 0; j < 3; ++j) {
+      finite = finite && isfinite(I[i][j]);
+    }
+  }
+  if (!finite) {
+    return model_fail(err, MODEL_E_INERTIAL, "mass, center of mass or inertia is not finite");
+  }
+  if (!(mass->mass_kg > 0.0)) {
+    return model_fail(err, MODEL_E_INERTIAL, "mass %g kg is not positive", mass->mass_kg);
+  }
+  double scale = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      scale = fmax(scale, fabs(I[i][j]));
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i + 1; j < 3; ++j) {
+      if (fabs(I[i][j] - I[j][i]) > SYMMETRY_TOL * scale) {
+        return model_fail(err, MODEL_E_INERTIAL, "inertia is not symmetric: I[%d][%d] = %g, "
+                          "I[%d][%d] = %g", i, j, I[i][j], j, i, I[j][i]);
+      }
+    }
+  }
+  double m[3], axes[3][3];
+  if (model_inertia_principal(I, m, axes) != MODEL_OK) {
+    return model_fail(err, MODEL_E_INERTIAL, "principal moments of inertia did not converge");
+  }
+  if (!(m[0] > 0.0)) {
+    return model_fail(err, MODEL_E_INERTIAL,
+                      "inertia is not positive definite: principal moments %g, %g, %g kg m^2",
+                      m[0], m[1], m[2]);
+  }
+  /* Ascending order: only the largest can exceed the sum of the other two. */
+  if (m[2] > (m[0] + m[1]) * (1.0 + TRIANGLE_TOL)) {
+    return model_fail(err, MODEL_E_INERTIA_TRIANGLE,
+                      "principal moments %g, %g, %g kg m^2 violate the triangle inequality "
+                      "(%g > %g + %g)", m[0], m[1], m[2], m[2], m[0], m[1]);
+  }
+  return MODEL_OK;
+}
+
+model_status_t model_inertial_load(const char *urdf_path, const char *link_name,
+                                   model_mass_t *out, model_error_t *err) {
+  if (out == NULL) {
+    return model_fail(err, MODEL_E_ARG, "model_inertial_load: NULL output");
+  }
+  memset(out, 0, sizeof *out);
+  model_urdf_inertial_t in;
+  model_status_t st = model_urdf_inertial_read(urdf_path, link_name, &in, err);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  model_mass_t m;
+  memset(&m, 0, sizeof m);
+  m.mass_kg = in.mass_kg;
+  memcpy(m.com_m, in.com_m, sizeof m.com_m);
+  /* Inertia in link axes: R I R^T, R = link <- inertial frame. */
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      double s = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        for (int l = 0; l < 3; ++l) {
+          s += in.rot[i][k] * in.inertia_kg_m2[k][l] * in.rot[j][l];
+        }
+      }
+      m.inertia_kg_m2[i][j] = s;
+    }
+  }
+  /* Rounding in R I R^T leaves an asymmetry of a few ulps; make it exact. */
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i + 1; j < 3; ++j) {
+      double s = 0.5 * (m.inertia_kg_m2[i][j] + m.inertia_kg_m2[j][i]);
+      m.inertia_kg_m2[i][j] = m.inertia_kg_m2[j][i] = s;
+    }
+  }
+  st = model_mass_check(&m, err);
+  if (st != MODEL_OK) {
+    model_error_prefix(err, "URDF %s: link '%s': <inertial>: ", urdf_path, in.link_name);
+    return st;
+  }
+  *out = m;
+  return MODEL_OK;
+}

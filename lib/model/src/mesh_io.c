@@ -1,0 +1,359 @@
+/* mesh_io.c - mesh files through assimp's C API: load (all meshes, node transforms applied) and
+ * save (a one-mesh scene built here and handed to aiExportScene). */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <assimp/cexport.h>
+#include <assimp/cimport.h>
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include "model_internal.h"
+
+enum { MAX_NODE_DEPTH = 256 };
+
+/* Affine transform x' = m[:, 0:3] x + m[:, 3], in double. */
+typedef struct {
+  double m[3][4];
+} xform_t;
+
+static xform_t xform_from_ai(const struct aiMatrix4x4 *a) {
+  xform_t x = {{{a->a1, a->a2, a->a3, a->a4},
+                {a->b1, a->b2, a->b3, a->b4},
+                {a->c1, a->c2, a->c3, a->c4}}};
+  return x;
+}
+
+static xform_t xform_mul(const xform_t *a, const xform_t *b) {
+  xform_t out;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      double s = c == 3 ? a->m[r][3] : 0.0;
+      for (int k = 0; k < 3; ++k) {
+        s += a->m[r][k] * b->m[k][c];
+      }
+      out.m[r][c] = s;
+    }
+  }
+  return out;
+}
+
+static double xform_det(const xform_t *x) {
+  const double(*m)[4] = x->m;
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+         m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+typedef struct {
+  const struct aiScene *scene;
+  const char *path;
+  double scale[3];
+  model_mesh_t *out;     /* NULL in the counting pass */
+  size_t vertex_count;   /* running totals */
+  size_t triangle_count;
+  model_error_t *err;
+} walk_t;
+
+static model_status_t walk_node(walk_t *w, const struct aiNode *node, const xform_t *parent,
+                                int depth) {
+  if (depth > MAX_NODE_DEPTH) {
+    return model_fail(w->err, MODEL_E_PARSE, "mesh %s: node tree deeper than %d", w->path,
+                      MAX_NODE_DEPTH);
+  }
+  xform_t local = xform_from_ai(&node->mTransformation);
+  xform_t global = xform_mul(parent, &local);
+  int mirror = xform_det(&global) * w->scale[0] * w->scale[1] * w->scale[2] < 0.0;
+
+  for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+    if (node->mMeshes[i] >= w->scene->mNumMeshes) {
+      return model_fail(w->err, MODEL_E_PARSE, "mesh %s: node refers to missing mesh %u", w->path,
+                        node->mMeshes[i]);
+    }
+    const struct aiMesh *m = w->scene->mMeshes[node->mMeshes[i]];
+    size_t base = w->vertex_count;
+    if (w->out != NULL) {
+      for (unsigned v = 0; v < m->mNumVertices; ++v) {
+        const double p[3] = {m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z};
+        double *q = w->out->vertices_m[base + v];
+        for (int r = 0; r < 3; ++r) {
+          double s = global.m[r][3];
+          for (int k = 0; k < 3; ++k) {
+            s += global.m[r][k] * p[k];
+          }
+          q[r] = s * w->scale[r];
+        }
+      }
+    }
+    w->vertex_count += m->mNumVertices;
+    for (unsigned f = 0; f < m->mNumFaces; ++f) {
+      const struct aiFace *face = &m->mFaces[f];
+      if (face->mNumIndices != 3) {
+        continue; /* points and lines; polygons were triangulated */
+      }
+      for (int k = 0; k < 3; ++k) {
+        if (face->mIndices[k] >= m->mNumVertices) {
+          return model_fail(w->err, MODEL_E_PARSE, "mesh %s: face %u uses a missing vertex",
+                            w->path, f);
+        }
+      }
+      if (w->out != NULL) {
+        uint32_t *t = w->out->triangles[w->triangle_count];
+        t[0] = (uint32_t)(base + face->mIndices[0]);
+        t[1] = (uint32_t)(base + face->mIndices[mirror ? 2 : 1]);
+        t[2] = (uint32_t)(base + face->mIndices[mirror ? 1 : 2]);
+      }
+      ++w->triangle_count;
+    }
+    if (w->vertex_count > UINT32_MAX) {
+      return model_fail(w->err, MODEL_E_PARSE, "mesh %s: more than 2^32 vertices", w->path);
+    }
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c) {
+    model_status_t st = walk_node(w, node->mChildren[c], &global, depth + 1);
+    if (st != MODEL_OK) {
+      return st;
+    }
+  }
+  return MODEL_OK;
+}
+
+static model_status_t probe_readable(const char *path, model_error_t *err) {
+  errno = 0;
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) {
+    return model_fail(err, MODEL_E_NOFILE, "cannot open %s: %s", path, strerror(errno));
+  }
+  int c = fgetc(f);
+  int failed = ferror(f);
+  int saved = errno;
+  fclose(f);
+  if (failed) {
+    return model_fail(err, MODEL_E_NOFILE, "cannot read %s: %s", path, strerror(saved));
+  }
+  if (c == EOF) {
+    return model_fail(err, MODEL_E_PARSE, "mesh %s is an empty file", path);
+  }
+  return MODEL_OK;
+}
+
+model_status_t model_mesh_load(const char *path, const double scale[3], model_mesh_t *out,
+                               model_mesh_report_t *report, model_error_t *err) {
+  if (report != NULL) {
+    memset(report, 0, sizeof *report);
+  }
+  if (out == NULL) {
+    return model_fail(err, MODEL_E_ARG, "output mesh is NULL");
+  }
+  memset(out, 0, sizeof *out);
+  if (path == NULL || path[0] == '\0') {
+    return model_fail(err, MODEL_E_ARG, "mesh path is NULL or empty");
+  }
+  walk_t w = {.path = path, .scale = {1.0, 1.0, 1.0}, .err = err};
+  if (scale != NULL) {
+    for (int k = 0; k < 3; ++k) {
+      if (!isfinite(scale[k])) {
+        return model_fail(err, MODEL_E_NONFINITE, "mesh %s: scale (%g, %g, %g) is not finite",
+                          path, scale[0], scale[1], scale[2]);
+      }
+      if (scale[k] == 0.0) {
+        return model_fail(err, MODEL_E_ARG, "mesh %s: scale (%g, %g, %g) has a zero component",
+                          path, scale[0], scale[1], scale[2]);
+      }
+      w.scale[k] = scale[k];
+    }
+  }
+  model_status_t st = probe_readable(path, err);
+  if (st != MODEL_OK) {
+    return st;
+  }
+
+  /* Keep positions only: without normals and texture coordinates JoinIdenticalVertices joins by
+   * position, which STL (one vertex triple per facet) needs. Points and lines are dropped. The
+   * Collada up axis is ignored (the file's coordinates are the link frame, as in ROS); its unit
+   * is honoured (assimp scales the root node). */
+  struct aiPropertyStore *props = aiCreatePropertyStore();
+  if (props == NULL) {
+    return model_fail(err, MODEL_E_NOMEM, "mesh %s: out of memory", path);
+  }
+  aiSetImportPropertyInteger(props, AI_CONFIG_PP_RVC_FLAGS,
+                             aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                 aiComponent_COLORS | aiComponent_TEXCOORDS |
+                                 aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
+                                 aiComponent_TEXTURES | aiComponent_LIGHTS | aiComponent_CAMERAS);
+  aiSetImportPropertyInteger(props, AI_CONFIG_PP_SBP_REMOVE,
+                             aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  aiSetImportPropertyInteger(props, AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, 1);
+  const unsigned flags = aiProcess_RemoveComponent | aiProcess_Triangulate |
+                         aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
+                         aiProcess_ValidateDataStructure;
+  const struct aiScene *scene = aiImportFileExWithProperties(path, flags, NULL, props);
+  aiReleasePropertyStore(props);
+  if (scene == NULL) {
+    const char *why = aiGetErrorString();
+    return model_fail(err, MODEL_E_PARSE, "mesh %s cannot be read: %s", path,
+                      why != NULL && why[0] != '\0' ? why : "unknown format or corrupt file");
+  }
+  if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || scene->mRootNode == NULL) {
+    aiReleaseImport(scene);
+    return model_fail(err, MODEL_E_PARSE, "mesh %s: incomplete scene (no meshes)", path);
+  }
+
+  w.scene = scene;
+  xform_t identity = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
+  st = walk_node(&w, scene->mRootNode, &identity, 0);
+  if (st == MODEL_OK && w.triangle_count == 0) {
+    st = model_fail(err, MODEL_E_PARSE, "mesh %s contains no triangles", path);
+  }
+  if (st == MODEL_OK) {
+    st = model_mesh_alloc(out, w.vertex_count, w.triangle_count);
+    if (st != MODEL_OK) {
+      st = model_fail(err, st, "mesh %s: out of memory for %zu triangles", path, w.triangle_count);
+    }
+  }
+  if (st == MODEL_OK) {
+    w.out = out;
+    w.vertex_count = 0;
+    w.triangle_count = 0;
+    st = walk_node(&w, scene->mRootNode, &identity, 0);
+  }
+  aiReleaseImport(scene);
+  if (st == MODEL_OK) {
+    st = model_mesh_check(out, report, err);
+    if (st != MODEL_OK) {
+      model_error_prefix(err, "mesh %s: ", path);
+    }
+  }
+  if (st != MODEL_OK) {
+    model_mesh_free(out);
+  }
+  return st;
+}
+
+/* ---- save ------------------------------------------------------------------------------------ */
+
+static int export_format_known(const char *format) {
+  int found = 0;
+  size_t n = aiGetExportFormatCount();
+  for (size_t i = 0; i < n && !found; ++i) {
+    const struct aiExportFormatDesc *d = aiGetExportFormatDescription(i);
+    if (d != NULL) {
+      found = d->id != NULL && strcmp(d->id, format) == 0;
+      aiReleaseExportFormatDescription(d);
+    }
+  }
+  return found;
+}
+
+model_status_t model_mesh_save(const model_mesh_t *mesh, const char *path, const char *format,
+                               model_error_t *err) {
+  if (mesh == NULL || path == NULL || path[0] == '\0' || format == NULL) {
+    return model_fail(err, MODEL_E_ARG, "model_mesh_save: NULL mesh, path or format");
+  }
+  if (mesh->vertex_count == 0 || mesh->triangle_count == 0 || mesh->vertices_m == NULL ||
+      mesh->triangles == NULL || mesh->vertex_count > UINT32_MAX ||
+      mesh->triangle_count > UINT32_MAX) {
+    return model_fail(err, MODEL_E_ARG, "cannot save %s: empty or oversized mesh", path);
+  }
+  for (size_t i = 0; i < mesh->vertex_count; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      if (!isfinite(mesh->vertices_m[i][k])) {
+        return model_fail(err, MODEL_E_NONFINITE, "cannot save %s: vertex %zu is not finite",
+                          path, i);
+      }
+    }
+  }
+  for (size_t t = 0; t < mesh->triangle_count; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (mesh->triangles[t][k] >= mesh->vertex_count) {
+        return model_fail(err, MODEL_E_ARG, "cannot save %s: triangle %zu uses a missing vertex",
+                          path, t);
+      }
+    }
+  }
+  if (!export_format_known(format)) {
+    return model_fail(err, MODEL_E_UNSUPPORTED, "cannot save %s: assimp has no exporter '%s'",
+                      path, format);
+  }
+
+  /* A scene of one node, one mesh and one empty material, all owned here (assimp's exporter
+   * deep-copies a user-built scene; it never frees ours). */
+  const unsigned nv = (unsigned)mesh->vertex_count;
+  const unsigned nt = (unsigned)mesh->triangle_count;
+  model_status_t st = MODEL_OK;
+  struct aiScene *scene = calloc(1, sizeof *scene);
+  struct aiNode *root = calloc(1, sizeof *root);
+  struct aiMesh *am = calloc(1, sizeof *am);
+  struct aiMaterial *mat = calloc(1, sizeof *mat);
+  struct aiMesh **mesh_list = calloc(1, sizeof *mesh_list);
+  struct aiMaterial **mat_list = calloc(1, sizeof *mat_list);
+  unsigned *node_meshes = calloc(1, sizeof *node_meshes);
+  struct aiVector3D *vertices = calloc(nv, sizeof *vertices);
+  struct aiFace *faces = calloc(nt, sizeof *faces);
+  unsigned *indices = calloc((size_t)nt * 3, sizeof *indices);
+  if (scene == NULL || root == NULL || am == NULL || mat == NULL || mesh_list == NULL ||
+      mat_list == NULL || node_meshes == NULL || vertices == NULL || faces == NULL ||
+      indices == NULL) {
+    st = model_fail(err, MODEL_E_NOMEM, "cannot save %s: out of memory", path);
+    goto done;
+  }
+  for (unsigned i = 0; i < nv; ++i) {
+    vertices[i].x = (ai_real)mesh->vertices_m[i][0];
+    vertices[i].y = (ai_real)mesh->vertices_m[i][1];
+    vertices[i].z = (ai_real)mesh->vertices_m[i][2];
+  }
+  for (unsigned t = 0; t < nt; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      indices[3 * (size_t)t + (size_t)k] = mesh->triangles[t][k];
+    }
+    faces[t].mNumIndices = 3;
+    faces[t].mIndices = &indices[3 * (size_t)t];
+  }
+  am->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+  am->mNumVertices = nv;
+  am->mVertices = vertices;
+  am->mNumFaces = nt;
+  am->mFaces = faces;
+  am->mMaterialIndex = 0;
+  am->mName.length = 4;
+  memcpy(am->mName.data, "mesh", 5);
+  root->mName.length = 4;
+  memcpy(root->mName.data, "root", 5);
+  root->mTransformation.a1 = root->mTransformation.b2 = 1;
+  root->mTransformation.c3 = root->mTransformation.d4 = 1;
+  root->mNumMeshes = 1;
+  root->mMeshes = node_meshes;
+  mesh_list[0] = am;
+  mat_list[0] = mat;
+  scene->mFlags = AI_SCENE_FLAGS_NON_VERBOSE_FORMAT; /* vertices are shared between faces */
+  scene->mRootNode = root;
+  scene->mNumMeshes = 1;
+  scene->mMeshes = mesh_list;
+  scene->mNumMaterials = 1;
+  scene->mMaterials = mat_list;
+
+  if (aiExportScene(scene, format, path, 0) != aiReturn_SUCCESS) {
+    st = model_fail(err, MODEL_E_NOFILE,
+                    "assimp could not write %s as '%s' (folder missing or not writable?)", path,
+                    format);
+  }
+
+done:
+  free(indices);
+  free(faces);
+  free(vertices);
+  free(node_meshes);
+  free(mat_list);
+  free(mesh_list);
+  free(mat);
+  free(am);
+  free(root);
+  free(scene);
+  return st;
+}

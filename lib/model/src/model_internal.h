@@ -1,0 +1,94 @@
+/*
+ * model_internal.h - private to lib/model: error helpers, mesh allocation, and the C API of
+ * urdf.cpp (the only file that touches urdfdom).
+ *
+ * urdf.cpp is compiled twice (see lib/model/CMakeLists.txt). Without MODEL_URDF_INERTIAL it defines
+ * model_urdf_link_read() / model_urdf_link_free() (geometry only) for comlearn_model; with it, it
+ * defines only model_urdf_inertial_read() for comlearn_model_sim. Both declarations are visible
+ * here; each archive defines exactly one side.
+ */
+#ifndef COMLEARN_MODEL_INTERNAL_H
+#define COMLEARN_MODEL_INTERNAL_H
+
+#include "comlearn/model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__GNUC__)
+#define MODEL_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define MODEL_PRINTF(a, b)
+#endif
+
+/* Write a message into err (NULL is fine). Returns status, so `return model_fail(...)` reads. */
+model_status_t model_fail(model_error_t *err, model_status_t status, const char *fmt, ...)
+    MODEL_PRINTF(3, 4);
+
+/* Prepend a context ("mesh /a/b.stl: ") to err's message. NULL err is fine. */
+void model_error_prefix(model_error_t *err, const char *fmt, ...) MODEL_PRINTF(2, 3);
+
+/* Allocate a mesh's arrays (uninitialised contents). out must not own arrays. */
+model_status_t model_mesh_alloc(model_mesh_t *out, size_t vertex_count, size_t triangle_count);
+
+/* ---- urdf.cpp, geometry side (comlearn_model) ------------------------------------------------ */
+
+typedef enum {
+  MODEL_URDF_MESH = 0,
+  MODEL_URDF_BOX = 1,
+  MODEL_URDF_SPHERE = 2,
+  MODEL_URDF_CYLINDER = 3
+} model_urdf_shape_t;
+
+enum { MODEL_URDF_NAME_MAX = 128, MODEL_URDF_PATH_MAX = 1024 };
+
+/* One <collision> (or <visual>) element. The geometry frame is placed in the link frame by
+ * x_link = rot * x_geom + xyz_m. */
+typedef struct {
+  model_urdf_shape_t shape;
+  double xyz_m[3];
+  double rot[3][3];                     /* from the origin's rpy (urdfdom's quaternion) */
+  double scale[3];                      /* mesh only */
+  double size_m[3];                     /* box only: full edge lengths */
+  double radius_m;                      /* sphere, cylinder */
+  double length_m;                      /* cylinder, along the geometry's z */
+  char filename[MODEL_URDF_PATH_MAX];   /* mesh only: as written in the URDF */
+} model_urdf_geom_t;
+
+typedef struct {
+  char robot_name[MODEL_URDF_NAME_MAX];
+  char link_name[MODEL_URDF_NAME_MAX];
+  int from_visual;               /* 1 when the link has no <collision> and <visual> was used */
+  size_t geom_count;
+  model_urdf_geom_t *geoms;      /* malloc, released by model_urdf_link_free() */
+} model_urdf_link_t;
+
+/* Parse a URDF and return one link's geometry (link_name NULL: the root link). Never reads
+ * <inertial>. MODEL_E_NOFILE, MODEL_E_PARSE, MODEL_E_NOLINK, MODEL_E_NOMEM, MODEL_E_ARG. */
+model_status_t model_urdf_link_read(const char *urdf_path, const char *link_name,
+                                    model_urdf_link_t *out, model_error_t *err);
+void model_urdf_link_free(model_urdf_link_t *link);
+
+/* ---- urdf.cpp, inertial side (comlearn_model_sim only) --------------------------------------- */
+
+/* A link's <inertial> as written: inertia about the CoM in the inertial frame, whose axes are
+ * rot (link <- inertial) and whose origin is com_m in the link frame. */
+typedef struct {
+  char link_name[MODEL_URDF_NAME_MAX];
+  double mass_kg;
+  double com_m[3];
+  double rot[3][3];
+  double inertia_kg_m2[3][3];
+} model_urdf_inertial_t;
+
+/* MODEL_E_NOFILE, MODEL_E_PARSE, MODEL_E_NOLINK, MODEL_E_INERTIAL (no <inertial>),
+ * MODEL_E_NOMEM. */
+model_status_t model_urdf_inertial_read(const char *urdf_path, const char *link_name,
+                                        model_urdf_inertial_t *out, model_error_t *err);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* COMLEARN_MODEL_INTERNAL_H */

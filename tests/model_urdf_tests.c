@@ -1,0 +1,636 @@
+/* model_urdf_tests.c - URDF geometry (comlearn_model) and inertial truth (comlearn_model_sim). */
+#define _POSIX_C_SOURCE 200809L
+
+#include <sys/stat.h>
+
+#include "comlearn/model_inertial.h"
+#include "model_suites.h"
+#include "model_test_util.h"
+
+#define HALF_PI "1.5707963267948966"
+#define QUARTER_PI "0.78539816339744831"
+
+/* ---- fixtures -------------------------------------------------------------------------------- */
+
+/* An asymmetric tetrahedron (0,0,0), (1,0,0), (0,2,0), (0,0,3), outward. */
+static void tetra(model_mesh_t *m) {
+  static const double v[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 3}};
+  static const uint32_t t[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  m->vertex_count = 4;
+  m->triangle_count = 4;
+  m->vertices_m = malloc(sizeof v);
+  m->triangles = malloc(sizeof t);
+  memcpy(m->vertices_m, v, sizeof v);
+  memcpy(m->triangles, t, sizeof t);
+}
+
+static void save_tetra(const char *path) {
+  model_mesh_t m;
+  tetra(&m);
+  model_error_t err;
+  ck_assert_msg(model_mesh_save(&m, path, "stlb", &err) == MODEL_OK, "%s", err.msg);
+  model_mesh_free(&m);
+}
+
+/* A one-link URDF whose <link> body is `body`. */
+static void write_urdf(const char *path, const char *link, const char *body) {
+  char text[4096];
+  int n = snprintf(text, sizeof text,
+                   "<?xml version=\"1.0\"?>\n<robot name=\"testbot\">\n  <link name=\"%s\">\n%s\n"
+                   "  </link>\n</robot>\n", link, body);
+  ck_assert(n > 0 && (size_t)n < sizeof text);
+  mt_write_text(path, text);
+}
+
+/* 1 when m has a vertex within tol of p. */
+static int has_vertex(const model_mesh_t *m, double x, double y, double z, double tol) {
+  for (size_t i = 0; i < m->vertex_count; ++i) {
+    const double *v = m->vertices_m[i];
+    if (fabs(v[0] - x) <= tol && fabs(v[1] - y) <= tol && fabs(v[2] - z) <= tol) {
+      return 1;
+    }
+  }
+  return 0;
+}
+
+static model_status_t print_something(const char *text) {
+  fputs(text, stderr);
+  return MODEL_OK;
+}
+
+static model_status_t load_object_quiet(const char *urdf) {
+  model_object_t obj;
+  model_status_t st = model_object_load(urdf, NULL, &obj, NULL);
+  model_object_free(&obj);
+  return st;
+}
+
+static model_status_t load_inertial_quiet(const char *urdf) {
+  model_mass_t m;
+  return model_inertial_load(urdf, NULL, &m, NULL);
+}
+
+/* ---- geometry -------------------------------------------------------------------------------- */
+
+/* Mesh with scale and a full rpy origin. rpy (pi/2, 0, pi/2): R = Rz Ry Rx maps (x, y, z) to
+ * (z, x, y). scale (2, 0.5, 0.25), xyz (0.1, 0.2, 0.3). */
+START_TEST(test_urdf_mesh_scale_origin) {
+  mt_tmpdir_t d;
+  mt_tmpdir_make(&d);
+  char urdf[512], mesh[512];
+  mt_join(&d, "tetra.stl", mesh, sizeof mesh);
+  mt_join(&d, "obj.urdf", urdf, sizeof urdf);
+  save_tetra(mesh);
+  write_urdf(urdf, "rock",
+             "<collision><origin xyz=\"0.1 0.2 0.3\" rpy=\"" HALF_PI " 0 " HALF_PI "\"/>"
+             "<geometry><mesh filename=\"tetra.stl\" scale=\"2 0.5 0.25\"/></geometry>"
+             "</collision>");
+  model_object_t obj;
+  model_error_t err;
+  ck_assert_msg(model_object_load(urdf, "rock", &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_str_eq(obj.robot_name, "testbot");
+  ck_assert_str_eq(obj.link_name, "rock");
+  ck_assert_str_eq(obj.mesh_path + strlen(obj.mesh_path) - strlen("/tetra.stl"), "/tetra.stl");
+  ck_assert_uint_eq(obj.mesh.vertex_count, 4);
+  ck_assert_uint_eq(obj.mesh.triangle_count, 4);
+  const double tol = 1e-12;
+  ck_assert(has_vertex(&obj.mesh, 0.1, 0.2, 0.3, tol));   /* (0,0,0) */
+  ck_assert(has_vertex(&obj.mesh, 0.1, 2.2, 0.3, tol));   /* (1,0,0) -> (2,0,0) -> (0,2,0) */
+  ck_assert(has_vertex(&obj.mesh, 0.1, 0.2, 1.3, tol));   /* (0,2,0) -> (0,1,0) -> (0,0,1) */
+  ck_assert(has_vertex(&obj.mesh, 0.85, 0.2, 0.3, tol));  /* (0,0,3) -> (0,0,.75) -> (.75,0,0) */
+  ck_assert_double_eq_tol(obj.aabb.min_m[0], 0.1, tol);
+  ck_assert_double_eq_tol(obj.aabb.max_m[0], 0.85, tol);
+  ck_assert_double_eq_tol(obj.aabb.max_m[1], 2.2, tol);
+  ck_assert_double_eq_tol(obj.aabb.max_m[2], 1.3, tol);
+  /* volume 1 * 2 * 3 / 6 = 1, times |det scale| = 0.25 */
+  ck_assert_double_eq_tol(mt_volume(&obj.mesh), 0.25, 1e-12);
+  model_object_free(&obj);
+  ck_assert_ptr_null(obj.mesh.vertices_m);
+  model_object_free(NULL);
+  const char *names[] = {"tetra.stl", "obj.urdf"};
+  mt_tmpdir_remove(&d, names, 2);
+}
+END_TEST
+
+/* Box, plus a second collision element (a mesh), merged into one mesh; and <visual> used only
+ * when there is no <collision>. */
+START_TEST(test_urdf_box_and_merge) {
+  mt_tmpdir_t d;
+  mt_tmpdir_make(&d);
+  char urdf[512], mesh[512];
+  mt_join(&d, "tetra.stl", mesh, sizeof mesh);
+  mt_join(&d, "box.urdf", urdf, sizeof urdf);
+  save_tetra(mesh);
+  write_urdf(urdf, "block",
+             "<collision><origin xyz=\"1 2 3\"/><geometry><box size=\"0.1 0.2 0.4\"/></geometry>"
+             "</collision>");
+  model_object_t obj;
+  model_error_t err;
+  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_uint_eq(obj.mesh.vertex_count, 8);
+  ck_assert_uint_eq(obj.mesh.triangle_count, 12);
+  ck_assert_str_eq(obj.mesh_path, "");
+  const double lo[3] = {0.95, 1.9, 2.8}, hi[3] = {1.05, 2.1, 3.2};
+  for (int k = 0; k < 3; ++k) {
+    ck_assert_double_eq_tol(obj.aabb.min_m[k], lo[k], 1e-15);
+    ck_assert_double_eq_tol(obj.aabb.max_m[k], hi[k], 1e-15);
+  }
+  ck_assert_double_eq_tol(mt_volume(&obj.mesh), 0.008, 1e-15);
+  model_object_free(&obj);
+
+  /* Two collision elements and a visual that must be ignored. */
+  write_urdf(urdf, "block",
+             "<visual><geometry><box size=\"9 9 9\"/></geometry></visual>"
+             "<collision><origin xyz=\"1 2 3\"/><geometry><box size=\"0.1 0.2 0.4\"/></geometry>"
+             "</collision>"
+             "<collision><origin xyz=\"-5 0 0\"/><geometry><mesh filename=\"tetra.stl\"/>"
+             "</geometry></collision>");
+  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_uint_eq(obj.mesh.vertex_count, 12);
+  ck_assert_uint_eq(obj.mesh.triangle_count, 16);
+  ck_assert_double_eq_tol(mt_volume(&obj.mesh), 0.008 + 1.0, 1e-12);
+  ck_assert_double_eq_tol(obj.aabb.min_m[0], -5.0, 1e-15);
+  ck_assert_double_eq_tol(obj.aabb.max_m[2], 3.2, 1e-15);
+  ck_assert_str_eq(obj.mesh_path + strlen(obj.mesh_path) - strlen("/tetra.stl"), "/tetra.stl");
+  model_object_free(&obj);
+
+  /* Visual only. */
+  write_urdf(urdf, "block", "<visual><geometry><box size=\"1 2 4\"/></geometry></visual>");
+  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_double_eq_tol(mt_volume(&obj.mesh), 8.0, 1e-12);
+  model_object_free(&obj);
+
+  /* No geometry at all. */
+  write_urdf(urdf, "block", "");
+  ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), MODEL_E_NOGEOM);
+  ck_assert_ptr_nonnull(strstr(err.msg, "'block'"));
+  ck_assert_ptr_nonnull(strstr(err.msg, urdf));
+
+  /* Two boxes sharing an edge: the merged surface is non-manifold. */
+  write_urdf(urdf, "block",
+             "<collision><origin xyz=\"0.5 0.5 0.5\"/><geometry><box size=\"1 1 1\"/></geometry>"
+             "</collision><collision><origin xyz=\"1.5 1.5 0.5\"/><geometry><box size=\"1 1 1\"/>"
+             "</geometry></collision>");
+  ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), MODEL_E_OPEN);
+  ck_assert_ptr_nonnull(strstr(err.msg, "merged geometry"));
+  const char *names[] = {"tetra.stl", "box.urdf"};
+  mt_tmpdir_remove(&d, names, 2);
+}
+END_TEST
+
+/* Spheres and cylinders are tessellated (documented in model.h). */
+START_TEST(test_urdf_sphere_cylinder) {
+  mt_tmpdir_t d;
+  mt_tmpdir_make(&d);
+  char urdf[512];
+  mt_join(&d, "prims.urdf", urdf, sizeof urdf);
+  write_urdf(urdf, "ball",
+             "<collision><origin xyz=\"0 0 1\"/><geometry><sphere radius=\"0.1\"/></geometry>"
+             "</collision>");
+  model_object_t obj;
+  model_error_t err;
+  const double pi = 3.14159265358979323846;
+  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  for (int k = 0; k < 3; ++k) {
+    ck_assert_double_eq_tol(obj.aabb.min_m[k], (k == 2 ? 1.0 : 0.0) - 0.1, 1e-12);
+    ck_assert_double_eq_tol(obj.aabb.max_m[k], (k == 2 ? 1.0 : 0.0) + 0.1, 1e-12);
+  }
+  double v = mt_volume(&obj.mesh), ball = 4.0 / 3.0 * pi * 0.001;
+  ck_assert_double_lt(v, ball);
+  ck_assert_double_eq_tol(v / ball, 0.98404110477, 1e-9); /* inscribed 16 x 32 UV sphere */
+  model_object_free(&obj);
+
+  /* Cylinder along its z, turned by roll pi/2 onto -y: extents 0.05, 0.1, 0.05. The prism of
+   * 64 sides has volume 32 r^2 sin(2 pi / 64) L exactly. */
+  write_urdf(urdf, "can",
+             "<collision><origin rpy=\"" HALF_PI " 0 0\"/><geometry><cylinder radius=\"0.05\" "
+             "length=\"0.2\"/></geometry></collision>");
+  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_double_eq_tol(obj.aabb.max_m[0], 0.05, 1e-12);
+  ck_assert_double_eq_tol(obj.aabb.max_m[1], 0.1, 1e-12);
+  ck_assert_double_eq_tol(obj.aabb.min_m[1], -0.1, 1e-12);
+  ck_assert_double_eq_tol(obj.aabb.max_m[2], 0.05, 1e-12);
+  double prism = 32.0 * 0.05 * 0.05 * sin(2.0 * pi / 64.0) * 0.2;
+  ck_assert_double_eq_tol(mt_volume(&obj.mesh), prism, 1e-12 * prism);
+  model_object_free(&obj);
+  const char *names[] = {"prims.urdf"};
+  mt_tmpdir_remove(&d, names, 1);
+}
+END_TEST
+
+/* package://NAME/rest: under the URDF's folder and its parents, a folder named NAME among them,
+ * NAME as a subfolder of one of them, or rest directly under one of them. */
+START_TEST(test_urdf_package_and_relative_paths) {
+  mt_tmpdir_t d;
+  mt_tmpdir_make(&d);
+  const char *dirs[] = {"ws", "ws/mypkg", "ws/mypkg/urdf", "ws/mypkg/meshes", "ws/other",
+                        "ws/other/meshes"};
+  char p[512], urdf[512], body[1024];
+  for (int i = 0; i < 6; ++i) {
+    ck_assert_int_eq(mkdir(mt_join(&d, dirs[i], p, sizeof p), 0700), 0);
+  }
+  save_tetra(mt_join(&d, "ws/mypkg/meshes/t.stl", p, sizeof p));
+  save_tetra(mt_join(&d, "ws/other/meshes/o.stl", p, sizeof p));
+  save_tetra(mt_join(&d, "ws/mypkg/urdf/here.stl", p, sizeof p));
+  mt_join(&d, "ws/mypkg/urdf/obj.urdf", urdf, sizeof urdf);
+  char abs_mesh[512];
+  mt_join(&d, "ws/mypkg/meshes/t.stl", abs_mesh, sizeof abs_mesh);
+  char file_uri[600];
+  snprintf(file_uri, sizeof file_uri, "file://%s", abs_mesh);
+
+  struct {
+    const char *uri;
+    const char *found; /* expected tail of the resolved path */
+  } cases[] = {
+      {"package://mypkg/meshes/t.stl", "ws/mypkg/meshes/t.stl"},   /* folder named mypkg */
+      {"package://other/meshes/o.stl", "ws/other/meshes/o.stl"},   /* ws/other, a sibling */
+      {"package://renamed/meshes/t.stl", "ws/mypkg/meshes/t.stl"}, /* rest under a parent */
+      {"model://mypkg/meshes/t.stl", "ws/mypkg/meshes/t.stl"},     /* Gazebo's spelling */
+      {"../meshes/t.stl", "ws/mypkg/meshes/t.stl"},
+      {"here.stl", "ws/mypkg/urdf/here.stl"},
+      {abs_mesh, "ws/mypkg/meshes/t.stl"},
+      {file_uri, "ws/mypkg/meshes/t.stl"},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+    snprintf(body, sizeof body,
+             "<collision><geometry><mesh filename=\"%s\"/></geometry></collision>", cases[i].uri);
+    write_urdf(urdf, "rock", body);
+    model_object_t obj;
+    model_error_t err;
+    ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s: %s", cases[i].uri,
+                  err.msg);
+    size_t len = strlen(obj.mesh_path), tail = strlen(cases[i].found);
+    ck_assert_uint_ge(len, tail);
+    ck_assert_msg(strcmp(obj.mesh_path + len - tail, cases[i].found) == 0, "%s -> %s",
+                  cases[i].uri, obj.mesh_path);
+    ck_assert_double_eq_tol(mt_volume(&obj.mesh), 1.0, 1e-12);
+    model_object_free(&obj);
+  }
+
+  struct {
+    const char *uri;
+    model_status_t status;
+  } bad[] = {
+      {"package://nopkg/meshes/none.stl", MODEL_E_NOFILE},
+      {"../meshes/none.stl", MODEL_E_NOFILE},
+      {"package://mypkg", MODEL_E_PARSE},
+      {"package:///meshes/t.stl", MODEL_E_PARSE},
+      {"http://example.com/t.stl", MODEL_E_UNSUPPORTED},
+  };
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+    snprintf(body, sizeof body,
+             "<collision><geometry><mesh filename=\"%s\"/></geometry></collision>", bad[i].uri);
+    write_urdf(urdf, "rock", body);
+    model_object_t obj;
+    model_error_t err;
+    ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), bad[i].status);
+    ck_assert_msg(strstr(err.msg, bad[i].uri) != NULL, "%s", err.msg);
+    ck_assert_ptr_nonnull(strstr(err.msg, "'rock'"));
+    ck_assert_ptr_null(obj.mesh.vertices_m);
+  }
+  const char *names[] = {"ws/mypkg/meshes/t.stl", "ws/other/meshes/o.stl",
+                         "ws/mypkg/urdf/here.stl", "ws/mypkg/urdf/obj.urdf",
+                         "ws/other/meshes", "ws/other", "ws/mypkg/meshes", "ws/mypkg/urdf",
+                         "ws/mypkg", "ws"};
+  mt_tmpdir_remove(&d, names, 10);
+}
+END_TEST
+
+/* Root link by default, any link by name, a clear error for a missing one. */
+START_TEST(test_urdf_links) {
+  mt_tmpdir_t d;
+  mt_tmpdir_make(&d);
+  char urdf[512];
+  mt_join(&d, "two.urdf", urdf, sizeof urdf);
+  mt_write_text(urdf,
+                "<robot name=\"pair\">"
+                "<link name=\"rock\"><collision><geometry><box size=\"1 1 1\"/></geometry>"
+                "</collision></link>"
+                "<link name=\"base\"><collision><geometry><box size=\"2 2 2\"/></geometry>"
+                "</collision></link>"
+                "<joint name=\"j\" type=\"fixed\"><parent link=\"base\"/><child link=\"rock\"/>"
+                "</joint></robot>");
+  model_object_t obj;
+  model_error_t err;
+  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_str_eq(obj.link_name, "base");
+  ck_assert_str_eq(obj.robot_name, "pair");
+  ck_assert_double_eq_tol(mt_volume(&obj.mesh), 8.0, 1e-12);
+  model_object_free(&obj);
+  ck_assert_int_eq(model_object_load(urdf, "rock", &obj, &err), MODEL_OK);
+  ck_assert_str_eq(obj.link_name, "rock");
+  ck_assert_double_eq_tol(mt_volume(&obj.mesh), 1.0, 1e-12);
+  model_object_free(&obj);
+
+  ck_assert_int_eq(model_object_load(urdf, "pebble", &obj, &err), MODEL_E_NOLINK);
+  ck_assert_ptr_nonnull(strstr(err.msg, "'pebble'"));
+  ck_assert_ptr_nonnull(strstr(err.msg, urdf));
+  ck_assert_ptr_nonnull(strstr(err.msg, "base, rock"));
+  ck_assert_ptr_null(obj.mesh.vertices_m);
+  model_mass_t mass;
+  ck_assert_int_eq(model_inertial_load(urdf, "pebble", &mass, &err), MODEL_E_NOLINK);
+  ck_assert_ptr_nonnull(strstr(err.msg, "'pebble'"));
+  ck_assert_ptr_nonnull(strstr(err.msg, urdf));
+  const char *names[] = {"two.urdf"};
+  mt_tmpdir_remove(&d, names, 1);
+}
+END_TEST
+
+/* Broken files: missing, malformed XML, not a robot, elements urdfdom drops, broken meshes. None
+ * of them prints anything. */
+START_TEST(test_urdf_bad_files) {
+  mt_tmpdir_t d;
+  mt_tmpdir_make(&d);
+  char urdf[512], capture[512], mesh[512];
+  mt_join(&d, "bad.urdf", urdf, sizeof urdf);
+  mt_join(&d, "capture.txt", capture, sizeof capture);
+  mt_join(&d, "open.stl", mesh, sizeof mesh);
+  model_object_t obj;
+  model_mass_t mass;
+  model_error_t err;
+  model_status_t st;
+  /* the capture itself works */
+  ck_assert_int_eq(mt_printed_bytes(capture, print_something, "12345", &st), 5);
+
+  char missing[512];
+  mt_join(&d, "missing.urdf", missing, sizeof missing);
+  ck_assert_int_eq(model_object_load(missing, NULL, &obj, &err), MODEL_E_NOFILE);
+  ck_assert_ptr_nonnull(strstr(err.msg, missing));
+  ck_assert_int_eq(model_inertial_load(missing, NULL, &mass, &err), MODEL_E_NOFILE);
+  ck_assert_int_eq(model_object_load(NULL, NULL, &obj, &err), MODEL_E_ARG);
+  ck_assert_int_eq(model_object_load(urdf, NULL, NULL, &err), MODEL_E_ARG);
+
+  const struct {
+    const char *text;
+    const char *why; /* part of the message */
+  } cases[] = {
+      {"<robot name=\"r\"><link name=\"a\"><collision><geometry><box size=\"1 1 1\"/></geometry>"
+       "</collision></link>", "not valid"},                               /* unterminated XML */
+      {"this is not XML at all", "not valid"},
+      {"<?xml version=\"1.0\"?><building name=\"r\"/>", "not valid"},     /* no <robot> */
+      {"<robot name=\"r\"><link name=\"a\"><collision><origin xyz=\"nan 0 0\"/><geometry>"
+       "<box size=\"1 1 1\"/></geometry></collision></link></robot>", "nan"}, /* dropped */
+      {"<robot name=\"r\"><link name=\"a\"><collision><geometry><box size=\"1 x 1\"/></geometry>"
+       "</collision></link></robot>", "not valid"},
+      {"<robot name=\"r\"><link name=\"a\"/><link name=\"a\"/></robot>", "not valid"},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+    mt_write_text(urdf, cases[i].text);
+    ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), MODEL_E_PARSE);
+    ck_assert_msg(strstr(err.msg, urdf) != NULL && strstr(err.msg, cases[i].why) != NULL,
+                  "case %zu: %s", i, err.msg);
+    ck_assert_int_eq(model_inertial_load(urdf, NULL, &mass, &err), MODEL_E_PARSE);
+    ck_assert_int_eq(mt_printed_bytes(capture, load_object_quiet, urdf, &st), 0);
+    ck_assert_int_eq(st, MODEL_E_PARSE);
+    ck_assert_int_eq(mt_printed_bytes(capture, load_inertial_quiet, urdf, &st), 0);
+    ck_assert_int_eq(st, MODEL_E_PARSE);
+  }
+
+  /* A referenced mesh that is open: the message names the URDF, the link and the mesh. */
+  model_mesh_t m;
+  mt_unit_cube(&m);
+  m.triangle_count = 11;
+  ck_assert_int_eq(model_mesh_save(&m, mesh, "stlb", NULL), MODEL_OK);
+  model_mesh_free(&m);
+  write_urdf(urdf, "rock",
+             "<collision><geometry><mesh filename=\"open.stl\"/></geometry></collision>");
+  ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), MODEL_E_OPEN);
+  ck_assert_ptr_nonnull(strstr(err.msg, urdf));
+  ck_assert_ptr_nonnull(strstr(err.msg, "'rock'"));
+  ck_assert_ptr_nonnull(strstr(err.msg, mesh));
+  /* Zero box. */
+  write_urdf(urdf, "rock", "<collision><geometry><box size=\"1 0 1\"/></geometry></collision>");
+  ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), MODEL_E_DEGENERATE);
+  ck_assert_ptr_nonnull(strstr(err.msg, "box size"));
+  const char *names[] = {"bad.urdf", "capture.txt", "open.stl"};
+  mt_tmpdir_remove(&d, names, 3);
+}
+END_TEST
+
+/* ---- inertial -------------------------------------------------------------------------------- */
+
+static void write_inertial(const char *path, const char *origin, const char *mass,
+                           const char *inertia) {
+  char body[1024];
+  snprintf(body, sizeof body,
+           "<inertial>%s<mass value=\"%s\"/><inertia %s/></inertial>"
+           "<collision><geometry><box size=\"1 1 1\"/></geometry></collision>",
+           origin, mass, inertia);
+  write_urdf(path, "rock", body);
+}
+
+static void assert_tensor(double got[3][3], const double want[3][3], double tol) {
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      ck_assert_msg(fabs(got[i][j] - want[i][j]) <= tol, "I[%d][%d] = %.17g, want %.17g", i, j,
+                    got[i][j], want[i][j]);
+    }
+  }
+}
+
+START_TEST(test_inertial_rotated_origin) {
+  mt_tmpdir_t d;
+  mt_tmpdir_make(&d);
+  char urdf[512];
+  mt_join(&d, "in.urdf", urdf, sizeof urdf);
+  model_mass_t m;
+  model_error_t err;
+
+  /* yaw pi/4 of diag(1, 2, 2.5): xx = yy = (1 + 2) / 2, xy = (1 - 2) / 2. */
+  write_inertial(urdf, "<origin xyz=\"0.01 -0.02 0.03\" rpy=\"0 0 " QUARTER_PI "\"/>", "2.5",
+                 "ixx=\"1\" iyy=\"2\" izz=\"2.5\" ixy=\"0\" ixz=\"0\" iyz=\"0\"");
+  ck_assert_msg(model_inertial_load(urdf, NULL, &m, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_double_eq(m.mass_kg, 2.5);
+  ck_assert_double_eq_tol(m.com_m[0], 0.01, 1e-15);
+  ck_assert_double_eq_tol(m.com_m[1], -0.02, 1e-15);
+  ck_assert_double_eq_tol(m.com_m[2], 0.03, 1e-15);
+  const double want1[3][3] = {{1.5, -0.5, 0}, {-0.5, 1.5, 0}, {0, 0, 2.5}};
+  assert_tensor(m.inertia_kg_m2, want1, 1e-14);
+
+  /* rpy (pi/2, 0, pi/2): R (x, y, z) = (z, x, y), so I_link[i][j] = I[p(i)][p(j)] with
+   * p = (z, x, y): diag (izz, ixx, iyy) and the xy product moves to [1][2]. */
+  write_inertial(urdf, "<origin rpy=\"" HALF_PI " 0 " HALF_PI "\"/>", "0.75",
+                 "ixx=\"1\" iyy=\"2\" izz=\"2.5\" ixy=\"0.1\" ixz=\"0\" iyz=\"0\"");
+  ck_assert_msg(model_inertial_load(urdf, "rock", &m, &err) == MODEL_OK, "%s", err.msg);
+  const double want2[3][3] = {{2.5, 0, 0}, {0, 1, 0.1}, {0, 0.1, 2}};
+  assert_tensor(m.inertia_kg_m2, want2, 1e-14);
+  ck_assert_double_eq(m.inertia_kg_m2[1][2], m.inertia_kg_m2[2][1]);
+  ck_assert_double_eq(m.com_m[0], 0.0);
+
+  /* No rotation: the tensor as written. */
+  write_inertial(urdf, "", "1", "ixx=\"1\" iyy=\"1.5\" izz=\"2\" ixy=\"0.1\" ixz=\"-0.2\" "
+                 "iyz=\"0.05\"");
+  ck_assert_msg(model_inertial_load(urdf, NULL, &m, &err) == MODEL_OK, "%s", err.msg);
+  const double want3[3][3] = {{1, 0.1, -0.2}, {0.1, 1.5, 0.05}, {-0.2, 0.05, 2}};
+  assert_tensor(m.inertia_kg_m2, want3, 0.0);
+  const char *names[] = {"in.urdf"};
+  mt_tmpdir_remove(&d, names, 1);
+}
+END_TEST
+
+START_TEST(test_inertial_invalid) {
+  mt_tmpdir_t d;
+  mt_tmpdir_make(&d);
+  char urdf[512];
+  mt_join(&d, "in.urdf", urdf, sizeof urdf);
+  model_mass_t m;
+  model_error_t err;
+  const char *ok = "ixx=\"1\" iyy=\"1\" izz=\"1\" ixy=\"0\" ixz=\"0\" iyz=\"0\"";
+  const struct {
+    const char *mass;
+    const char *inertia;
+    model_status_t status;
+    const char *why;
+  } cases[] = {
+      {"0", "ixx=\"1\" iyy=\"1\" izz=\"1\" ixy=\"0\" ixz=\"0\" iyz=\"0\"", MODEL_E_INERTIAL,
+       "not positive"},
+      {"-1", "ixx=\"1\" iyy=\"1\" izz=\"1\" ixy=\"0\" ixz=\"0\" iyz=\"0\"", MODEL_E_INERTIAL,
+       "not positive"},
+      {"1", "ixx=\"1\" iyy=\"1\" izz=\"3\" ixy=\"0\" ixz=\"0\" iyz=\"0\"",
+       MODEL_E_INERTIA_TRIANGLE, "triangle"},
+      {"1", "ixx=\"-1\" iyy=\"1\" izz=\"1\" ixy=\"0\" ixz=\"0\" iyz=\"0\"", MODEL_E_INERTIAL,
+       "positive definite"},
+      {"1", "ixx=\"0\" iyy=\"0\" izz=\"0\" ixy=\"0\" ixz=\"0\" iyz=\"0\"", MODEL_E_INERTIAL,
+       "positive definite"},
+      {"1", "ixx=\"1\" iyy=\"1\" izz=\"1\" ixy=\"2\" ixz=\"0\" iyz=\"0\"", MODEL_E_INERTIAL,
+       "positive definite"},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+    write_inertial(urdf, "", cases[i].mass, cases[i].inertia);
+    ck_assert_int_eq(model_inertial_load(urdf, NULL, &m, &err), cases[i].status);
+    ck_assert_msg(strstr(err.msg, cases[i].why) != NULL && strstr(err.msg, urdf) != NULL &&
+                      strstr(err.msg, "'rock'") != NULL, "case %zu: %s", i, err.msg);
+    ck_assert_double_eq(m.mass_kg, 0.0); /* zeroed on error */
+  }
+  /* Unparseable numbers: urdfdom drops the element; we reject the file. */
+  write_inertial(urdf, "", "nan", ok);
+  ck_assert_int_eq(model_inertial_load(urdf, NULL, &m, &err), MODEL_E_PARSE);
+  ck_assert_ptr_nonnull(strstr(err.msg, "nan"));
+  write_inertial(urdf, "", "1e999", ok);
+  ck_assert_int_eq(model_inertial_load(urdf, NULL, &m, &err), MODEL_E_PARSE);
+  /* No <inertial> at all. */
+  write_urdf(urdf, "rock", "<collision><geometry><box size=\"1 1 1\"/></geometry></collision>");
+  ck_assert_int_eq(model_inertial_load(urdf, NULL, &m, &err), MODEL_E_INERTIAL);
+  ck_assert_ptr_nonnull(strstr(err.msg, "no <inertial>"));
+  ck_assert_int_eq(model_inertial_load(urdf, NULL, NULL, &err), MODEL_E_ARG);
+  const char *names[] = {"in.urdf"};
+  mt_tmpdir_remove(&d, names, 1);
+}
+END_TEST
+
+static model_mass_t valid_mass(void) {
+  model_mass_t m = {.mass_kg = 0.3, .com_m = {0.01, 0.02, -0.03},
+                    .inertia_kg_m2 = {{2e-4, 1e-5, 0}, {1e-5, 3e-4, -2e-5}, {0, -2e-5, 4e-4}}};
+  return m;
+}
+
+START_TEST(test_mass_check) {
+  model_error_t err;
+  model_mass_t m = valid_mass();
+  ck_assert_int_eq(model_mass_check(&m, &err), MODEL_OK);
+  ck_assert_int_eq(model_mass_check(NULL, &err), MODEL_E_ARG);
+
+  /* Triangle inequality: equality (a flat plate, 1 + 2 = 3) is physical, beyond is not. */
+  model_mass_t t = {.mass_kg = 1.0, .inertia_kg_m2 = {{1, 0, 0}, {0, 2, 0}, {0, 0, 3}}};
+  ck_assert_int_eq(model_mass_check(&t, &err), MODEL_OK);
+  t.inertia_kg_m2[2][2] = 3.001;
+  ck_assert_int_eq(model_mass_check(&t, &err), MODEL_E_INERTIA_TRIANGLE);
+  ck_assert_ptr_nonnull(strstr(err.msg, "triangle inequality"));
+
+  m = valid_mass();
+  m.mass_kg = 0.0;
+  ck_assert_int_eq(model_mass_check(&m, &err), MODEL_E_INERTIAL);
+  m.mass_kg = -0.3;
+  ck_assert_int_eq(model_mass_check(&m, &err), MODEL_E_INERTIAL);
+  m.mass_kg = NAN;
+  ck_assert_int_eq(model_mass_check(&m, &err), MODEL_E_INERTIAL);
+  ck_assert_ptr_nonnull(strstr(err.msg, "not finite"));
+  m = valid_mass();
+  m.com_m[1] = INFINITY;
+  ck_assert_int_eq(model_mass_check(&m, &err), MODEL_E_INERTIAL);
+  m = valid_mass();
+  m.inertia_kg_m2[2][1] = NAN;
+  ck_assert_int_eq(model_mass_check(&m, &err), MODEL_E_INERTIAL);
+  m = valid_mass();
+  m.inertia_kg_m2[0][1] = 2e-5; /* [1][0] stays 1e-5 */
+  ck_assert_int_eq(model_mass_check(&m, &err), MODEL_E_INERTIAL);
+  ck_assert_ptr_nonnull(strstr(err.msg, "not symmetric"));
+  m = valid_mass();
+  m.inertia_kg_m2[0][0] = -2e-4;
+  ck_assert_int_eq(model_mass_check(&m, &err), MODEL_E_INERTIAL);
+  ck_assert_ptr_nonnull(strstr(err.msg, "positive definite"));
+}
+END_TEST
+
+START_TEST(test_inertia_principal) {
+  /* A = R diag(1, 2, 3) R^T with R = Rz(0.3) Ry(-0.7) Rx(1.1). */
+  const double r = 1.1, p = -0.7, y = 0.3;
+  const double R[3][3] = {
+      {cos(y) * cos(p), cos(y) * sin(p) * sin(r) - sin(y) * cos(r),
+       cos(y) * sin(p) * cos(r) + sin(y) * sin(r)},
+      {sin(y) * cos(p), sin(y) * sin(p) * sin(r) + cos(y) * cos(r),
+       sin(y) * sin(p) * cos(r) - cos(y) * sin(r)},
+      {-sin(p), cos(p) * sin(r), cos(p) * cos(r)}};
+  const double d[3] = {1.0, 2.0, 3.0};
+  double A[3][3];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      A[i][j] = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        A[i][j] += R[i][k] * d[k] * R[j][k];
+      }
+    }
+  }
+  double mom[3], ax[3][3];
+  ck_assert_int_eq(model_inertia_principal((const double(*)[3])A, mom, ax), MODEL_OK);
+  for (int i = 0; i < 3; ++i) {
+    ck_assert_double_eq_tol(mom[i], d[i], 1e-13);
+    /* Each axis is +- the matching column of R, and A v = lambda v. */
+    double dot = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      dot += ax[k][i] * R[k][i];
+      double av = A[k][0] * ax[0][i] + A[k][1] * ax[1][i] + A[k][2] * ax[2][i];
+      ck_assert_double_eq_tol(av, mom[i] * ax[k][i], 1e-13);
+    }
+    ck_assert_double_eq_tol(fabs(dot), 1.0, 1e-13);
+  }
+  double det = ax[0][0] * (ax[1][1] * ax[2][2] - ax[1][2] * ax[2][1]) -
+               ax[0][1] * (ax[1][0] * ax[2][2] - ax[1][2] * ax[2][0]) +
+               ax[0][2] * (ax[1][0] * ax[2][1] - ax[1][1] * ax[2][0]);
+  ck_assert_double_eq_tol(det, 1.0, 1e-13);
+
+  /* Already diagonal, unsorted: sorted moments, permuted unit axes. */
+  const double D[3][3] = {{3, 0, 0}, {0, 1, 0}, {0, 0, 2}};
+  ck_assert_int_eq(model_inertia_principal(D, mom, ax), MODEL_OK);
+  ck_assert_double_eq(mom[0], 1.0);
+  ck_assert_double_eq(mom[1], 2.0);
+  ck_assert_double_eq(mom[2], 3.0);
+  ck_assert_double_eq(fabs(ax[1][0]), 1.0);
+  ck_assert_double_eq(fabs(ax[2][1]), 1.0);
+  ck_assert_double_eq(fabs(ax[0][2]), 1.0);
+
+  A[1][2] = NAN;
+  ck_assert_int_eq(model_inertia_principal((const double(*)[3])A, mom, ax), MODEL_E_INERTIAL);
+  ck_assert_int_eq(model_inertia_principal(NULL, mom, ax), MODEL_E_ARG);
+}
+END_TEST
+
+Suite *model_urdf_suite(void) {
+  Suite *s = suite_create("model_urdf");
+  TCase *geo = tcase_create("geometry");
+  tcase_set_timeout(geo, 60);
+  tcase_add_test(geo, test_urdf_mesh_scale_origin);
+  tcase_add_test(geo, test_urdf_box_and_merge);
+  tcase_add_test(geo, test_urdf_sphere_cylinder);
+  tcase_add_test(geo, test_urdf_package_and_relative_paths);
+  tcase_add_test(geo, test_urdf_links);
+  tcase_add_test(geo, test_urdf_bad_files);
+  suite_add_tcase(s, geo);
+  TCase *in = tcase_create("inertial");
+  tcase_add_test(in, test_inertial_rotated_origin);
+  tcase_add_test(in, test_inertial_invalid);
+  tcase_add_test(in, test_mass_check);
+  tcase_add_test(in, test_inertia_principal);
+  suite_add_tcase(s, in);
+  return s;
+}
