@@ -9,6 +9,7 @@
  * projection >= 3 mm inside the support polygon and the plane supporting the whole rock, for the
  * even and the uneven CoM (including the bottom face -z and a side face +-x); the uneven CoM
  * 3-10 mm from the uniform-density one; the URDF inertial equal to the recomputation to 1e-9. */
+#define _POSIX_C_SOURCE 200809L
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
@@ -17,6 +18,7 @@
 
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "model_test_util.h"
 #include "rockgen.h"
 
 enum { PATCHES_MAX = 16 };
@@ -306,28 +308,11 @@ END_TEST
 
 /* ---- the patch analysis itself, on shapes with known answers ------------------------------- */
 
-static void make_box(model_mesh_t *m, const double lo[3], const double hi[3]) {
-  static const uint32_t tris[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
-                                       {0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5},
-                                       {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
-  m->vertex_count = 8;
-  m->triangle_count = 12;
-  m->vertices_m = malloc(8 * sizeof *m->vertices_m);
-  m->triangles = malloc(sizeof tris);
-  ck_assert_ptr_nonnull(m->vertices_m);
-  ck_assert_ptr_nonnull(m->triangles);
-  for (int i = 0; i < 8; ++i) {
-    m->vertices_m[i][0] = (i % 4 == 1 || i % 4 == 2) ? hi[0] : lo[0];
-    m->vertices_m[i][1] = (i % 4 >= 2) ? hi[1] : lo[1];
-    m->vertices_m[i][2] = i >= 4 ? hi[2] : lo[2];
-  }
-  memcpy(m->triangles, tris, sizeof tris);
-}
 
 START_TEST(patches_of_box) {
   const double lo[3] = {-0.02, -0.03, -0.01}, hi[3] = {0.04, 0.03, 0.02};
   model_mesh_t m;
-  make_box(&m, lo, hi);
+  mt_box(&m, lo, hi);
   rockgen_patch_t p[PATCHES_MAX];
   size_t count = 0;
   ck_assert_int_eq(rockgen_patches_find(&m, 1e-6, p, PATCHES_MAX, &count), MODEL_OK);

@@ -42,7 +42,6 @@ model_status_t find_link(const urdf::ModelInterface &model, const char *path,
                          model_error_t *err);
 void rotation_matrix(const urdf::Rotation &q, double r[3][3]);
 void copy_name(char *dst, size_t size, const std::string &src);
-model_status_t exception_status(model_error_t *err, const char *path, const char *what);
 } // namespace model_urdf
 
 #ifndef MODEL_URDF_INERTIAL
@@ -163,10 +162,6 @@ void rotation_matrix(const urdf::Rotation &q, double r[3][3]) {
 
 void copy_name(char *dst, size_t size, const std::string &src) {
   std::snprintf(dst, size, "%s", src.c_str());
-}
-
-model_status_t exception_status(model_error_t *err, const char *path, const char *what) {
-  return model_fail(err, MODEL_E_PARSE, "URDF %s: %s", path != nullptr ? path : "(null)", what);
 }
 
 } // namespace model_urdf
@@ -312,6 +307,24 @@ model_status_t inertial_read(const char *urdf_path, const char *link_name,
 
 } // namespace
 
+// Runs fn (a urdfdom call) with every exception turned into a status that names the file.
+// In an anonymous namespace so each build gets its own copy and no symbol is shared.
+namespace {
+template <typename F>
+model_status_t guarded(const char *urdf_path, model_error_t *err, F &&fn) {
+  const char *path = urdf_path != nullptr ? urdf_path : "(null)";
+  try {
+    return fn();
+  } catch (const std::bad_alloc &) {
+    return model_fail(err, MODEL_E_NOMEM, "URDF %s: out of memory", path);
+  } catch (const std::exception &e) {
+    return model_fail(err, MODEL_E_PARSE, "URDF %s: %s", path, e.what());
+  } catch (...) {
+    return model_fail(err, MODEL_E_PARSE, "URDF %s: unknown exception in urdfdom", path);
+  }
+}
+} // namespace
+
 extern "C" {
 
 #ifndef MODEL_URDF_INERTIAL
@@ -322,17 +335,8 @@ model_status_t model_urdf_link_read(const char *urdf_path, const char *link_name
     return model_fail(err, MODEL_E_ARG, "model_urdf_link_read: NULL output");
   }
   std::memset(out, 0, sizeof *out);
-  model_status_t st;
-  try {
-    st = link_read(urdf_path, link_name, out, err);
-  } catch (const std::bad_alloc &) {
-    st = model_fail(err, MODEL_E_NOMEM, "URDF %s: out of memory",
-                    urdf_path != nullptr ? urdf_path : "(null)");
-  } catch (const std::exception &e) {
-    st = exception_status(err, urdf_path, e.what());
-  } catch (...) {
-    st = exception_status(err, urdf_path, "unknown exception in urdfdom");
-  }
+  model_status_t st =
+      guarded(urdf_path, err, [&] { return link_read(urdf_path, link_name, out, err); });
   if (st != MODEL_OK) {
     model_urdf_link_free(out);
   }
@@ -354,17 +358,8 @@ model_status_t model_urdf_inertial_read(const char *urdf_path, const char *link_
     return model_fail(err, MODEL_E_ARG, "model_urdf_inertial_read: NULL output");
   }
   std::memset(out, 0, sizeof *out);
-  model_status_t st;
-  try {
-    st = inertial_read(urdf_path, link_name, out, err);
-  } catch (const std::bad_alloc &) {
-    st = model_fail(err, MODEL_E_NOMEM, "URDF %s: out of memory",
-                    urdf_path != nullptr ? urdf_path : "(null)");
-  } catch (const std::exception &e) {
-    st = exception_status(err, urdf_path, e.what());
-  } catch (...) {
-    st = exception_status(err, urdf_path, "unknown exception in urdfdom");
-  }
+  model_status_t st =
+      guarded(urdf_path, err, [&] { return inertial_read(urdf_path, link_name, out, err); });
   if (st != MODEL_OK) {
     std::memset(out, 0, sizeof *out);
   }
