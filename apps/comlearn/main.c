@@ -151,7 +151,7 @@ static void print_json(const inspect_result_t *results, size_t n) {
 }
 
 static void print_table(const inspect_result_t *results, size_t n, int truth) {
-  printf("%-18s %6s %22s %24s %24s", "object", "tris", "size (mm)", "bbox center (mm)",
+  printf("%-18s %6s %22s %25s %24s", "object", "tris", "size (mm)", "bbox center (mm)",
          "uniform CoM (mm)");
   if (truth) printf(" %8s %24s %9s", "mass(kg)", "true CoM (mm)", "|d| (mm)");
   printf("\n");
