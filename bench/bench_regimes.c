@@ -1,0 +1,201 @@
+/* bench_regimes: the threshold bias of an edge test in each regime of comlearn/balance_poses.h.
+ *
+ * For each case the object is set down (balance_pose_over_edge, touching) with the link point
+ * com_true + d * u over the +X edge, u the link-frame direction of the edge's outward normal, so
+ * the true CoM is d inside the edge. d is bisected to 1 um between "tips" and "stays": the bias is
+ * the d at the flip (positive: the object tips although its CoM is inside by d; the estimate lands
+ * inside the truth by that much). Printed as a table with the regime verdict of the planned trial
+ * at the flip. Usage: bench_regimes (no options). Deterministic. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "comlearn/balance.h"
+#include "comlearn/balance_poses.h"
+#include "comlearn/model.h"
+#include "comlearn/model_inertial.h"
+
+#define PI 3.14159265358979323846
+
+static void rot(const double q[4], const double v[3], double o[3]) {
+  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                          {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+                          {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+  for (int i = 0; i < 3; ++i) o[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2];
+}
+
+/* Outcome with the true CoM d inside the +X edge: 1 stays, 0 tips/slides, -1 error. */
+static int trial(balance_world_t *w, balance_object_t *o, const double q[4], const double com[3],
+                 double d) {
+  const double qi[4] = {q[0], -q[1], -q[2], -q[3]}, ex[3] = {1, 0, 0};
+  double u[3];
+  rot(qi, ex, u);
+  const double p[3] = {com[0] + d * u[0], com[1] + d * u[1], com[2] + d * u[2]};
+  balance_pose_t pose;
+  if (balance_pose_over_edge(w, o, q, BALANCE_EDGE_PX, p, 0.0, 1e-6, &pose) != BALANCE_OK) return -1;
+  balance_trial_result_t r;
+  if (balance_trial_run(w, o, &pose, NULL, &r) != BALANCE_OK) return -1;
+  return r.outcome == BALANCE_STAYS ? 1 : 0;
+}
+
+/* Bisect the flip in [-8 mm, 8 mm]; NAN when the ends do not bracket it. */
+static double bisect(balance_world_t *w, balance_object_t *o, const double q[4],
+                     const double com[3], int *trials) {
+  double lo = -0.008, hi = 0.008; /* lo: CoM beyond the edge (tips); hi: inside (stays) */
+  const int a = trial(w, o, q, com, lo), b = trial(w, o, q, com, hi);
+  *trials = 2;
+  if (a != 0 || b != 1) {
+    fprintf(stderr, "no bracket: d=-8mm -> %d, d=+8mm -> %d (1 stays, 0 tips, -1 error)\n", a, b);
+    return NAN;
+  }
+  for (int i = 0; i < 40 && hi - lo > 1e-6; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    const int r = trial(w, o, q, com, mid);
+    ++*trials;
+    if (r < 0) return NAN;
+    if (r == 1) hi = mid;
+    else lo = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+static void report(const char *name, const model_mesh_t *m, balance_world_t *w, balance_object_t *o,
+                   const double q[4], const double com_true[3], const double com_est[3]) {
+  int trials = 0;
+  const double bias = bisect(w, o, q, com_true, &trials);
+  balance_pose_t pose;
+  balance_regime_t reg;
+  const double base[3] = {0.30, 0.30, 0.10};
+  const char *kind = "?";
+  double margin = NAN;
+  if (balance_pose_over_edge(w, o, q, BALANCE_EDGE_PX, com_est, 0.0, 1e-6, &pose) == BALANCE_OK &&
+      balance_regime_classify(m, &pose, base, BALANCE_EDGE_PX, com_est, NULL, &reg) == BALANCE_OK) {
+    kind = reg.kind == BALANCE_REGIME_FLAT_PATCH ? "flat patch"
+           : reg.kind == BALANCE_REGIME_EDGE_ROLL ? "edge roll"
+                                                  : "point support";
+    margin = reg.chord_margin_m;
+  }
+  printf("| %-38s | %-13s | %9.2f | %10.1f | %6d |\n", name, kind,
+         margin == -HUGE_VAL ? -99.0 : margin * 1e3, bias * 1e6, trials);
+}
+
+static int rock(int which, int uneven, model_object_t *obj, model_mass_t *truth, model_mass_t *uni) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/rocks/rock_%d_%s.urdf", COMLEARN_ASSETS_DIR, which,
+           uneven ? "uneven" : "even");
+  if (model_object_load(path, NULL, obj, NULL) != MODEL_OK) return 0;
+  if (model_inertial_load(path, NULL, truth, NULL) != MODEL_OK) return 0;
+  return model_mesh_mass(&obj->mesh, 2650.0, uni) == MODEL_OK;
+}
+
+int main(void) {
+  balance_config_t cfg;
+  balance_config_default(&cfg);
+  printf("| case | regime (planned) | chord margin mm | bias um | trials |\n|---|---|---|---|---|\n");
+  for (int which = 1; which <= 3; ++which) {
+    model_object_t obj;
+    model_mass_t truth, uni;
+    if (!rock(which, 0, &obj, &truth, &uni)) return 1;
+    balance_world_t *w = NULL;
+    balance_object_t *o = NULL;
+    if (balance_world_create(&cfg, &w) != BALANCE_OK ||
+        balance_object_create(w, &obj.mesh, &truth, &o) != BALANCE_OK)
+      return 1;
+    char name[96];
+    /* -z face at yaw 0 and at the yaw of the largest chord margin. */
+    const double up[4] = {1, 0, 0, 0};
+    snprintf(name, sizeof name, "rock_%d -z face, yaw 0", which);
+    report(name, &obj.mesh, w, o, up, truth.com_m, truth.com_m);
+    double yaw = 0.0, mbest = 0.0, q[4];
+    balance_yaw_best(&obj.mesh, up, truth.com_m, BALANCE_EDGE_PX, NULL, &yaw, &mbest);
+    balance_orientation_yawed(up, yaw, q);
+    snprintf(name, sizeof name, "rock_%d -z face, best yaw %.0f deg", which, yaw * 180.0 / PI);
+    report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m);
+    /* Every flat face: the yaw with the smallest chord margin (sweep) and the best one. */
+    balance_face_t faces[256];
+    size_t nf = 0;
+    balance_regime_config_t rc;
+    balance_regime_config_default(&rc);
+    rc.min_com_margin_m = -1.0; /* list all faces, stable or not */
+    balance_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf);
+    for (size_t i = 0; i < nf && i < 256; ++i) {
+      if (!faces[i].flat || faces[i].normal_link[2] == -1.0 || faces[i].com_margin_m < 0.0) continue;
+      double worst = HUGE_VAL, wyaw = 0.0;
+      for (int k = 0; k < 180; ++k) {
+        double mk;
+        balance_yaw_margin(&obj.mesh, faces[i].orientation_wxyz, truth.com_m, BALANCE_EDGE_PX,
+                           k * PI / 180.0, NULL, &mk);
+        if (mk > -HUGE_VAL && mk < worst) {
+          worst = mk;
+          wyaw = k * PI / 180.0;
+        }
+      }
+      balance_orientation_yawed(faces[i].orientation_wxyz, wyaw, q);
+      snprintf(name, sizeof name, "rock_%d face n=(%.2f,%.2f,%.2f) worst yaw", which,
+               faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2]);
+      report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m);
+      balance_yaw_best(&obj.mesh, faces[i].orientation_wxyz, truth.com_m, BALANCE_EDGE_PX, NULL,
+                       &yaw, &mbest);
+      balance_orientation_yawed(faces[i].orientation_wxyz, yaw, q);
+      snprintf(name, sizeof name, "rock_%d face n=(%.2f,%.2f,%.2f) best yaw", which,
+               faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2]);
+      report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m);
+    }
+    balance_world_destroy(w);
+    model_object_free(&obj);
+  }
+  /* Rounded underside: a UV ellipsoid (semi-axes 35, 30, 25 mm; 24 x 48) resting on its pole. */
+  {
+    const double a[3] = {0.035, 0.03, 0.025};
+    const unsigned rings = 24, segs = 48;
+    model_mesh_t m = {0};
+    m.vertex_count = 2 + (size_t)(rings - 1) * segs;
+    m.triangle_count = 2 * (size_t)segs * (rings - 1);
+    m.vertices_m = malloc(m.vertex_count * sizeof *m.vertices_m);
+    m.triangles = malloc(m.triangle_count * sizeof *m.triangles);
+    if (m.vertices_m == NULL || m.triangles == NULL) return 1;
+    m.vertices_m[0][0] = m.vertices_m[0][1] = m.vertices_m[1][0] = m.vertices_m[1][1] = 0.0;
+    m.vertices_m[0][2] = a[2];
+    m.vertices_m[1][2] = -a[2];
+    for (unsigned i = 1; i < rings; ++i) {
+      for (unsigned j = 0; j < segs; ++j) {
+        const double th = PI * i / rings, ph = 2.0 * PI * j / segs;
+        double *v = m.vertices_m[2 + (i - 1) * segs + j];
+        v[0] = a[0] * sin(th) * cos(ph);
+        v[1] = a[1] * sin(th) * sin(ph);
+        v[2] = a[2] * cos(th);
+      }
+    }
+    size_t t = 0;
+#define RING(i, j) ((uint32_t)(2 + ((i) - 1) * segs + ((j) % segs)))
+    for (unsigned j = 0; j < segs; ++j) {
+      const uint32_t t0[3] = {0, RING(1, j), RING(1, j + 1)};
+      const uint32_t t1[3] = {1, RING(rings - 1, j + 1), RING(rings - 1, j)};
+      memcpy(m.triangles[t++], t0, sizeof t0);
+      memcpy(m.triangles[t++], t1, sizeof t1);
+    }
+    for (unsigned i = 1; i + 1 < rings; ++i) {
+      for (unsigned j = 0; j < segs; ++j) {
+        const uint32_t t0[3] = {RING(i, j), RING(i + 1, j), RING(i + 1, j + 1)};
+        const uint32_t t1[3] = {RING(i, j), RING(i + 1, j + 1), RING(i, j + 1)};
+        memcpy(m.triangles[t++], t0, sizeof t0);
+        memcpy(m.triangles[t++], t1, sizeof t1);
+      }
+    }
+#undef RING
+    model_mass_t mass;
+    if (model_mesh_mass(&m, 1000.0, &mass) != MODEL_OK) return 1;
+    balance_world_t *w = NULL;
+    balance_object_t *o = NULL;
+    if (balance_world_create(&cfg, &w) != BALANCE_OK ||
+        balance_object_create(w, &m, &mass, &o) != BALANCE_OK)
+      return 1;
+    const double up[4] = {1, 0, 0, 0};
+    report("ellipsoid on its pole", &m, w, o, up, mass.com_m, mass.com_m);
+    balance_world_destroy(w);
+    model_mesh_free(&m);
+  }
+  return 0;
+}

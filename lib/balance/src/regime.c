@@ -1,0 +1,539 @@
+/* regime.c - the geometry of a placement over an edge: the resting patch, its chord on the edge
+ * line, the regime verdict, yaws that make the chord span the CoM; and the private geometry
+ * helpers of poses_geom.h. Pure geometry: no ODE. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "comlearn/balance_poses.h"
+#include "poses_geom.h"
+
+/* ---- private helpers (poses_geom.h) ------------------------------------------------------- */
+
+balance_status_t balance_geom_quat_check(const double q[4], double unit[4]) {
+  if (q == NULL) return BALANCE_E_ARG;
+  double n2 = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    if (!isfinite(q[k])) return BALANCE_E_NONFINITE;
+    n2 += q[k] * q[k];
+  }
+  const double n = sqrt(n2);
+  if (!(fabs(n - 1.0) <= BALANCE_GEOM_QUAT_TOL)) return BALANCE_E_POSE;
+  for (int k = 0; k < 4; ++k) unit[k] = q[k] / n;
+  return BALANCE_OK;
+}
+
+void balance_geom_quat_rotate(const double q[4], const double v[3], double out[3]) {
+  /* v' = v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z). */
+  const double w = q[0], u[3] = {q[1], q[2], q[3]};
+  const double t[3] = {2.0 * (u[1] * v[2] - u[2] * v[1]), 2.0 * (u[2] * v[0] - u[0] * v[2]),
+                       2.0 * (u[0] * v[1] - u[1] * v[0])};
+  const double r[3] = {v[0] + w * t[0] + (u[1] * t[2] - u[2] * t[1]),
+                       v[1] + w * t[1] + (u[2] * t[0] - u[0] * t[2]),
+                       v[2] + w * t[2] + (u[0] * t[1] - u[1] * t[0])};
+  out[0] = r[0];
+  out[1] = r[1];
+  out[2] = r[2];
+}
+
+void balance_geom_quat_mul(const double a[4], const double b[4], double out[4]) {
+  const double r[4] = {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+                       a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+                       a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+                       a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
+  memcpy(out, r, sizeof r);
+}
+
+double balance_geom_quat_angle(const double a[4], const double b[4]) {
+  double d = 0.0;
+  for (int k = 0; k < 4; ++k) d += a[k] * b[k];
+  d = fabs(d);
+  if (d > 1.0) d = 1.0;
+  return 2.0 * acos(d);
+}
+
+balance_status_t balance_geom_mesh_check(const model_mesh_t *mesh) {
+  if (mesh == NULL || mesh->vertices_m == NULL || mesh->triangles == NULL ||
+      mesh->vertex_count == 0 || mesh->triangle_count == 0)
+    return BALANCE_E_ARG;
+  for (size_t v = 0; v < mesh->vertex_count; ++v) {
+    for (int k = 0; k < 3; ++k) {
+      if (!isfinite(mesh->vertices_m[v][k])) return BALANCE_E_NONFINITE;
+    }
+  }
+  for (size_t t = 0; t < mesh->triangle_count; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (mesh->triangles[t][k] >= mesh->vertex_count) return BALANCE_E_MESH;
+    }
+  }
+  return BALANCE_OK;
+}
+
+static double cross2(const double o[2], const double a[2], const double b[2]) {
+  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+static int cmp_xy(const void *pa, const void *pb) {
+  const double *a = pa, *b = pb;
+  if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+  if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
+  return 0;
+}
+
+size_t balance_geom_hull2d(double (*pts)[2], size_t n, double (*hull)[2]) {
+  qsort(pts, n, sizeof *pts, cmp_xy);
+  if (n < 3) {
+    memcpy(hull, pts, n * sizeof *pts);
+    return n;
+  }
+  size_t k = 0;
+  for (size_t i = 0; i < n; ++i) {
+    while (k >= 2 && cross2(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+    memcpy(hull[k++], pts[i], sizeof *pts);
+  }
+  const size_t lower = k + 1;
+  for (size_t i = n - 1; i-- > 0;) {
+    while (k >= lower && cross2(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+    memcpy(hull[k++], pts[i], sizeof *pts);
+  }
+  return k - 1; /* the last point repeats the first */
+}
+
+double balance_geom_poly_area(const double (*poly)[2], size_t n) {
+  if (n < 3) return 0.0;
+  double a = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const double *p = poly[i], *q = poly[(i + 1) % n];
+    a += p[0] * q[1] - p[1] * q[0];
+  }
+  return 0.5 * a;
+}
+
+double balance_geom_poly_width(const double (*poly)[2], size_t n) {
+  /* The smallest width of a convex polygon is attained with one side flush (rotating calipers);
+   * brute force over sides is O(n^2), fine for a few hundred vertices. */
+  if (n < 3) return 0.0;
+  double w = HUGE_VAL;
+  for (size_t i = 0; i < n; ++i) {
+    const double *a = poly[i], *b = poly[(i + 1) % n];
+    const double len = hypot(b[0] - a[0], b[1] - a[1]);
+    double far = 0.0;
+    for (size_t j = 0; j < n; ++j) {
+      const double d = cross2(a, b, poly[j]) / len;
+      if (d > far) far = d;
+    }
+    if (far < w) w = far;
+  }
+  return w;
+}
+
+double balance_geom_poly_margin(const double (*poly)[2], size_t n, const double p[2]) {
+  if (n < 3) return -HUGE_VAL;
+  double inside = HUGE_VAL; /* min over sides of the signed distance (valid inside) */
+  double outside = 0.0;     /* distance to the polygon when p is outside */
+  int out = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double *a = poly[i], *b = poly[(i + 1) % n];
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    const double len = hypot(ex, ey);
+    const double d = cross2(a, b, p) / len;
+    if (d < inside) inside = d;
+    if (d < 0.0) out = 1;
+  }
+  if (!out) return inside;
+  /* Outside: the distance to the nearest side segment, negated. */
+  outside = HUGE_VAL;
+  for (size_t i = 0; i < n; ++i) {
+    const double *a = poly[i], *b = poly[(i + 1) % n];
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    double s = ((p[0] - a[0]) * ex + (p[1] - a[1]) * ey) / (ex * ex + ey * ey);
+    if (s < 0.0) s = 0.0;
+    if (s > 1.0) s = 1.0;
+    const double dist = hypot(p[0] - (a[0] + s * ex), p[1] - (a[1] + s * ey));
+    if (dist < outside) outside = dist;
+  }
+  return -outside;
+}
+
+int balance_geom_poly_chord(const double (*poly)[2], size_t n, const double p[2], const double d[2],
+                            double *s0, double *s1) {
+  /* Clip the line against each side's inner half-plane (Cyrus-Beck). */
+  if (n < 3) return 0;
+  double lo = -HUGE_VAL, hi = HUGE_VAL;
+  for (size_t i = 0; i < n; ++i) {
+    const double *a = poly[i], *b = poly[(i + 1) % n];
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    /* inner side: cross(e, x - a) >= 0; along the line: f(s) = c0 + s c1 */
+    const double c0 = ex * (p[1] - a[1]) - ey * (p[0] - a[0]);
+    const double c1 = ex * d[1] - ey * d[0];
+    if (c1 == 0.0) {
+      if (c0 <= 0.0) return 0; /* parallel, on or outside this side */
+      continue;
+    }
+    const double s = -c0 / c1;
+    if (c1 > 0.0) {
+      if (s > lo) lo = s;
+    } else {
+      if (s < hi) hi = s;
+    }
+  }
+  if (!(hi > lo)) return 0;
+  *s0 = lo;
+  *s1 = hi;
+  return 1;
+}
+
+/* ---- configuration ------------------------------------------------------------------------ */
+
+void balance_regime_config_default(balance_regime_config_t *cfg) {
+  if (cfg == NULL) return;
+  cfg->plane_tol_m = 1e-6;
+  cfg->min_patch_area_m2 = 1e-4;
+  cfg->min_patch_width_m = 0.010;
+  cfg->min_chord_margin_m = 0.003;
+  cfg->min_com_margin_m = 0.002;
+  cfg->min_face_area_m2 = 1e-5;
+}
+
+balance_status_t balance_regime_config_check(const balance_regime_config_t *cfg) {
+  if (cfg == NULL) return BALANCE_E_ARG;
+  const double all[6] = {cfg->plane_tol_m,        cfg->min_patch_area_m2, cfg->min_patch_width_m,
+                         cfg->min_chord_margin_m, cfg->min_com_margin_m,  cfg->min_face_area_m2};
+  for (int k = 0; k < 6; ++k) {
+    if (!isfinite(all[k])) return BALANCE_E_NONFINITE;
+  }
+  if (!(cfg->plane_tol_m > 0.0) || !(cfg->min_patch_area_m2 > 0.0) ||
+      !(cfg->min_patch_width_m > 0.0) || !(cfg->min_face_area_m2 > 0.0))
+    return BALANCE_E_ARG;
+  return BALANCE_OK;
+}
+
+static balance_status_t config_resolve(const balance_regime_config_t *cfg,
+                                       balance_regime_config_t *out) {
+  if (cfg == NULL) {
+    balance_regime_config_default(out);
+    return BALANCE_OK;
+  }
+  const balance_status_t st = balance_regime_config_check(cfg);
+  if (st == BALANCE_OK) *out = *cfg;
+  return st;
+}
+
+/* ---- orientations ------------------------------------------------------------------------- */
+
+void balance_orientation_yawed(const double orientation_wxyz[4], double yaw_rad, double out[4]) {
+  const double rz[4] = {cos(0.5 * yaw_rad), 0.0, 0.0, sin(0.5 * yaw_rad)};
+  double r[4];
+  balance_geom_quat_mul(rz, orientation_wxyz, r);
+  const double n = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
+  for (int k = 0; k < 4; ++k) out[k] = r[k] / n;
+}
+
+balance_status_t balance_orientation_resting(const double normal_link[3], double out[4]) {
+  if (normal_link == NULL || out == NULL) return BALANCE_E_ARG;
+  for (int k = 0; k < 3; ++k) {
+    if (!isfinite(normal_link[k])) return BALANCE_E_NONFINITE;
+  }
+  const double len = sqrt(normal_link[0] * normal_link[0] + normal_link[1] * normal_link[1] +
+                          normal_link[2] * normal_link[2]);
+  if (!(len > 0.0) || !isfinite(len)) return BALANCE_E_ARG;
+  const double n[3] = {normal_link[0] / len, normal_link[1] / len, normal_link[2] / len};
+  /* Shortest rotation n -> m = (0, 0, -1): q ~ (1 + n.m, n x m). */
+  const double c = -n[2];
+  if (c < -1.0 + 1e-12) {
+    out[0] = 0.0; /* n = +z: pi about x */
+    out[1] = 1.0;
+    out[2] = 0.0;
+    out[3] = 0.0;
+    return BALANCE_OK;
+  }
+  double q[4] = {1.0 + c, -n[1], n[0], 0.0}; /* n x (0,0,-1) = (-n_y, n_x, 0) */
+  const double qn = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+  for (int k = 0; k < 4; ++k) out[k] = q[k] / qn;
+  return BALANCE_OK;
+}
+
+/* ---- resting patch ------------------------------------------------------------------------ */
+
+/* The patch of the mesh in orientation q (unit) with the link origin at (x, y). */
+static balance_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
+                                      const double pos[3], const balance_regime_config_t *cfg,
+                                      balance_patch_t *out) {
+  const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
+  double(*w)[3] = malloc(nv * sizeof *w);
+  unsigned char *touch = calloc(nv, 1);
+  unsigned char *used = calloc(nv, 1);
+  double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
+  double(*hull)[2] = malloc((nv + 1) * sizeof *hull);
+  balance_status_t st = BALANCE_OK;
+  if (w == NULL || touch == NULL || used == NULL || pts == NULL || hull == NULL) {
+    st = BALANCE_E_NOMEM;
+    goto done;
+  }
+  memset(out, 0, sizeof *out);
+  double zmin = HUGE_VAL;
+  for (size_t v = 0; v < nv; ++v) {
+    balance_geom_quat_rotate(q, mesh->vertices_m[v], w[v]);
+    for (int k = 0; k < 3; ++k) w[v][k] += pos[k];
+    if (w[v][2] < zmin) zmin = w[v][2];
+  }
+  out->support_z_m = zmin;
+  for (size_t v = 0; v < nv; ++v) {
+    if (w[v][2] - zmin <= cfg->plane_tol_m) {
+      touch[v] = 1;
+      ++out->touch_count;
+    }
+  }
+  size_t np = 0;
+  for (size_t t = 0; t < nt; ++t) {
+    const uint32_t *tri = mesh->triangles[t];
+    if (!touch[tri[0]] || !touch[tri[1]] || !touch[tri[2]]) continue;
+    ++out->face_count;
+    const double *a = w[tri[0]], *b = w[tri[1]], *c = w[tri[2]];
+    out->faces_area_m2 +=
+        0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    for (int k = 0; k < 3; ++k) {
+      if (used[tri[k]]) continue;
+      used[tri[k]] = 1;
+      pts[np][0] = w[tri[k]][0];
+      pts[np][1] = w[tri[k]][1];
+      ++np;
+    }
+  }
+  if (out->face_count > 0) {
+    const size_t nh = balance_geom_hull2d(pts, np, hull);
+    if (nh > BALANCE_PATCH_MAX_VERTICES) {
+      st = BALANCE_E_CAPACITY;
+      goto done;
+    }
+    out->vertex_count = nh;
+    memcpy(out->polygon_xy_m, hull, nh * sizeof *hull);
+    out->area_m2 = balance_geom_poly_area((const double(*)[2])hull, nh);
+    out->width_m = balance_geom_poly_width((const double(*)[2])hull, nh);
+  }
+  out->flat = out->area_m2 >= cfg->min_patch_area_m2 && out->width_m >= cfg->min_patch_width_m;
+done:
+  free(w);
+  free(touch);
+  free(used);
+  free(pts);
+  free(hull);
+  return st;
+}
+
+static balance_status_t pose_check(const balance_pose_t *pose, double q[4]) {
+  if (pose == NULL) return BALANCE_E_ARG;
+  for (int k = 0; k < 3; ++k) {
+    if (!isfinite(pose->position_m[k])) return BALANCE_E_NONFINITE;
+  }
+  return balance_geom_quat_check(pose->orientation_wxyz, q);
+}
+
+static balance_status_t vec_check(const double v[3]) {
+  if (v == NULL) return BALANCE_E_ARG;
+  for (int k = 0; k < 3; ++k) {
+    if (!isfinite(v[k])) return BALANCE_E_NONFINITE;
+  }
+  return BALANCE_OK;
+}
+
+balance_status_t balance_patch_resting(const model_mesh_t *mesh_link, const balance_pose_t *pose,
+                                       const balance_regime_config_t *cfg, balance_patch_t *out) {
+  if (out == NULL) return BALANCE_E_ARG;
+  balance_regime_config_t c;
+  double q[4];
+  balance_status_t st = config_resolve(cfg, &c);
+  if (st == BALANCE_OK) st = balance_geom_mesh_check(mesh_link);
+  if (st == BALANCE_OK) st = pose_check(pose, q);
+  if (st != BALANCE_OK) return st;
+  return patch_compute(mesh_link, q, pose->position_m, &c, out);
+}
+
+/* ---- chords and regimes ------------------------------------------------------------------- */
+
+/* Outward normal (x, y) of an edge and the unit direction of the "along" coordinate. */
+static int edge_axes(balance_edge_t edge, double normal[2], double along[2]) {
+  switch (edge) {
+  case BALANCE_EDGE_PX: normal[0] = 1.0; normal[1] = 0.0; break;
+  case BALANCE_EDGE_NX: normal[0] = -1.0; normal[1] = 0.0; break;
+  case BALANCE_EDGE_PY: normal[0] = 0.0; normal[1] = 1.0; break;
+  case BALANCE_EDGE_NY: normal[0] = 0.0; normal[1] = -1.0; break;
+  default: return 0;
+  }
+  along[0] = normal[0] != 0.0 ? 0.0 : 1.0;
+  along[1] = normal[0] != 0.0 ? 1.0 : 0.0;
+  return 1;
+}
+
+/* Chord margin of the line through p along `dir` (unit) across a flat patch. */
+static double chord_margin(const balance_patch_t *patch, const double p[2], const double dir[2],
+                           double *s0, double *s1) {
+  double lo = 0.0, hi = 0.0;
+  if (!patch->flat ||
+      !balance_geom_poly_chord((const double(*)[2])patch->polygon_xy_m, patch->vertex_count, p, dir,
+                               &lo, &hi))
+    return -HUGE_VAL;
+  if (s0 != NULL) *s0 = lo;
+  if (s1 != NULL) *s1 = hi;
+  return fmin(-lo, hi);
+}
+
+balance_status_t balance_regime_classify(const model_mesh_t *mesh_link, const balance_pose_t *pose,
+                                         const double base_size_m[3], balance_edge_t edge,
+                                         const double com_estimate_link_m[3],
+                                         const balance_regime_config_t *cfg,
+                                         balance_regime_t *out) {
+  if (out == NULL || base_size_m == NULL) return BALANCE_E_ARG;
+  balance_status_t st = vec_check(com_estimate_link_m);
+  if (st == BALANCE_OK) st = vec_check(base_size_m);
+  if (st != BALANCE_OK) return st;
+  double normal[2], along[2];
+  if (!edge_axes(edge, normal, along)) return BALANCE_E_ARG;
+  for (int k = 0; k < 3; ++k) {
+    if (!(base_size_m[k] > 0.0)) return BALANCE_E_ARG;
+  }
+  memset(out, 0, sizeof *out);
+  st = balance_patch_resting(mesh_link, pose, cfg, &out->patch);
+  if (st != BALANCE_OK) return st;
+  balance_regime_config_t c;
+  balance_regime_config_default(&c);
+  if (cfg != NULL) c = *cfg; /* checked by balance_patch_resting */
+  double q[4], cw[3];
+  balance_geom_quat_check(pose->orientation_wxyz, q);
+  balance_geom_quat_rotate(q, com_estimate_link_m, cw);
+  const double p[2] = {cw[0] + pose->position_m[0], cw[1] + pose->position_m[1]};
+  const double half = 0.5 * (normal[0] != 0.0 ? base_size_m[0] : base_size_m[1]);
+  out->com_along_m = p[0] * along[0] + p[1] * along[1];
+  out->com_beyond_m = p[0] * normal[0] + p[1] * normal[1] - half;
+  /* The edge line itself: the CoM estimate moved onto it along the normal. */
+  const double on[2] = {p[0] - out->com_beyond_m * normal[0], p[1] - out->com_beyond_m * normal[1]};
+  double s0 = 0.0, s1 = 0.0;
+  out->chord_margin_m = -HUGE_VAL;
+  if (out->patch.vertex_count >= 3 &&
+      balance_geom_poly_chord((const double(*)[2])out->patch.polygon_xy_m, out->patch.vertex_count,
+                              on, along, &s0, &s1)) {
+    out->chord_valid = 1;
+    out->chord_m[0] = out->com_along_m + s0;
+    out->chord_m[1] = out->com_along_m + s1;
+    out->chord_margin_m = fmin(-s0, s1);
+  }
+  if (!out->patch.flat || !out->chord_valid) {
+    /* No flat patch on the edge line. A patch that exists but is too small still meets the edge
+     * along a short segment: that rolls, it does not drop. */
+    out->kind = out->chord_valid ? BALANCE_REGIME_EDGE_ROLL : BALANCE_REGIME_POINT_SUPPORT;
+  } else if (out->chord_margin_m >= c.min_chord_margin_m) {
+    out->kind = BALANCE_REGIME_FLAT_PATCH;
+  } else {
+    out->kind = BALANCE_REGIME_EDGE_ROLL;
+  }
+  out->flat_patch_regime = out->kind == BALANCE_REGIME_FLAT_PATCH;
+  return BALANCE_OK;
+}
+
+/* ---- yaws --------------------------------------------------------------------------------- */
+
+/* Margin at yaw psi: rotating the object by Rz(psi) is rotating the edge direction by -psi in
+ * the frame of the unrotated patch. */
+static double yaw_margin(const balance_patch_t *patch, const double p[2], const double along[2],
+                         double psi) {
+  const double c = cos(psi), s = sin(psi);
+  const double d[2] = {c * along[0] + s * along[1], -s * along[0] + c * along[1]};
+  return chord_margin(patch, p, d, NULL, NULL);
+}
+
+static balance_status_t yaw_setup(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
+                                  const double com_estimate_link_m[3], balance_edge_t edge,
+                                  const double *out1, const double *out2,
+                                  const balance_regime_config_t *cfg, balance_patch_t *patch,
+                                  double p[2], double along[2]) {
+  if (out1 == NULL || out2 == NULL || orientation_wxyz == NULL) return BALANCE_E_ARG;
+  double normal[2];
+  if (!edge_axes(edge, normal, along)) return BALANCE_E_ARG;
+  balance_status_t st = vec_check(com_estimate_link_m);
+  if (st != BALANCE_OK) return st;
+  balance_pose_t pose = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
+  memcpy(pose.orientation_wxyz, orientation_wxyz, sizeof pose.orientation_wxyz);
+  st = balance_patch_resting(mesh_link, &pose, cfg, patch);
+  if (st != BALANCE_OK) return st;
+  double q[4], cw[3];
+  balance_geom_quat_check(orientation_wxyz, q);
+  balance_geom_quat_rotate(q, com_estimate_link_m, cw);
+  p[0] = cw[0];
+  p[1] = cw[1];
+  return BALANCE_OK;
+}
+
+balance_status_t balance_yaw_margin(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
+                                    const double com_estimate_link_m[3], balance_edge_t edge,
+                                    double yaw_rad, const balance_regime_config_t *cfg,
+                                    double *margin_m) {
+  if (!isfinite(yaw_rad)) return BALANCE_E_NONFINITE;
+  balance_patch_t *patch = malloc(sizeof *patch);
+  if (patch == NULL) return BALANCE_E_NOMEM;
+  double p[2], along[2];
+  const double dummy = 0.0;
+  balance_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m, edge, margin_m,
+                                  &dummy, cfg, patch, p, along);
+  if (st == BALANCE_OK) *margin_m = yaw_margin(patch, p, along, yaw_rad);
+  free(patch);
+  return st;
+}
+
+balance_status_t balance_yaw_best(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
+                                  const double com_estimate_link_m[3], balance_edge_t edge,
+                                  const balance_regime_config_t *cfg, double *yaw_rad,
+                                  double *margin_m) {
+  balance_patch_t *patch = malloc(sizeof *patch);
+  if (patch == NULL) return BALANCE_E_NOMEM;
+  double p[2], along[2];
+  balance_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m, edge, yaw_rad,
+                                  margin_m, cfg, patch, p, along);
+  if (st != BALANCE_OK) {
+    free(patch);
+    return st;
+  }
+  enum { STEPS = 360, GOLDEN_ITERS = 40 };
+  const double pi = 3.14159265358979323846, step = pi / STEPS;
+  int best = -1;
+  double best_m = -HUGE_VAL;
+  for (int i = 0; i < STEPS; ++i) {
+    const double m = yaw_margin(patch, p, along, step * i);
+    if (m > best_m) {
+      best_m = m;
+      best = i;
+    }
+  }
+  double best_psi = 0.0;
+  if (best >= 0) {
+    /* The margin is the minimum of two smooth ray lengths: unimodal near its maximum. */
+    const double g = 0.5 * (sqrt(5.0) - 1.0);
+    double a = step * (best - 1), b = step * (best + 1);
+    double x1 = b - g * (b - a), x2 = a + g * (b - a);
+    double f1 = yaw_margin(patch, p, along, x1), f2 = yaw_margin(patch, p, along, x2);
+    for (int it = 0; it < GOLDEN_ITERS; ++it) {
+      if (f1 < f2) {
+        a = x1;
+        x1 = x2;
+        f1 = f2;
+        x2 = a + g * (b - a);
+        f2 = yaw_margin(patch, p, along, x2);
+      } else {
+        b = x2;
+        x2 = x1;
+        f2 = f1;
+        x1 = b - g * (b - a);
+        f1 = yaw_margin(patch, p, along, x1);
+      }
+    }
+    best_psi = step * best;
+    if (f1 > best_m) {
+      best_m = f1;
+      best_psi = x1;
+    }
+    best_psi = fmod(best_psi + pi, pi);
+  }
+  *yaw_rad = best_psi;
+  *margin_m = best_m;
+  free(patch);
+  return BALANCE_OK;
+}

@@ -1,0 +1,259 @@
+/* stack.c - stacks of objects: the pose that sets one object onto another, and a run that
+ * reports whether the stack stands. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "balance_internal.h"
+#include "comlearn/balance_stack.h"
+#include "poses_geom.h"
+
+void balance_stack_config_default(balance_stack_config_t *cfg) {
+  if (cfg == NULL) return;
+  cfg->duration_s = 5.0;
+  cfg->max_displacement_m = 0.005;
+  cfg->max_rotation_rad = 0.05;
+  cfg->run_to_end = 0;
+}
+
+static balance_status_t stack_config_resolve(const balance_stack_config_t *cfg,
+                                             balance_stack_config_t *out) {
+  balance_stack_config_default(out);
+  if (cfg == NULL) return BALANCE_OK;
+  if (!isfinite(cfg->duration_s) || !isfinite(cfg->max_displacement_m) ||
+      !isfinite(cfg->max_rotation_rad))
+    return BALANCE_E_NONFINITE;
+  /* An hour of simulated time at 1 ms is 3.6e6 steps: the loop stays bounded. */
+  if (!(cfg->duration_s > 0.0) || cfg->duration_s > 3600.0 || !(cfg->max_displacement_m > 0.0) ||
+      !(cfg->max_rotation_rad > 0.0))
+    return BALANCE_E_ARG;
+  *out = *cfg;
+  return BALANCE_OK;
+}
+
+balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *const *objects,
+                                   const balance_pose_t *poses, size_t count,
+                                   const balance_stack_config_t *cfg,
+                                   balance_stack_result_t *result,
+                                   balance_stack_object_t *per_object) {
+  if (world == NULL || objects == NULL || poses == NULL || result == NULL || count == 0)
+    return BALANCE_E_ARG;
+  balance_stack_config_t sc;
+  balance_status_t st = stack_config_resolve(cfg, &sc);
+  if (st != BALANCE_OK) return st;
+  for (size_t i = 0; i < count; ++i) {
+    if (objects[i] == NULL || objects[i]->world != world) return BALANCE_E_ARG;
+    for (size_t j = 0; j < i; ++j) {
+      if (objects[j] == objects[i]) return BALANCE_E_ARG;
+    }
+    balance_pose_t checked;
+    st = balance_pose_check(&poses[i], &checked);
+    if (st != BALANCE_OK) return st;
+  }
+  memset(result, 0, sizeof *result);
+  balance_world_reset(world);
+  for (size_t i = 0; i < count && st == BALANCE_OK; ++i) st = balance_object_place(objects[i], &poses[i]);
+  if (st != BALANCE_OK) {
+    balance_world_reset(world);
+    return st;
+  }
+  balance_pose_t *released = malloc(count * sizeof *released);
+  double *track = malloc(3 * count * sizeof *track);
+  if (released == NULL || track == NULL) {
+    free(released);
+    free(track);
+    balance_world_reset(world);
+    return BALANCE_E_NOMEM;
+  }
+  double *disp = track, *rot = track + count, *moved = track + 2 * count;
+  for (size_t i = 0; i < count; ++i) {
+    balance_object_pose_get(objects[i], &released[i]);
+    disp[i] = 0.0;
+    rot[i] = 0.0;
+    moved[i] = -1.0;
+  }
+  const double dt = balance_world_config(world)->dt_s;
+  const uint32_t steps = (uint32_t)ceil(sc.duration_s / dt - 1e-9);
+  double first_moved = -1.0;
+  uint32_t s = 0;
+  for (; s < steps; ++s) {
+    st = balance_world_step(world);
+    if (st != BALANCE_OK) break;
+    const double t = balance_world_time(world);
+    for (size_t i = 0; i < count; ++i) {
+      balance_pose_t p;
+      balance_object_pose_get(objects[i], &p);
+      const double dx = p.position_m[0] - released[i].position_m[0];
+      const double dy = p.position_m[1] - released[i].position_m[1];
+      const double dz = p.position_m[2] - released[i].position_m[2];
+      const double d = sqrt(dx * dx + dy * dy + dz * dz);
+      const double a = balance_geom_quat_angle(p.orientation_wxyz, released[i].orientation_wxyz);
+      if (d > disp[i]) disp[i] = d;
+      if (a > rot[i]) rot[i] = a;
+      if (moved[i] < 0.0 && (d > sc.max_displacement_m || a > sc.max_rotation_rad)) {
+        moved[i] = t;
+        if (first_moved < 0.0) first_moved = t;
+      }
+    }
+    if (first_moved >= 0.0 && !sc.run_to_end) {
+      ++s;
+      break;
+    }
+  }
+  if (st == BALANCE_OK) {
+    result->stands = first_moved < 0.0;
+    result->seconds_standing = first_moved < 0.0 ? sc.duration_s : first_moved;
+    result->sim_time_s = balance_world_time(world);
+    result->steps = s;
+    for (size_t i = 0; per_object != NULL && i < count; ++i) {
+      balance_object_pose_get(objects[i], &per_object[i].final_pose);
+      per_object[i].displacement_m = disp[i];
+      per_object[i].rotation_rad = rot[i];
+      per_object[i].moved_at_s = moved[i];
+    }
+  }
+  for (size_t i = 0; i < count; ++i) balance_object_remove(objects[i]);
+  free(released);
+  free(track);
+  return st;
+}
+
+/* ---- setting one object onto another ------------------------------------------------------ */
+
+typedef struct {
+  double (*w)[3];       /* world vertices */
+  uint32_t (*e)[2];     /* unique edges */
+  size_t ne;
+  const model_mesh_t *m;
+} placed_t;
+
+static balance_status_t placed_build(const model_mesh_t *m, const double q[4], const double p[3],
+                                     placed_t *out) {
+  out->m = m;
+  out->ne = 0;
+  out->w = malloc(m->vertex_count * sizeof *out->w);
+  out->e = malloc(3 * m->triangle_count * sizeof *out->e);
+  if (out->w == NULL || out->e == NULL) return BALANCE_E_NOMEM;
+  for (size_t v = 0; v < m->vertex_count; ++v) {
+    balance_geom_quat_rotate(q, m->vertices_m[v], out->w[v]);
+    for (int k = 0; k < 3; ++k) out->w[v][k] += p[k];
+  }
+  /* A closed mesh has every edge once in each direction: keep the increasing one. Open or
+   * non-manifold input only repeats work. */
+  for (size_t t = 0; t < m->triangle_count; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = m->triangles[t][k], b = m->triangles[t][(k + 1) % 3];
+      if (a < b) {
+        out->e[out->ne][0] = a;
+        out->e[out->ne][1] = b;
+        ++out->ne;
+      }
+    }
+  }
+  return BALANCE_OK;
+}
+
+static void placed_free(placed_t *p) {
+  free(p->w);
+  free(p->e);
+}
+
+/* z of triangle abc (world) above x, y when the point is inside its vertical projection. */
+static int tri_z_at(const double a[3], const double b[3], const double c[3], const double x,
+                    const double y, double *z) {
+  const double d = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  if (fabs(d) < 1e-18) return 0; /* vertical: its edges cover it */
+  const double u = ((x - a[0]) * (c[1] - a[1]) - (y - a[1]) * (c[0] - a[0])) / d;
+  const double v = ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0])) / d;
+  if (u < 0.0 || v < 0.0 || u + v > 1.0) return 0;
+  *z = a[2] + u * (b[2] - a[2]) + v * (c[2] - a[2]);
+  return 1;
+}
+
+/* Largest (lower z - upper z) over points of `lo` and `up` on one vertical line, with `up` at
+ * its current height: how far `up` must rise to sit on `lo`. -HUGE_VAL if nothing overlaps. */
+static double rise_needed(const placed_t *lo, const placed_t *up) {
+  double need = -HUGE_VAL, z;
+  /* Vertices of one over / under triangles of the other. */
+  for (int pass = 0; pass < 2; ++pass) {
+    const placed_t *pv = pass == 0 ? up : lo, *pt = pass == 0 ? lo : up;
+    for (size_t t = 0; t < pt->m->triangle_count; ++t) {
+      const double *a = pt->w[pt->m->triangles[t][0]], *b = pt->w[pt->m->triangles[t][1]],
+                   *c = pt->w[pt->m->triangles[t][2]];
+      const double x0 = fmin(a[0], fmin(b[0], c[0])), x1 = fmax(a[0], fmax(b[0], c[0]));
+      const double y0 = fmin(a[1], fmin(b[1], c[1])), y1 = fmax(a[1], fmax(b[1], c[1]));
+      for (size_t v = 0; v < pv->m->vertex_count; ++v) {
+        const double *p = pv->w[v];
+        if (p[0] < x0 || p[0] > x1 || p[1] < y0 || p[1] > y1) continue;
+        if (!tri_z_at(a, b, c, p[0], p[1], &z)) continue;
+        const double r = pass == 0 ? z - p[2] : p[2] - z;
+        if (r > need) need = r;
+      }
+    }
+  }
+  /* Edges crossing in projection. */
+  for (size_t i = 0; i < up->ne; ++i) {
+    const double *a = up->w[up->e[i][0]], *b = up->w[up->e[i][1]];
+    const double ax0 = fmin(a[0], b[0]), ax1 = fmax(a[0], b[0]);
+    const double ay0 = fmin(a[1], b[1]), ay1 = fmax(a[1], b[1]);
+    for (size_t j = 0; j < lo->ne; ++j) {
+      const double *c = lo->w[lo->e[j][0]], *d = lo->w[lo->e[j][1]];
+      if (fmax(c[0], d[0]) < ax0 || fmin(c[0], d[0]) > ax1 || fmax(c[1], d[1]) < ay0 ||
+          fmin(c[1], d[1]) > ay1)
+        continue;
+      const double r0 = b[0] - a[0], r1 = b[1] - a[1], s0 = d[0] - c[0], s1 = d[1] - c[1];
+      const double den = r0 * s1 - r1 * s0;
+      if (fabs(den) < 1e-18) continue;
+      const double t = ((c[0] - a[0]) * s1 - (c[1] - a[1]) * s0) / den;
+      const double u = ((c[0] - a[0]) * r1 - (c[1] - a[1]) * r0) / den;
+      if (t < 0.0 || t > 1.0 || u < 0.0 || u > 1.0) continue;
+      const double zu = a[2] + t * (b[2] - a[2]), zl = c[2] + u * (d[2] - c[2]);
+      if (zl - zu > need) need = zl - zu;
+    }
+  }
+  return need;
+}
+
+balance_status_t balance_stack_pose_above(const model_mesh_t *below_link,
+                                          const balance_pose_t *below_pose,
+                                          const model_mesh_t *mesh_link,
+                                          const double orientation_wxyz[4],
+                                          const double point_link_m[3], const double at_xy_m[2],
+                                          double touch_depth_m, balance_pose_t *out) {
+  if (below_pose == NULL || orientation_wxyz == NULL || point_link_m == NULL || at_xy_m == NULL ||
+      out == NULL)
+    return BALANCE_E_ARG;
+  balance_status_t st = balance_geom_mesh_check(below_link);
+  if (st == BALANCE_OK) st = balance_geom_mesh_check(mesh_link);
+  if (st != BALANCE_OK) return st;
+  if (!isfinite(touch_depth_m) || !isfinite(at_xy_m[0]) || !isfinite(at_xy_m[1]))
+    return BALANCE_E_NONFINITE;
+  for (int k = 0; k < 3; ++k) {
+    if (!isfinite(point_link_m[k]) || !isfinite(below_pose->position_m[k])) return BALANCE_E_NONFINITE;
+  }
+  if (touch_depth_m < 0.0 || touch_depth_m > 1e-3) return BALANCE_E_ARG;
+  double qb[4], qu[4];
+  st = balance_geom_quat_check(below_pose->orientation_wxyz, qb);
+  if (st == BALANCE_OK) st = balance_geom_quat_check(orientation_wxyz, qu);
+  if (st != BALANCE_OK) return st;
+  double pw[3];
+  balance_geom_quat_rotate(qu, point_link_m, pw);
+  const double pos[3] = {at_xy_m[0] - pw[0], at_xy_m[1] - pw[1], 0.0};
+  placed_t lo = {0}, up = {0};
+  st = placed_build(below_link, qb, below_pose->position_m, &lo);
+  if (st == BALANCE_OK) st = placed_build(mesh_link, qu, pos, &up);
+  if (st == BALANCE_OK) {
+    const double rise = rise_needed(&lo, &up);
+    if (rise == -HUGE_VAL) {
+      st = BALANCE_E_POSE;
+    } else {
+      memcpy(out->orientation_wxyz, qu, sizeof qu);
+      out->position_m[0] = pos[0];
+      out->position_m[1] = pos[1];
+      out->position_m[2] = rise - touch_depth_m;
+    }
+  }
+  placed_free(&lo);
+  placed_free(&up);
+  return st;
+}

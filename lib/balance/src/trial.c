@@ -1,0 +1,132 @@
+/* trial.c - one placement trial: release touching B, step, decide stays / tips / slides. */
+#include <math.h>
+#include <string.h>
+
+#include "balance_internal.h"
+
+/* splitmix64: a seeded, portable stream for the noise hooks. */
+static uint64_t splitmix64(uint64_t *s) {
+  uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+static double uniform01(uint64_t *s) {
+  return ((double)(splitmix64(s) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+/* Two independent standard normal numbers (Box-Muller). */
+static void gauss2(uint64_t *s, double out[2]) {
+  const double u = uniform01(s), v = uniform01(s);
+  const double r = sqrt(-2.0 * log(u));
+  out[0] = r * cos(6.283185307179586 * v);
+  out[1] = r * sin(6.283185307179586 * v);
+}
+
+static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
+                                   const balance_pose_t *release, const balance_noise_t *noise,
+                                   balance_trial_result_t *out) {
+  if (!w || !obj || !release || !out || obj->world != w) return BALANCE_E_ARG;
+  memset(out, 0, sizeof *out);
+  balance_pose_t rel;
+  balance_status_t st = balance_pose_check(release, &rel);
+  if (st != BALANCE_OK) return st;
+  uint64_t rng = 0;
+  double pose_noise = 0.0;
+  if (noise) {
+    if (!isfinite(noise->placement_noise_m) || !isfinite(noise->pose_noise_m))
+      return BALANCE_E_NONFINITE;
+    if (noise->placement_noise_m < 0.0 || noise->placement_noise_m > 0.1 ||
+        noise->pose_noise_m < 0.0 || noise->pose_noise_m > 0.1)
+      return BALANCE_E_ARG;
+    rng = noise->seed;
+    double g[2];
+    gauss2(&rng, g);
+    rel.position_m[0] += noise->placement_noise_m * g[0];
+    rel.position_m[1] += noise->placement_noise_m * g[1];
+    pose_noise = noise->pose_noise_m;
+  }
+  balance_world_reset(w);
+  st = balance_object_place(obj, &rel);
+  if (st != BALANCE_OK) return st;
+
+  const balance_config_t *cfg = &w->cfg;
+  const double hx = 0.5 * cfg->base_size_m[0], hy = 0.5 * cfg->base_size_m[1];
+  double com0[3];
+  balance_object_com_get(obj, com0);
+  const uint32_t max_steps = (uint32_t)ceil(cfg->horizon_s / cfg->dt_s - 1e-9);
+  const uint32_t min_rest_steps = (uint32_t)ceil(cfg->rest_min_time_s / cfg->dt_s - 1e-9);
+  uint32_t quiet = 0, grow = 0, steps = 0;
+  double om_prev = INFINITY;
+  balance_outcome_t outcome = BALANCE_INVALID;
+  while (steps < max_steps) {
+    st = balance_world_step(w);
+    steps++;
+    if (st != BALANCE_OK) {
+      balance_object_remove(obj);
+      return st;
+    }
+    balance_pose_t now;
+    balance_object_pose_get(obj, &now);
+    double com[3], v[3], om[3];
+    balance_object_com_get(obj, com);
+    balance_object_velocity_get(obj, v, om);
+    const double rot = balance_quat_angle(rel.orientation_wxyz, now.orientation_wxyz);
+    const double slide = hypot(com[0] - com0[0], com[1] - com0[1]);
+    const double wn = norm3(om), vn = norm3(v);
+    const int beyond = fabs(com[0]) > hx || fabs(com[1]) > hy;
+    /* Clearly tipped: turned far, fallen below the top, or gone beyond the edge. */
+    if (rot > cfg->tip_angle_rad || com[2] < 0.0 || fabs(com[0]) > hx + obj->radius_m ||
+        fabs(com[1]) > hy + obj->radius_m) {
+      outcome = BALANCE_TIPS;
+      break;
+    }
+    if (slide > cfg->slide_m && rot < 0.25 * cfg->tip_angle_rad) {
+      outcome = BALANCE_SLIDES;
+      break;
+    }
+    /* Released at rest, a body that stays only loses the contact transient: its angular speed
+     * decays geometrically (by the ERP fraction per step) down to rounding noise. A body with its
+     * CoM beyond the edge pivots on it like an inverted pendulum: its angular speed grows every
+     * step, from the first milliseconds and however close to the edge the CoM is. Telling the two
+     * apart by the trend, not by a speed threshold, is what makes short trials exact: a speed
+     * threshold calls a slowly tipping body "at rest" (an outward bias of microns). */
+    const int growing = wn > om_prev && wn > 1e-11;
+    grow = growing ? grow + 1 : 0;
+    if (beyond && grow >= (uint32_t)cfg->tip_grow_steps) {
+      outcome = BALANCE_TIPS;
+      break;
+    }
+    if (vn < cfg->rest_lin_m_s && wn < cfg->rest_ang_rad_s && !growing)
+      quiet++;
+    else
+      quiet = 0;
+    om_prev = wn;
+    if (steps >= min_rest_steps && quiet >= (uint32_t)cfg->rest_steps) {
+      outcome = BALANCE_STAYS;
+      break;
+    }
+  }
+  out->outcome = outcome;
+  out->released = rel;
+  balance_object_pose_get(obj, &out->settled);
+  if (pose_noise > 0.0) {
+    double g[2];
+    gauss2(&rng, g);
+    out->settled.position_m[0] += pose_noise * g[0];
+    out->settled.position_m[1] += pose_noise * g[1];
+    gauss2(&rng, g);
+    out->settled.position_m[2] += pose_noise * g[0];
+  }
+  double d[3];
+  for (int i = 0; i < 3; i++) d[i] = out->settled.position_m[i] - rel.position_m[i];
+  out->displacement_m = norm3(d);
+  out->rotation_rad = balance_quat_angle(rel.orientation_wxyz, out->settled.orientation_wxyz);
+  out->sim_time_s = (double)steps * cfg->dt_s;
+  out->steps = steps;
+  balance_object_remove(obj);
+  return BALANCE_OK;
+}

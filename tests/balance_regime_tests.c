@@ -1,0 +1,490 @@
+/* balance_regime_tests.c - the flat-patch regime geometry (comlearn/balance_poses.h): resting
+ * patches, chords on the edge line, regime verdicts, yaws, hull faces. Pure geometry, no ODE. */
+#include <check.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "balance_poses_fixtures.h"
+#include "balance_suites.h"
+#include "comlearn/balance_poses.h"
+
+static const double kBase[3] = {0.30, 0.30, 0.10};
+static const double kIdentity[4] = {1.0, 0.0, 0.0, 0.0};
+
+/* Rotate v by unit q (test-side, independent of the library's helper). */
+static void rot(const double q[4], const double v[3], double o[3]) {
+  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                          {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
+                          {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+  for (int i = 0; i < 3; ++i) o[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2];
+}
+
+/* The pose with point p (link) over `edge` of kBase at `along` metres along it, lowest vertex at
+ * z = -1e-6 (what balance_pose_over_edge is specified to give). */
+static balance_pose_t over_edge(const model_mesh_t *m, const double q[4], balance_edge_t edge,
+                                const double p[3], double along) {
+  balance_pose_t pose;
+  memcpy(pose.orientation_wxyz, q, sizeof pose.orientation_wxyz);
+  double zmin = HUGE_VAL, w[3];
+  for (size_t v = 0; v < m->vertex_count; ++v) {
+    rot(q, m->vertices_m[v], w);
+    if (w[2] < zmin) zmin = w[2];
+  }
+  rot(q, p, w);
+  const double half = 0.15;
+  double target[2] = {along, along};
+  switch (edge) {
+  case BALANCE_EDGE_PX: target[0] = half; break;
+  case BALANCE_EDGE_NX: target[0] = -half; break;
+  case BALANCE_EDGE_PY: target[1] = half; break;
+  case BALANCE_EDGE_NY: target[1] = -half; break;
+  }
+  pose.position_m[0] = target[0] - w[0];
+  pose.position_m[1] = target[1] - w[1];
+  pose.position_m[2] = -zmin - 1e-6;
+  return pose;
+}
+
+/* ---- boxes: exact answers ---------------------------------------------------------------- */
+
+START_TEST(box_patch_is_its_bottom_face) {
+  const double h[3] = {0.03, 0.02, 0.01}, c[3] = {0, 0, 0};
+  model_mesh_t m = {0};
+  bp_box(&m, h, 0.0);
+  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, c, 0.0);
+  balance_regime_t r;
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, c, NULL, &r),
+                   BALANCE_OK);
+  ck_assert_uint_eq(r.patch.touch_count, 4);
+  ck_assert_uint_eq(r.patch.face_count, 2);
+  ck_assert_uint_eq(r.patch.vertex_count, 4);
+  ck_assert_double_eq_tol(r.patch.support_z_m, -1e-6, 1e-15);
+  ck_assert_double_eq_tol(r.patch.area_m2, 0.06 * 0.04, 1e-15);
+  ck_assert_double_eq_tol(r.patch.faces_area_m2, 0.06 * 0.04, 1e-15);
+  ck_assert_double_eq_tol(r.patch.width_m, 0.04, 1e-15);
+  ck_assert(r.patch.flat);
+  /* Over the X edge the chord runs along y across the whole face width. */
+  ck_assert(r.chord_valid);
+  ck_assert_double_eq_tol(r.chord_m[0], -0.02, 1e-15);
+  ck_assert_double_eq_tol(r.chord_m[1], 0.02, 1e-15);
+  ck_assert_double_eq_tol(r.com_along_m, 0.0, 1e-15);
+  ck_assert_double_eq_tol(r.com_beyond_m, 0.0, 1e-15);
+  ck_assert_double_eq_tol(r.chord_margin_m, 0.02, 1e-15);
+  ck_assert_int_eq(r.kind, BALANCE_REGIME_FLAT_PATCH);
+  ck_assert(r.flat_patch_regime);
+  /* Over the Y edge, 5 cm along it: the chord spans the 6 cm length, shifted with the object. */
+  pose = over_edge(&m, kIdentity, BALANCE_EDGE_PY, c, 0.05);
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PY, c, NULL, &r),
+                   BALANCE_OK);
+  ck_assert_double_eq_tol(r.chord_m[0], 0.02, 1e-15);
+  ck_assert_double_eq_tol(r.chord_m[1], 0.08, 1e-15);
+  ck_assert_double_eq_tol(r.com_along_m, 0.05, 1e-15);
+  ck_assert_double_eq_tol(r.chord_margin_m, 0.03, 1e-15);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(box_margin_decides_the_regime) {
+  const double h[3] = {0.03, 0.02, 0.01};
+  model_mesh_t m = {0};
+  bp_box(&m, h, 0.0);
+  /* A CoM estimate 18.5 mm off the middle sideways: 1.5 mm from the chord end, under the 3 mm
+   * default: it would roll sideways. */
+  const double side[3] = {0.0, 0.0185, 0.0};
+  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, side, 0.0);
+  balance_regime_t r;
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, side, NULL, &r),
+                   BALANCE_OK);
+  ck_assert_double_eq_tol(r.chord_margin_m, 0.0015, 1e-12);
+  ck_assert_int_eq(r.kind, BALANCE_REGIME_EDGE_ROLL);
+  ck_assert(!r.flat_patch_regime);
+  /* Beyond the face sideways: the chord misses the CoM estimate (negative margin). */
+  const double out[3] = {0.0, 0.025, 0.0};
+  pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, out, 0.0);
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, out, NULL, &r),
+                   BALANCE_OK);
+  ck_assert_double_eq_tol(r.chord_margin_m, -0.005, 1e-12);
+  ck_assert_int_eq(r.kind, BALANCE_REGIME_EDGE_ROLL);
+  /* A looser threshold accepts the 1.5 mm case. */
+  balance_regime_config_t cfg;
+  balance_regime_config_default(&cfg);
+  cfg.min_chord_margin_m = 0.001;
+  pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, side, 0.0);
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, side, &cfg, &r),
+                   BALANCE_OK);
+  ck_assert_int_eq(r.kind, BALANCE_REGIME_FLAT_PATCH);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(box_best_yaw_is_the_diagonal) {
+  /* Through the middle of a 60 x 40 mm face the longest chord is the diagonal: margin half of
+   * it, sqrt(30^2 + 20^2) mm. */
+  const double h[3] = {0.03, 0.02, 0.01}, c[3] = {0, 0, 0};
+  model_mesh_t m = {0};
+  bp_box(&m, h, 0.0);
+  double yaw = -1.0, margin = 0.0;
+  ck_assert_int_eq(balance_yaw_best(&m, kIdentity, c, BALANCE_EDGE_PX, NULL, &yaw, &margin),
+                   BALANCE_OK);
+  ck_assert_double_eq_tol(margin, sqrt(0.03 * 0.03 + 0.02 * 0.02), 1e-9);
+  ck_assert(yaw >= 0.0 && yaw < BP_PI);
+  /* The edge (world y) seen in the object frame after yaw runs along a diagonal. */
+  const double d[2] = {sin(yaw), cos(yaw)};
+  const double along_diag = fabs(d[0] * 0.03 + d[1] * 0.02) / sqrt(0.03 * 0.03 + 0.02 * 0.02);
+  const double along_anti = fabs(-d[0] * 0.03 + d[1] * 0.02) / sqrt(0.03 * 0.03 + 0.02 * 0.02);
+  ck_assert_double_eq_tol(fmax(along_diag, along_anti), 1.0, 1e-12);
+  /* balance_yaw_margin agrees at that yaw and at yaw 0 (chord across the 40 mm width). */
+  double m2 = 0.0;
+  ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, c, BALANCE_EDGE_PX, yaw, NULL, &m2), BALANCE_OK);
+  ck_assert_double_eq_tol(m2, margin, 1e-12);
+  ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, c, BALANCE_EDGE_PX, 0.0, NULL, &m2), BALANCE_OK);
+  ck_assert_double_eq_tol(m2, 0.02, 1e-12);
+  ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, c, BALANCE_EDGE_PY, 0.0, NULL, &m2), BALANCE_OK);
+  ck_assert_double_eq_tol(m2, 0.03, 1e-12);
+  /* The classified trial at that yaw has the same margin. */
+  double q[4];
+  balance_orientation_yawed(kIdentity, yaw, q);
+  balance_pose_t pose = over_edge(&m, q, BALANCE_EDGE_PX, c, 0.0);
+  balance_regime_t r;
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, c, NULL, &r),
+                   BALANCE_OK);
+  ck_assert_double_eq_tol(r.chord_margin_m, margin, 1e-12);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(box_faces_with_offset_com) {
+  /* 60 x 40 x 20 mm box, CoM 25 mm along +x. Analytic margins of its projection: on the +-x faces
+   * (40 x 20) it is the face middle: min(20, 10) = 10 mm; on the +-y faces (60 x 20) and the
+   * +-z faces (60 x 40) it is 5 mm from the x end. */
+  const double h[3] = {0.03, 0.02, 0.01}, com[3] = {0.025, 0.0, 0.0};
+  model_mesh_t m = {0};
+  bp_box(&m, h, 0.0);
+  balance_face_t f[8];
+  size_t n = 0;
+  ck_assert_int_eq(balance_faces_find(&m, com, NULL, f, 8, &n), BALANCE_OK);
+  ck_assert_uint_eq(n, 6);
+  for (size_t i = 0; i < n; ++i) {
+    const double *nl = f[i].normal_link;
+    int axis = -1;
+    for (int k = 0; k < 3; ++k) {
+      if (fabs(fabs(nl[k]) - 1.0) < 1e-15) axis = k;
+    }
+    ck_assert_int_ge(axis, 0);
+    const double a = 4.0 * h[(axis + 1) % 3] * h[(axis + 2) % 3];
+    ck_assert_double_eq_tol(f[i].area_m2, a, 1e-15);
+    ck_assert_double_eq_tol(f[i].patch_area_m2, a, 1e-15);
+    ck_assert_double_eq_tol(f[i].offset_m, h[axis], 1e-15);
+    ck_assert_uint_eq(f[i].face_count, 2);
+    ck_assert_double_eq_tol(f[i].com_margin_m, axis == 0 ? 0.010 : 0.005, 1e-12);
+    ck_assert(f[i].candidate);
+    /* Resting on it turns its normal to -z. */
+    double w[3];
+    rot(f[i].orientation_wxyz, nl, w);
+    ck_assert_double_eq_tol(w[2], -1.0, 1e-12);
+    if (i > 0) ck_assert(f[i].area_m2 <= f[i - 1].area_m2);
+  }
+  ck_assert(f[0].flat && f[1].flat);   /* 60 x 40 */
+  ck_assert(f[2].flat && f[3].flat);   /* 60 x 20 */
+  ck_assert(f[4].flat && f[5].flat);   /* 40 x 20: width 20 mm, area 8 cm^2 */
+  /* With a 6 mm margin required, only the two x faces remain candidates (analytic count). */
+  balance_regime_config_t cfg;
+  balance_regime_config_default(&cfg);
+  cfg.min_com_margin_m = 0.006;
+  ck_assert_int_eq(balance_faces_find(&m, com, &cfg, f, 8, &n), BALANCE_OK);
+  int cand = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (f[i].candidate) {
+      ++cand;
+      ck_assert_double_eq_tol(fabs(f[i].normal_link[0]), 1.0, 1e-15);
+    }
+  }
+  ck_assert_int_eq(cand, 2);
+  /* The count is reported even when the array is short. */
+  ck_assert_int_eq(balance_faces_find(&m, com, NULL, f, 2, &n), BALANCE_OK);
+  ck_assert_uint_eq(n, 6);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(leaning_box_com_outside_bottom) {
+  /* Bottom 20 x 20 mm, top shifted 30 mm in x, 60 mm tall: the uniform-density CoM is at
+   * x = 15 mm, 5 mm beyond the bottom face: the bottom face is no candidate (margin -5 mm). */
+  const double h[3] = {0.01, 0.01, 0.03};
+  model_mesh_t m = {0};
+  bp_box(&m, h, 0.03);
+  model_mass_t mass;
+  ck_assert_int_eq(model_mesh_mass(&m, 1000.0, &mass), MODEL_OK);
+  ck_assert_double_eq_tol(mass.com_m[0], 0.015, 1e-12);
+  balance_face_t f[8];
+  size_t n = 0;
+  ck_assert_int_eq(balance_faces_find(&m, mass.com_m, NULL, f, 8, &n), BALANCE_OK);
+  ck_assert_uint_eq(n, 6);
+  int seen = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (f[i].normal_link[2] < -1.0 + 1e-12) {
+      seen = 1;
+      ck_assert_double_eq_tol(f[i].com_margin_m, -0.005, 1e-12);
+      ck_assert(!f[i].candidate);
+    }
+  }
+  ck_assert(seen);
+  model_mesh_free(&m);
+}
+END_TEST
+
+/* ---- the bundled rocks ------------------------------------------------------------------- */
+
+START_TEST(rock_bottom_face_spans_the_com) {
+  const int which = _i / 2 + 1, uneven = _i % 2;
+  bp_rock_t r;
+  bp_rock_load(&r, which, uneven);
+  const model_mesh_t *m = &r.obj.mesh;
+  /* The estimator's prior (uniform CoM) and the truth both lie over the -z face's chord. */
+  const double *coms[2] = {r.uniform.com_m, r.truth.com_m};
+  for (int e = 0; e < 4; ++e) {
+    for (int c = 0; c < 2; ++c) {
+      balance_pose_t pose = over_edge(m, kIdentity, (balance_edge_t)e, coms[c], 0.0);
+      balance_regime_t reg;
+      ck_assert_int_eq(balance_regime_classify(m, &pose, kBase, (balance_edge_t)e, coms[c], NULL, &reg),
+                       BALANCE_OK);
+      ck_assert_msg(reg.patch.width_m >= 0.02, "rock %d: patch %.4f m wide", which, reg.patch.width_m);
+      ck_assert(reg.patch.area_m2 >= 4e-4);
+      ck_assert(reg.patch.face_count >= 10);
+      ck_assert(reg.patch.flat);
+      ck_assert(reg.chord_valid);
+      ck_assert_msg(reg.chord_margin_m >= 0.006, "rock %d edge %d: margin %.4f", which, e,
+                    reg.chord_margin_m);
+      ck_assert_int_eq(reg.kind, BALANCE_REGIME_FLAT_PATCH);
+      ck_assert_double_eq_tol(reg.com_beyond_m, 0.0, 1e-12);
+      /* The chord ends lie on the patch's boundary: half a micrometre outward leaves it. */
+      const int x_edge = e < 2;
+      for (int end = 0; end < 2; ++end) {
+        const double s = reg.chord_m[end] + (end ? 5e-7 : -5e-7);
+        const double probe[2] = {x_edge ? (e == 0 ? 0.15 : -0.15) : s,
+                                 x_edge ? s : (e == 2 ? 0.15 : -0.15)};
+        int inside = 1;
+        const size_t nv = reg.patch.vertex_count;
+        for (size_t i = 0; i < nv; ++i) {
+          const double *a = reg.patch.polygon_xy_m[i], *b = reg.patch.polygon_xy_m[(i + 1) % nv];
+          if ((b[0] - a[0]) * (probe[1] - a[1]) - (b[1] - a[1]) * (probe[0] - a[0]) < 0.0) inside = 0;
+        }
+        ck_assert(!inside);
+      }
+    }
+  }
+  /* The best yaw does at least as well as yaw 0. */
+  double yaw = 0.0, best = 0.0, at0 = 0.0;
+  ck_assert_int_eq(balance_yaw_best(m, kIdentity, r.uniform.com_m, BALANCE_EDGE_PX, NULL, &yaw, &best),
+                   BALANCE_OK);
+  ck_assert_int_eq(balance_yaw_margin(m, kIdentity, r.uniform.com_m, BALANCE_EDGE_PX, 0.0, NULL, &at0),
+                   BALANCE_OK);
+  ck_assert(best >= at0);
+  ck_assert(best >= 0.010);
+  bp_rock_free(&r);
+}
+END_TEST
+
+START_TEST(rock_faces_are_the_fractures) {
+  /* Each bundled rock has four fracture faces (docs/assets.md), each >= 20 mm wide; among them
+   * the -z face (orientation: identity) and a +-x face. Nothing else on its hull is flat. */
+  bp_rock_t r;
+  bp_rock_load(&r, _i + 1, 0);
+  size_t n = 0;
+  ck_assert_int_eq(balance_faces_find(&r.obj.mesh, r.uniform.com_m, NULL, NULL, 0, &n), BALANCE_OK);
+  ck_assert(n >= 4);
+  balance_face_t *f = malloc(n * sizeof *f);
+  ck_assert_ptr_nonnull(f);
+  ck_assert_int_eq(balance_faces_find(&r.obj.mesh, r.uniform.com_m, NULL, f, n, &n), BALANCE_OK);
+  int flat = 0, bottom = 0, side = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!f[i].flat) continue;
+    ++flat;
+    ck_assert(f[i].patch_width_m >= 0.02);
+    ck_assert(f[i].patch_area_m2 <= f[i].area_m2 * (1.0 + 1e-9));
+    if (f[i].normal_link[2] == -1.0) {
+      bottom = 1;
+      ck_assert(f[i].orientation_wxyz[0] == 1.0 && f[i].orientation_wxyz[1] == 0.0 &&
+                f[i].orientation_wxyz[2] == 0.0 && f[i].orientation_wxyz[3] == 0.0);
+      ck_assert(f[i].candidate);
+    }
+    if (fabs(f[i].normal_link[0]) == 1.0) side = 1;
+  }
+  ck_assert_int_eq(flat, 4);
+  ck_assert(bottom && side);
+  free(f);
+  bp_rock_free(&r);
+}
+END_TEST
+
+/* ---- rounded undersides ------------------------------------------------------------------ */
+
+START_TEST(ellipsoid_is_point_support) {
+  const double a[3] = {0.035, 0.03, 0.025}, c[3] = {0, 0, 0};
+  model_mesh_t m = {0};
+  bp_ellipsoid(&m, a, 24, 48);
+  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, c, 0.0);
+  balance_regime_t r;
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, c, NULL, &r),
+                   BALANCE_OK);
+  ck_assert_uint_eq(r.patch.touch_count, 1); /* the pole */
+  ck_assert_uint_eq(r.patch.face_count, 0);
+  ck_assert(!r.patch.flat);
+  ck_assert(!r.chord_valid);
+  ck_assert(r.chord_margin_m == -HUGE_VAL);
+  ck_assert_int_eq(r.kind, BALANCE_REGIME_POINT_SUPPORT);
+  ck_assert(!r.flat_patch_regime);
+  double yaw = 1.0, margin = 0.0;
+  ck_assert_int_eq(balance_yaw_best(&m, kIdentity, c, BALANCE_EDGE_PX, NULL, &yaw, &margin),
+                   BALANCE_OK);
+  ck_assert(margin == -HUGE_VAL);
+  ck_assert(yaw == 0.0);
+  /* Its hull faces are small triangles and quads: none is a flat patch. */
+  balance_face_t f[4];
+  size_t n = 0;
+  ck_assert_int_eq(balance_faces_find(&m, c, NULL, f, 4, &n), BALANCE_OK);
+  ck_assert(n > 0);
+  for (size_t i = 0; i < (n < 4 ? n : 4); ++i) ck_assert(!f[i].flat);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(rock_tilted_is_not_flat) {
+  /* A rock turned 45 degrees about x and 30 about y rests on its rounded side. */
+  bp_rock_t r;
+  bp_rock_load(&r, _i + 1, 0);
+  const double qx[4] = {cos(BP_PI / 8), sin(BP_PI / 8), 0, 0};
+  const double qy[4] = {cos(BP_PI / 12), 0, sin(BP_PI / 12), 0};
+  double q[4] = {qy[0] * qx[0] - qy[2] * 0.0, qy[0] * qx[1], qy[2] * qx[0], -qy[2] * qx[1]};
+  balance_pose_t pose = over_edge(&r.obj.mesh, q, BALANCE_EDGE_PX, r.uniform.com_m, 0.0);
+  balance_regime_t reg;
+  ck_assert_int_eq(balance_regime_classify(&r.obj.mesh, &pose, kBase, BALANCE_EDGE_PX, r.uniform.com_m,
+                                           NULL, &reg),
+                   BALANCE_OK);
+  ck_assert(!reg.patch.flat);
+  ck_assert(reg.kind != BALANCE_REGIME_FLAT_PATCH);
+  ck_assert(reg.patch.touch_count <= 3);
+  bp_rock_free(&r);
+}
+END_TEST
+
+/* ---- orientations ------------------------------------------------------------------------ */
+
+START_TEST(resting_orientation_turns_normal_down) {
+  const double normals[5][3] = {{0, 0, -1}, {0, 0, 2}, {1, 0, 0}, {0.3, -0.5, 0.8}, {-0.2, 0.1, -0.9}};
+  for (int i = 0; i < 5; ++i) {
+    double q[4], w[3];
+    ck_assert_int_eq(balance_orientation_resting(normals[i], q), BALANCE_OK);
+    ck_assert_double_eq_tol(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-15);
+    rot(q, normals[i], w);
+    const double len = sqrt(normals[i][0] * normals[i][0] + normals[i][1] * normals[i][1] +
+                            normals[i][2] * normals[i][2]);
+    ck_assert_double_eq_tol(w[0], 0.0, 1e-15);
+    ck_assert_double_eq_tol(w[1], 0.0, 1e-15);
+    ck_assert_double_eq_tol(w[2], -len, 1e-15);
+  }
+  /* Yaw about world z keeps the normal down and turns x. */
+  double q[4], w[3];
+  const double ex[3] = {1, 0, 0};
+  balance_orientation_yawed(kIdentity, BP_PI / 2, q);
+  rot(q, ex, w);
+  ck_assert_double_eq_tol(w[0], 0.0, 1e-15);
+  ck_assert_double_eq_tol(w[1], 1.0, 1e-15);
+}
+END_TEST
+
+/* ---- bad input --------------------------------------------------------------------------- */
+
+START_TEST(bad_input_gives_status) {
+  const double h[3] = {0.03, 0.02, 0.01}, c[3] = {0, 0, 0};
+  model_mesh_t m = {0};
+  bp_box(&m, h, 0.0);
+  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, c, 0.0);
+  balance_regime_t r;
+  balance_patch_t p;
+  ck_assert_int_eq(balance_regime_classify(NULL, &pose, kBase, BALANCE_EDGE_PX, c, NULL, &r), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_regime_classify(&m, NULL, kBase, BALANCE_EDGE_PX, c, NULL, &r), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, NULL, NULL, &r), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, c, NULL, NULL), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, (balance_edge_t)7, c, NULL, &r), BALANCE_E_ARG);
+  const double bad_base[3] = {0.3, 0.0, 0.1};
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, bad_base, BALANCE_EDGE_PX, c, NULL, &r), BALANCE_E_ARG);
+  const double nan_com[3] = {0, NAN, 0};
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, nan_com, NULL, &r),
+                   BALANCE_E_NONFINITE);
+  /* Quaternions: not unit, non-finite. */
+  balance_pose_t bad = pose;
+  bad.orientation_wxyz[0] = 1.01;
+  ck_assert_int_eq(balance_patch_resting(&m, &bad, NULL, &p), BALANCE_E_POSE);
+  bad.orientation_wxyz[0] = 0.0;
+  ck_assert_int_eq(balance_patch_resting(&m, &bad, NULL, &p), BALANCE_E_POSE);
+  bad.orientation_wxyz[0] = INFINITY;
+  ck_assert_int_eq(balance_patch_resting(&m, &bad, NULL, &p), BALANCE_E_NONFINITE);
+  bad = pose;
+  bad.position_m[1] = NAN;
+  ck_assert_int_eq(balance_patch_resting(&m, &bad, NULL, &p), BALANCE_E_NONFINITE);
+  const double q_bad[4] = {2, 0, 0, 0};
+  double yaw, margin;
+  ck_assert_int_eq(balance_yaw_best(&m, q_bad, c, BALANCE_EDGE_PX, NULL, &yaw, &margin), BALANCE_E_POSE);
+  ck_assert_int_eq(balance_yaw_best(&m, kIdentity, c, BALANCE_EDGE_PX, NULL, NULL, &margin), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, c, BALANCE_EDGE_PX, NAN, NULL, &margin),
+                   BALANCE_E_NONFINITE);
+  /* Config out of range. */
+  balance_regime_config_t cfg;
+  balance_regime_config_default(&cfg);
+  ck_assert_int_eq(balance_regime_config_check(&cfg), BALANCE_OK);
+  cfg.plane_tol_m = 0.0;
+  ck_assert_int_eq(balance_patch_resting(&m, &pose, &cfg, &p), BALANCE_E_ARG);
+  cfg.plane_tol_m = NAN;
+  ck_assert_int_eq(balance_patch_resting(&m, &pose, &cfg, &p), BALANCE_E_NONFINITE);
+  /* Normals. */
+  double q[4];
+  const double zero[3] = {0, 0, 0}, inf[3] = {INFINITY, 0, 0};
+  ck_assert_int_eq(balance_orientation_resting(zero, q), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_orientation_resting(inf, q), BALANCE_E_NONFINITE);
+  /* Meshes: a non-finite vertex, an index out of range, empty, NULL arrays. */
+  balance_face_t f[2];
+  size_t n;
+  m.vertices_m[3][2] = NAN;
+  ck_assert_int_eq(balance_patch_resting(&m, &pose, NULL, &p), BALANCE_E_NONFINITE);
+  ck_assert_int_eq(balance_faces_find(&m, c, NULL, f, 2, &n), BALANCE_E_NONFINITE);
+  m.vertices_m[3][2] = -0.01;
+  m.triangles[5][1] = 8;
+  ck_assert_int_eq(balance_patch_resting(&m, &pose, NULL, &p), BALANCE_E_MESH);
+  ck_assert_int_eq(balance_faces_find(&m, c, NULL, f, 2, &n), BALANCE_E_MESH);
+  m.triangles[5][1] = 5;
+  model_mesh_t empty = {0};
+  ck_assert_int_eq(balance_patch_resting(&empty, &pose, NULL, &p), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_faces_find(&empty, c, NULL, f, 2, &n), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_faces_find(&m, c, NULL, NULL, 2, &n), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_faces_find(&m, nan_com, NULL, f, 2, &n), BALANCE_E_NONFINITE);
+  /* A flat (zero-volume) mesh has no hull. */
+  model_mesh_t flat = {0};
+  const double hf[3] = {0.03, 0.02, 0.0};
+  bp_box(&flat, hf, 0.0);
+  ck_assert_int_eq(balance_faces_find(&flat, c, NULL, f, 2, &n), BALANCE_E_MESH);
+  model_mesh_free(&flat);
+  model_mesh_free(&m);
+}
+END_TEST
+
+Suite *balance_regime_suite(void) {
+  Suite *s = suite_create("balance_regime");
+  TCase *tc = tcase_create("geometry");
+  tcase_set_timeout(tc, 120);
+  tcase_add_test(tc, box_patch_is_its_bottom_face);
+  tcase_add_test(tc, box_margin_decides_the_regime);
+  tcase_add_test(tc, box_best_yaw_is_the_diagonal);
+  tcase_add_test(tc, box_faces_with_offset_com);
+  tcase_add_test(tc, leaning_box_com_outside_bottom);
+  tcase_add_loop_test(tc, rock_bottom_face_spans_the_com, 0, 6);
+  tcase_add_loop_test(tc, rock_faces_are_the_fractures, 0, 3);
+  tcase_add_test(tc, ellipsoid_is_point_support);
+  tcase_add_loop_test(tc, rock_tilted_is_not_flat, 0, 3);
+  tcase_add_test(tc, resting_orientation_turns_normal_down);
+  tcase_add_test(tc, bad_input_gives_status);
+  suite_add_tcase(s, tc);
+  return s;
+}

@@ -1,0 +1,410 @@
+/* balance_trial_tests.c - the world, objects and one trial: outcomes, determinism, noise hooks,
+ * and every kind of bad input giving a status instead of an abort. */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+
+#include "balance_internal.h"
+#include "balance_phys_util.h"
+#include "balance_suites.h"
+
+static const double q_id[4] = {1, 0, 0, 0};
+
+typedef struct {
+  balance_world_t *w;
+  balance_object_t *o;
+  model_mesh_t mesh;
+  model_mass_t mass;
+} fixture_t;
+
+/* A 40 x 60 x 50 mm uniform box (CoM at its center, the link origin). */
+static void box_fixture(fixture_t *f, balance_contact_t path) {
+  const double lo[3] = {-0.02, -0.03, -0.025}, hi[3] = {0.02, 0.03, 0.025};
+  bp_box(&f->mesh, lo, hi);
+  ck_assert_int_eq(model_mesh_mass(&f->mesh, 2650.0, &f->mass), MODEL_OK);
+  balance_config_t cfg;
+  balance_config_default(&cfg);
+  cfg.contact = path;
+  ck_assert_int_eq(balance_world_create(&cfg, &f->w), BALANCE_OK);
+  ck_assert_int_eq(balance_object_create(f->w, &f->mesh, &f->mass, &f->o), BALANCE_OK);
+}
+
+static void fixture_free(fixture_t *f) {
+  balance_world_destroy(f->w);
+  model_mesh_free(&f->mesh);
+}
+
+START_TEST(status_strings_and_config) {
+  for (int s = 1; s >= -9; s--) ck_assert_ptr_nonnull(balance_status_str((balance_status_t)s));
+  balance_config_t cfg;
+  balance_config_default(&cfg);
+  ck_assert_int_eq(balance_config_check(&cfg), BALANCE_OK);
+  ck_assert_int_eq(cfg.contact, BALANCE_CONTACT_FAST);
+  ck_assert_int_eq(balance_config_check(NULL), BALANCE_E_ARG);
+  balance_config_t bad = cfg;
+  bad.dt_s = NAN;
+  ck_assert_int_eq(balance_config_check(&bad), BALANCE_E_NONFINITE);
+  bad = cfg;
+  bad.max_contacts = 3; /* K = 3 never comes to rest */
+  ck_assert_int_eq(balance_config_check(&bad), BALANCE_E_ARG);
+  bad = cfg;
+  bad.base_size_m[0] = -1.0;
+  ck_assert_int_eq(balance_config_check(&bad), BALANCE_E_ARG);
+  bad = cfg;
+  bad.contact = (balance_contact_t)7;
+  ck_assert_int_eq(balance_config_check(&bad), BALANCE_E_ARG);
+  balance_world_t *w = (balance_world_t *)&cfg;
+  ck_assert_int_eq(balance_world_create(&bad, &w), BALANCE_E_ARG);
+  ck_assert_ptr_null(w);
+  ck_assert_int_eq(balance_world_create(&cfg, NULL), BALANCE_E_ARG);
+  balance_world_destroy(NULL);
+  double n[3], d;
+  balance_edge_line(cfg.base_size_m, BALANCE_EDGE_NY, n, &d);
+  ck_assert(n[0] == 0.0 && n[1] == -1.0 && n[2] == 0.0 && d == 0.15);
+}
+END_TEST
+
+START_TEST(stays_in_the_middle_tips_beyond_the_edge) {
+  for (int path = 0; path < 2; path++) {
+    fixture_t f;
+    box_fixture(&f, (balance_contact_t)path);
+    balance_pose_t pose = {{0.0, 0.0, 0.025 - 1e-6}, {1, 0, 0, 0}};
+    balance_trial_result_t r;
+    ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, NULL, &r), BALANCE_OK);
+    ck_assert_int_eq(r.outcome, BALANCE_STAYS);
+    ck_assert_double_lt(r.displacement_m, 1e-5);
+    ck_assert_double_lt(r.rotation_rad, 1e-4);
+    ck_assert_uint_gt(r.steps, 0);
+    ck_assert_double_eq_tol(r.sim_time_s, r.steps * 1e-3, 1e-12);
+    /* CoM 5 mm beyond the +X edge. */
+    const double p[3] = {-0.005, 0, 0};
+    ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, p, 0.0, 1e-6, &pose),
+                     BALANCE_OK);
+    ck_assert_double_eq_tol(pose.position_m[0], 0.155, 1e-15);
+    ck_assert_double_eq_tol(pose.position_m[2], 0.025 - 1e-6, 1e-15);
+    ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, NULL, &r), BALANCE_OK);
+    ck_assert_int_eq(r.outcome, BALANCE_TIPS);
+    ck_assert_double_gt(r.rotation_rad, 1e-4);
+    /* 5 mm inside: stays, settled where it was released (within the contact settling). */
+    const double p2[3] = {0.005, 0, 0};
+    ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, p2, 0.0, 1e-6, &pose),
+                     BALANCE_OK);
+    ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, NULL, &r), BALANCE_OK);
+    ck_assert_int_eq(r.outcome, BALANCE_STAYS);
+    ck_assert_double_lt(r.displacement_m, 1e-5);
+    fixture_free(&f);
+  }
+}
+END_TEST
+
+/* Released touching: the lowest point 1 um inside B, never more. */
+START_TEST(release_touches_within_one_micrometre) {
+  model_object_t obj;
+  model_mass_t ms;
+  bp_rock("rock_2_uneven", &obj, &ms);
+  balance_config_t cfg;
+  balance_config_default(&cfg);
+  balance_world_t *w;
+  balance_object_t *o;
+  ck_assert_int_eq(balance_world_create(&cfg, &w), BALANCE_OK);
+  ck_assert_int_eq(balance_object_create(w, &obj.mesh, &ms, &o), BALANCE_OK);
+  const double ax[3] = {0.0, 0.0, 1.0};
+  double q[4];
+  bp_quat(ax, 0.7, q); /* yawed: the -z face down, the edge crossing it obliquely */
+  balance_pose_t pose;
+  ck_assert_int_eq(balance_pose_over_edge(w, o, q, BALANCE_EDGE_NY, ms.com_m, 0.01, 1e-6, &pose),
+                   BALANCE_OK);
+  ck_assert_double_eq_tol(balance_object_penetration_m(o, &pose), 1e-6, 1e-9);
+  ck_assert_double_eq_tol(balance_object_bottom_z(o, q) + pose.position_m[2], -1e-6, 1e-12);
+  model_object_free(&obj);
+  balance_world_destroy(w);
+}
+END_TEST
+
+/* Same inputs, bit-identical results, whatever ran in between; both contact paths. */
+START_TEST(deterministic) {
+  model_object_t obj;
+  model_mass_t ms;
+  bp_rock("rock_1_uneven", &obj, &ms);
+  for (int path = 0; path < 2; path++) {
+    balance_config_t cfg;
+    balance_config_default(&cfg);
+    cfg.contact = (balance_contact_t)path;
+    balance_world_t *w;
+    balance_object_t *o, *o2;
+    ck_assert_int_eq(balance_world_create(&cfg, &w), BALANCE_OK);
+    ck_assert_int_eq(balance_object_create(w, &obj.mesh, &ms, &o), BALANCE_OK);
+    ck_assert_int_eq(balance_object_create(w, &obj.mesh, &ms, &o2), BALANCE_OK);
+    balance_pose_t near, far;
+    const double p[3] = {ms.com_m[0] - 2e-6, ms.com_m[1], ms.com_m[2]};
+    const double p2[3] = {ms.com_m[0] + 0.004, ms.com_m[1], ms.com_m[2]};
+    ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, BALANCE_EDGE_PX, p, 0, 1e-6, &near), 0);
+    ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, BALANCE_EDGE_PX, p2, 0, 1e-6, &far), 0);
+    balance_trial_result_t a, b, c;
+    balance_noise_t noise = {42, 3e-4, 2e-4};
+    ck_assert_int_eq(balance_trial_run(w, o, &near, &noise, &a), BALANCE_OK);
+    ck_assert_int_eq(balance_trial_run(w, o2, &far, NULL, &b), BALANCE_OK);
+    ck_assert_int_eq(balance_trial_run(w, o, &far, NULL, &b), BALANCE_OK);
+    ck_assert_int_eq(balance_trial_run(w, o, &near, &noise, &c), BALANCE_OK);
+    ck_assert_int_eq(memcmp(&a, &c, sizeof a), 0);
+    /* and in a fresh world */
+    balance_world_t *w2;
+    balance_object_t *o3;
+    ck_assert_int_eq(balance_world_create(&cfg, &w2), BALANCE_OK);
+    ck_assert_int_eq(balance_object_create(w2, &obj.mesh, &ms, &o3), BALANCE_OK);
+    ck_assert_int_eq(balance_trial_run(w2, o3, &near, &noise, &c), BALANCE_OK);
+    ck_assert_int_eq(memcmp(&a, &c, sizeof a), 0);
+    balance_world_destroy(w2);
+    balance_world_destroy(w);
+  }
+  model_object_free(&obj);
+}
+END_TEST
+
+/* The noise hooks: seeded, reproducible, and of the requested size. */
+START_TEST(noise_hooks) {
+  fixture_t f;
+  box_fixture(&f, BALANCE_CONTACT_FAST);
+  balance_pose_t pose = {{0.0, 0.0, 0.025 - 1e-6}, {1, 0, 0, 0}};
+  balance_trial_result_t r0, r1, r2;
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, NULL, &r0), BALANCE_OK);
+  balance_noise_t zero = {7, 0.0, 0.0};
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, &zero, &r1), BALANCE_OK);
+  ck_assert_int_eq(memcmp(&r0, &r1, sizeof r0), 0);
+  double sum2 = 0.0;
+  const int n = 40;
+  for (int i = 0; i < n; i++) {
+    balance_noise_t nz = {(uint64_t)i, 1e-3, 0.0};
+    ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, &nz, &r1), BALANCE_OK);
+    ck_assert_int_eq(r1.outcome, BALANCE_STAYS);
+    ck_assert(r1.released.position_m[2] == pose.position_m[2]);
+    const double dx = r1.released.position_m[0], dy = r1.released.position_m[1];
+    sum2 += dx * dx + dy * dy;
+  }
+  const double rms = sqrt(sum2 / (2.0 * n)); /* per axis */
+  ck_assert_msg(rms > 0.6e-3 && rms < 1.5e-3, "placement noise rms %g", rms);
+  balance_noise_t pn = {3, 0.0, 1e-3};
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, &pn, &r1), BALANCE_OK);
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, &pn, &r2), BALANCE_OK);
+  ck_assert_int_eq(memcmp(&r1, &r2, sizeof r1), 0);
+  ck_assert(memcmp(&r1.released, &pose, sizeof pose) == 0); /* pose noise: perception only */
+  ck_assert_double_gt(fabs(r1.settled.position_m[0] - r0.settled.position_m[0]), 0.0);
+  balance_noise_t bad = {1, NAN, 0.0};
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, &bad, &r1), BALANCE_E_NONFINITE);
+  bad.placement_noise_m = -1.0;
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, &bad, &r1), BALANCE_E_ARG);
+  fixture_free(&f);
+}
+END_TEST
+
+START_TEST(bad_poses) {
+  fixture_t f;
+  box_fixture(&f, BALANCE_CONTACT_FAST);
+  balance_trial_result_t r;
+  balance_pose_t ok = {{0.0, 0.0, 0.025 - 1e-6}, {1, 0, 0, 0}}, p;
+  p = ok;
+  p.position_m[1] = NAN;
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &p, NULL, &r), BALANCE_E_NONFINITE);
+  p = ok;
+  p.orientation_wxyz[2] = INFINITY;
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &p, NULL, &r), BALANCE_E_NONFINITE);
+  p = ok;
+  p.orientation_wxyz[0] = 2.0; /* not a unit quaternion */
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &p, NULL, &r), BALANCE_E_POSE);
+  p = ok;
+  p.orientation_wxyz[0] = 0.0; /* zero quaternion */
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &p, NULL, &r), BALANCE_E_POSE);
+  p = ok;
+  p.position_m[0] = 1e9; /* absurd */
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &p, NULL, &r), BALANCE_E_POSE);
+  p = ok;
+  p.position_m[2] = 0.0; /* half of it deep inside B */
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &p, NULL, &r), BALANCE_E_POSE);
+  p = ok;
+  p.position_m[2] = 0.025 - 2e-4; /* 0.2 mm into B */
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &p, NULL, &r), BALANCE_E_POSE);
+  p = ok;
+  p.position_m[0] = 0.15; /* straddling the edge, 0.2 mm down: edges cut into B */
+  p.position_m[2] = 0.025 - 2e-4;
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &p, NULL, &r), BALANCE_E_POSE);
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, NULL, NULL, &r), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &ok, NULL, NULL), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_trial_run(NULL, f.o, &ok, NULL, &r), BALANCE_E_ARG);
+  /* pose_over_edge */
+  const double p0[3] = {0, 0, 0}, pnan[3] = {0, NAN, 0}, qbad[4] = {1, 1, 0, 0};
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, pnan, 0, 1e-6, &p),
+                   BALANCE_E_NONFINITE);
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, qbad, BALANCE_EDGE_PX, p0, 0, 1e-6, &p),
+                   BALANCE_E_POSE);
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, (balance_edge_t)9, p0, 0, 1e-6, &p),
+                   BALANCE_E_ARG);
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, p0, 0.2, 1e-6, &p),
+                   BALANCE_E_POSE); /* beyond the end of the edge */
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, p0, 0, -1e-6, &p),
+                   BALANCE_E_ARG);
+  const double far_in[3] = {-0.03, 0, 0}; /* the whole box beyond the edge */
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, far_in, 0, 1e-6, &p),
+                   BALANCE_E_POSE);
+  ck_assert(isnan(balance_object_bottom_z(f.o, qbad)));
+  /* The world is still usable after all that. */
+  ck_assert_int_eq(balance_trial_run(f.w, f.o, &ok, NULL, &r), BALANCE_OK);
+  ck_assert_int_eq(r.outcome, BALANCE_STAYS);
+  fixture_free(&f);
+}
+END_TEST
+
+START_TEST(bad_mass) {
+  fixture_t f;
+  box_fixture(&f, BALANCE_CONTACT_FAST);
+  balance_object_t *o = (balance_object_t *)&f;
+  model_mass_t m = f.mass;
+  m.mass_kg = 0.0; /* massless */
+  ck_assert_int_eq(balance_object_create(f.w, &f.mesh, &m, &o), BALANCE_E_MASS);
+  ck_assert_ptr_null(o);
+  m.mass_kg = -1.0;
+  ck_assert_int_eq(balance_object_create(f.w, &f.mesh, &m, &o), BALANCE_E_MASS);
+  m.mass_kg = NAN;
+  ck_assert_int_eq(balance_object_create(f.w, &f.mesh, &m, &o), BALANCE_E_NONFINITE);
+  m = f.mass;
+  m.inertia_kg_m2[1][1] = -m.inertia_kg_m2[1][1]; /* not positive definite */
+  ck_assert_int_eq(balance_object_create(f.w, &f.mesh, &m, &o), BALANCE_E_MASS);
+  m = f.mass;
+  m.inertia_kg_m2[2][2] = 10.0 * (m.inertia_kg_m2[0][0] + m.inertia_kg_m2[1][1]); /* triangle */
+  ck_assert_int_eq(balance_object_create(f.w, &f.mesh, &m, &o), BALANCE_E_MASS);
+  m = f.mass;
+  m.inertia_kg_m2[0][1] = 1e-3; /* not symmetric */
+  ck_assert_int_eq(balance_object_create(f.w, &f.mesh, &m, &o), BALANCE_E_MASS);
+  m = f.mass;
+  m.com_m[2] = 0.5; /* CoM outside the body's bounding box */
+  ck_assert_int_eq(balance_object_create(f.w, &f.mesh, &m, &o), BALANCE_E_MASS);
+  m = f.mass;
+  m.inertia_kg_m2[0][2] = INFINITY;
+  ck_assert_int_eq(balance_object_create(f.w, &f.mesh, &m, &o), BALANCE_E_NONFINITE);
+  ck_assert_int_eq(balance_object_create(f.w, &f.mesh, NULL, &o), BALANCE_E_ARG);
+  ck_assert_int_eq(balance_object_create(NULL, &f.mesh, &f.mass, &o), BALANCE_E_ARG);
+  fixture_free(&f);
+}
+END_TEST
+
+START_TEST(bad_mesh) {
+  fixture_t f;
+  box_fixture(&f, BALANCE_CONTACT_FAST);
+  balance_object_t *o;
+  model_mesh_t m;
+  ck_assert_int_eq(model_mesh_copy(&f.mesh, &m), MODEL_OK);
+  /* a degenerate (zero-area) triangle: two vertices at the same place */
+  memcpy(m.vertices_m[1], m.vertices_m[0], sizeof m.vertices_m[0]);
+  ck_assert_int_eq(balance_object_create(f.w, &m, &f.mass, &o), BALANCE_E_MESH);
+  model_mesh_free(&m);
+  ck_assert_int_eq(model_mesh_copy(&f.mesh, &m), MODEL_OK);
+  m.triangles[3][1] = m.triangles[3][0]; /* a repeated vertex index */
+  ck_assert_int_eq(balance_object_create(f.w, &m, &f.mass, &o), BALANCE_E_MESH);
+  model_mesh_free(&m);
+  ck_assert_int_eq(model_mesh_copy(&f.mesh, &m), MODEL_OK);
+  m.vertices_m[5][0] = (m.vertices_m[4][0] + m.vertices_m[6][0]) / 2; /* collinear corners */
+  m.vertices_m[5][1] = (m.vertices_m[4][1] + m.vertices_m[6][1]) / 2;
+  m.vertices_m[5][2] = (m.vertices_m[4][2] + m.vertices_m[6][2]) / 2;
+  ck_assert_int_eq(balance_object_create(f.w, &m, &f.mass, &o), BALANCE_E_MESH);
+  model_mesh_free(&m);
+  ck_assert_int_eq(model_mesh_copy(&f.mesh, &m), MODEL_OK);
+  m.vertices_m[2][1] = NAN;
+  ck_assert_int_eq(balance_object_create(f.w, &m, &f.mass, &o), BALANCE_E_NONFINITE);
+  model_mesh_free(&m);
+  ck_assert_int_eq(model_mesh_copy(&f.mesh, &m), MODEL_OK);
+  m.triangles[0][2] = 99; /* index out of range */
+  ck_assert_int_eq(balance_object_create(f.w, &m, &f.mass, &o), BALANCE_E_MESH);
+  m.triangle_count = 3; /* too few triangles */
+  ck_assert_int_eq(balance_object_create(f.w, &m, &f.mass, &o), BALANCE_E_MESH);
+  model_mesh_free(&m);
+  model_mesh_t empty = {0};
+  ck_assert_int_eq(balance_object_create(f.w, &empty, &f.mass, &o), BALANCE_E_ARG);
+  ck_assert_uint_eq(balance_world_object_count(f.w), 1);
+  fixture_free(&f);
+}
+END_TEST
+
+/* ODE contacts with a zero or non-finite normal (libccd at exact touch) are dropped before they
+ * become joints; a body never turns into NaN through them. */
+START_TEST(zero_normal_contacts_dropped) {
+  dContactGeom raw[4];
+  memset(raw, 0, sizeof raw);
+  raw[0].normal[2] = 1.0;
+  raw[0].depth = 1e-6;
+  raw[1].depth = 1e-6; /* zero normal */
+  raw[2].normal[2] = NAN;
+  raw[3].normal[0] = 1.0;
+  raw[3].pos[1] = INFINITY;
+  balance_point_t pts[4];
+  ck_assert_uint_eq(balance_points_from_ode(raw, 4, pts, 4), 1);
+  ck_assert(pts[0].normal[2] == 1.0 && pts[0].depth_m == 1e-6 && pts[0].id == 0);
+}
+END_TEST
+
+/* The reduction keeps both ends of each edge chord and the deepest point, at most k points. */
+START_TEST(reduction_keeps_support) {
+  balance_point_t p[40];
+  memset(p, 0, sizeof p);
+  for (int i = 0; i < 40; i++) {
+    p[i].pos_m[0] = 0.1 + 0.001 * (i % 7);
+    p[i].pos_m[1] = -0.02 + 0.001 * i;
+    p[i].normal[2] = 1.0;
+    p[i].depth_m = 1e-6;
+    p[i].edge_plane = -1;
+    p[i].id = (uint32_t)i;
+  }
+  p[17].depth_m = 5e-6;
+  p[3].edge_plane = p[9].edge_plane = p[30].edge_plane = BALANCE_EDGE_PX;
+  const size_t n = balance_points_reduce(p, 40, 6);
+  ck_assert_uint_eq(n, 6);
+  int has3 = 0, has30 = 0, has17 = 0;
+  for (size_t i = 0; i < n; i++) {
+    has3 |= p[i].id == 3;
+    has30 |= p[i].id == 30;
+    has17 |= p[i].id == 17;
+  }
+  ck_assert(has3 && has30 && has17);
+}
+END_TEST
+
+/* Stepping the world with two objects: a box on a box stands (object-object contacts). */
+START_TEST(two_objects_step) {
+  fixture_t f;
+  box_fixture(&f, BALANCE_CONTACT_FAST);
+  balance_object_t *top;
+  ck_assert_int_eq(balance_object_create(f.w, &f.mesh, &f.mass, &top), BALANCE_OK);
+  ck_assert_uint_eq(balance_world_object_count(f.w), 2);
+  ck_assert_ptr_eq(balance_world_object(f.w, 1), top);
+  ck_assert_ptr_null(balance_world_object(f.w, 2));
+  balance_world_reset(f.w);
+  balance_pose_t a = {{0, 0, 0.025 - 1e-6}, {1, 0, 0, 0}}, b = {{0, 0, 0.075 - 2e-6}, {1, 0, 0, 0}};
+  ck_assert_int_eq(balance_object_place(f.o, &a), BALANCE_OK);
+  ck_assert_int_eq(balance_object_place(top, &b), BALANCE_OK);
+  for (int i = 0; i < 300; i++) ck_assert_int_eq(balance_world_step(f.w), BALANCE_OK);
+  ck_assert_double_eq_tol(balance_world_time(f.w), 0.3, 1e-9);
+  balance_pose_t now;
+  balance_object_pose_get(top, &now);
+  ck_assert_msg(fabs(now.position_m[2] - 0.075) < 5e-5, "top box z %g", now.position_m[2]);
+  ck_assert(fabs(now.position_m[0]) < 1e-5 && fabs(now.position_m[1]) < 1e-5);
+  fixture_free(&f);
+}
+END_TEST
+
+Suite *balance_trial_suite(void) {
+  Suite *s = suite_create("balance_trial");
+  TCase *tc = tcase_create("trial");
+  tcase_set_timeout(tc, 300);
+  tcase_add_test(tc, status_strings_and_config);
+  tcase_add_test(tc, stays_in_the_middle_tips_beyond_the_edge);
+  tcase_add_test(tc, release_touches_within_one_micrometre);
+  tcase_add_test(tc, deterministic);
+  tcase_add_test(tc, noise_hooks);
+  tcase_add_test(tc, two_objects_step);
+  suite_add_tcase(s, tc);
+  TCase *bad = tcase_create("bad_input");
+  tcase_add_test(bad, bad_poses);
+  tcase_add_test(bad, bad_mass);
+  tcase_add_test(bad, bad_mesh);
+  tcase_add_test(bad, zero_normal_contacts_dropped);
+  tcase_add_test(bad, reduction_keeps_support);
+  suite_add_tcase(s, bad);
+  return s;
+}
