@@ -25,24 +25,6 @@ static double now_s(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static int box_mesh(model_mesh_t *m, const double lo[3], const double hi[3]) {
-  static const uint32_t tris[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
-                                       {0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5},
-                                       {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
-  m->vertex_count = 8;
-  m->triangle_count = 12;
-  m->vertices_m = malloc(8 * sizeof *m->vertices_m);
-  m->triangles = malloc(sizeof tris);
-  if (!m->vertices_m || !m->triangles) return -1;
-  for (int i = 0; i < 8; ++i) {
-    m->vertices_m[i][0] = (i % 4 == 1 || i % 4 == 2) ? hi[0] : lo[0];
-    m->vertices_m[i][1] = (i % 4 >= 2) ? hi[1] : lo[1];
-    m->vertices_m[i][2] = i >= 4 ? hi[2] : lo[2];
-  }
-  memcpy(m->triangles, tris, sizeof tris);
-  return 0;
-}
-
 typedef struct {
   const char *name;
   balance_contact_t path;
@@ -144,7 +126,7 @@ int main(int argc, char **argv) {
   bench_case_t cases[3];
   memset(cases, 0, sizeof cases);
   const double lo[3] = {-0.02, -0.03, -0.025}, hi[3] = {0.02, 0.03, 0.025};
-  if (box_mesh(&cases[0].mesh, lo, hi) != 0) return 1;
+  if (model_mesh_box(lo, hi, &cases[0].mesh) != MODEL_OK) return 1;
   if (model_mesh_mass(&cases[0].mesh, 2650.0, &cases[0].mass) != MODEL_OK) return 1;
   cases[0].name = "box 40x60x50 mm";
   cases[0].path = BALANCE_CONTACT_FAST;

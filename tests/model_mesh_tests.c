@@ -650,11 +650,34 @@ START_TEST(test_save_errors) {
 }
 END_TEST
 
+START_TEST(test_box_primitive) {
+  const double lo[3] = {-0.01, 0.02, -0.03}, hi[3] = {0.03, 0.05, 0.01};
+  model_mesh_t m = {0};
+  ck_assert_int_eq(model_mesh_box(lo, hi, &m), MODEL_OK);
+  model_mesh_report_t rep;
+  ck_assert_int_eq(model_mesh_check(&m, &rep, NULL), MODEL_OK);
+  ck_assert_int_eq(rep.flipped, 0); /* already outward */
+  ck_assert_uint_eq(m.vertex_count, 8);
+  ck_assert_uint_eq(m.triangle_count, 12);
+  model_mass_t mass;
+  ck_assert_int_eq(model_mesh_mass(&m, 1.0, &mass), MODEL_OK);
+  ck_assert_double_eq_tol(mass.mass_kg, 0.04 * 0.03 * 0.04, 1e-18);
+  for (int k = 0; k < 3; ++k) ck_assert_double_eq_tol(mass.com_m[k], 0.5 * (lo[k] + hi[k]), 1e-15);
+  model_mesh_free(&m);
+  const double flat[3] = {0.03, 0.02, 0.01}, nan_hi[3] = {0.03, NAN, 0.01};
+  ck_assert_int_eq(model_mesh_box(lo, flat, &m), MODEL_E_ARG); /* hi.y == lo.y */
+  ck_assert_int_eq(model_mesh_box(lo, nan_hi, &m), MODEL_E_NONFINITE);
+  ck_assert_int_eq(model_mesh_box(NULL, hi, &m), MODEL_E_ARG);
+  ck_assert_ptr_null(m.vertices_m);
+}
+END_TEST
+
 Suite *model_mesh_suite(void) {
   Suite *s = suite_create("model_mesh");
   TCase *tc = tcase_create("check");
   tcase_add_test(tc, test_status_strings);
   tcase_add_test(tc, test_check_clean_cube);
+  tcase_add_test(tc, test_box_primitive);
   tcase_add_test(tc, test_check_soup_joined);
   tcase_add_test(tc, test_check_degenerate_dropped);
   tcase_add_test(tc, test_check_open_rejected);

@@ -151,25 +151,39 @@ static model_status_t resolve_mesh_path(const char *urdf_path, const char *link,
 
 /* ---- primitives ------------------------------------------------------------------------------ */
 
-static model_status_t make_box(const double size[3], model_mesh_t *out) {
+model_status_t model_mesh_box(const double lo_m[3], const double hi_m[3], model_mesh_t *out) {
   static const uint32_t tris[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
                                        {0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5},
                                        {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  if (lo_m == NULL || hi_m == NULL || out == NULL) {
+    return MODEL_E_ARG;
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (!isfinite(lo_m[k]) || !isfinite(hi_m[k])) {
+      return MODEL_E_NONFINITE;
+    }
+    if (!(lo_m[k] < hi_m[k])) {
+      return MODEL_E_ARG;
+    }
+  }
   model_status_t st = model_mesh_alloc(out, 8, 12);
   if (st != MODEL_OK) {
     return st;
   }
   for (uint32_t i = 0; i < 8; ++i) {
-    /* 0..3 bottom (z-) counter-clockwise seen from above, 4..7 top. */
-    double sx = (i % 4 == 1 || i % 4 == 2) ? 0.5 : -0.5;
-    double sy = (i % 4 >= 2) ? 0.5 : -0.5;
-    double sz = i >= 4 ? 0.5 : -0.5;
-    out->vertices_m[i][0] = sx * size[0];
-    out->vertices_m[i][1] = sy * size[1];
-    out->vertices_m[i][2] = sz * size[2];
+    /* 0..3 bottom (z-) counter-clockwise seen from above, 4..7 top above them. */
+    out->vertices_m[i][0] = (i % 4 == 1 || i % 4 == 2) ? hi_m[0] : lo_m[0];
+    out->vertices_m[i][1] = (i % 4 >= 2) ? hi_m[1] : lo_m[1];
+    out->vertices_m[i][2] = i >= 4 ? hi_m[2] : lo_m[2];
   }
   memcpy(out->triangles, tris, sizeof tris);
   return MODEL_OK;
+}
+
+static model_status_t make_box(const double size[3], model_mesh_t *out) {
+  const double lo[3] = {-0.5 * size[0], -0.5 * size[1], -0.5 * size[2]};
+  const double hi[3] = {0.5 * size[0], 0.5 * size[1], 0.5 * size[2]};
+  return model_mesh_box(lo, hi, out);
 }
 
 /* UV sphere: poles on z, SPHERE_RINGS bands, vertices on the sphere (inscribed polyhedron). */

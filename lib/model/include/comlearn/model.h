@@ -131,6 +131,12 @@ model_status_t model_mesh_load(const char *path, const double scale[3], model_me
 model_status_t model_mesh_save(const model_mesh_t *mesh, const char *path, const char *format,
                                model_error_t *err);
 
+/* The box [lo_m, hi_m] (axis-aligned, in the mesh frame) as a closed outward mesh: 8 vertices, 12
+ * triangles; vertices 0..3 are the bottom face (z = lo) counter-clockwise seen from above, 4..7
+ * the top face above them. MODEL_E_NONFINITE for a non-finite bound, MODEL_E_ARG unless lo < hi
+ * on every axis. Allocates. */
+model_status_t model_mesh_box(const double lo_m[3], const double hi_m[3], model_mesh_t *out);
+
 /* Axis-aligned bounding box. */
 typedef struct {
   double min_m[3];
