@@ -5,7 +5,13 @@
  * the true CoM is d inside the edge. d is bisected to 1 um between "tips" and "stays": the bias is
  * the d at the flip (positive: the object tips although its CoM is inside by d; the estimate lands
  * inside the truth by that much). Printed as a table with the regime verdict of the planned trial
- * at the flip. Usage: bench_regimes (no options). Deterministic. */
+ * at the flip. Usage: bench_regimes (no options). Deterministic.
+ *
+ * Rows: every flat face of the three even rocks at its worst and best yaw (range +-8 mm); the
+ * rocks' stable rounded faces (no mesh triangle in the plane: the rock rests on isolated
+ * vertices, CoM >= 0.5 mm inside their support polygon, confirmed by balance_stable_confirm) at
+ * four yaws (range +-15 mm); an ellipsoid on its pole. Placements whose support lies beyond the
+ * edge are set down on B's edge line (balance_pose_over_edge touches B as a solid box). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,7 +32,9 @@ static void rot(const double q[4], const double v[3], double o[3]) {
   for (int i = 0; i < 3; ++i) o[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2];
 }
 
-/* Outcome with the true CoM d inside the +X edge: 1 stays, 0 tips/slides, -1 error. */
+static int invalid_count; /* trials that hit the horizon still moving (BALANCE_INVALID) */
+
+/* Outcome with the true CoM d inside the +X edge: 1 stays, 0 tips/slides/invalid, -1 error. */
 static int trial(balance_world_t *w, balance_object_t *o, const double q[4], const double com[3],
                  double d) {
   const double qi[4] = {q[0], -q[1], -q[2], -q[3]}, ex[3] = {1, 0, 0};
@@ -37,17 +45,19 @@ static int trial(balance_world_t *w, balance_object_t *o, const double q[4], con
   if (balance_pose_over_edge(w, o, q, BALANCE_EDGE_PX, p, 0.0, 1e-6, &pose) != BALANCE_OK) return -1;
   balance_trial_result_t r;
   if (balance_trial_run(w, o, &pose, NULL, &r) != BALANCE_OK) return -1;
+  invalid_count += r.outcome == BALANCE_INVALID;
   return r.outcome == BALANCE_STAYS ? 1 : 0;
 }
 
-/* Bisect the flip in [-8 mm, 8 mm]; NAN when the ends do not bracket it. */
+/* Bisect the flip in [-range, range]; NAN when the ends do not bracket it. */
 static double bisect(balance_world_t *w, balance_object_t *o, const double q[4],
-                     const double com[3], int *trials) {
-  double lo = -0.008, hi = 0.008; /* lo: CoM beyond the edge (tips); hi: inside (stays) */
+                     const double com[3], double range, int *trials) {
+  double lo = -range, hi = range; /* lo: CoM beyond the edge (tips); hi: inside (stays) */
   const int a = trial(w, o, q, com, lo), b = trial(w, o, q, com, hi);
   *trials = 2;
   if (a != 0 || b != 1) {
-    fprintf(stderr, "no bracket: d=-8mm -> %d, d=+8mm -> %d (1 stays, 0 tips, -1 error)\n", a, b);
+    fprintf(stderr, "no bracket: d=-%gmm -> %d, d=+%gmm -> %d (1 stays, 0 tips, -1 error)\n",
+            range * 1e3, a, range * 1e3, b);
     return NAN;
   }
   for (int i = 0; i < 40 && hi - lo > 1e-6; ++i) {
@@ -62,9 +72,19 @@ static double bisect(balance_world_t *w, balance_object_t *o, const double q[4],
 }
 
 static void report(const char *name, const model_mesh_t *m, balance_world_t *w, balance_object_t *o,
-                   const double q[4], const double com_true[3], const double com_est[3]) {
+                   const double q[4], const double com_true[3], const double com_est[3],
+                   double range) {
   int trials = 0;
-  const double bias = bisect(w, o, q, com_true, &trials);
+  invalid_count = 0;
+  const double bias = bisect(w, o, q, com_true, range, &trials);
+  /* The outcome need not be monotone in d (a rock that drops onto the edge can roll to a new
+   * rest or keep rolling): scan d in 0.5 mm steps for the innermost d that does not stay. */
+  double last_not_stay = -HUGE_VAL;
+  for (int k = 0; k <= (int)lround(4000.0 * range); ++k) {
+    const double d = -range + 0.0005 * k;
+    if (trial(w, o, q, com_true, d) == 0) last_not_stay = d;
+    ++trials;
+  }
   balance_pose_t pose;
   balance_regime_t reg;
   const double base[3] = {0.30, 0.30, 0.10};
@@ -77,8 +97,9 @@ static void report(const char *name, const model_mesh_t *m, balance_world_t *w, 
                                                   : "point support";
     margin = reg.chord_margin_m;
   }
-  printf("| %-38s | %-13s | %9.2f | %10.1f | %6d |\n", name, kind,
-         margin == -HUGE_VAL ? -99.0 : margin * 1e3, bias * 1e6, trials);
+  printf("| %-38s | %-13s | %9.2f | %10.1f | %7.1f | %4d | %6d |\n", name, kind,
+         margin == -HUGE_VAL ? -99.0 : margin * 1e3, bias * 1e6, last_not_stay * 1e3,
+         invalid_count, trials);
 }
 
 static int rock(int which, int uneven, model_object_t *obj, model_mass_t *truth, model_mass_t *uni) {
@@ -93,7 +114,8 @@ static int rock(int which, int uneven, model_object_t *obj, model_mass_t *truth,
 int main(void) {
   balance_config_t cfg;
   balance_config_default(&cfg);
-  printf("| case | regime (planned) | chord margin mm | bias um | trials |\n|---|---|---|---|---|\n");
+  printf("| case | regime (planned) | chord margin mm | bias um | innermost not-stay mm | invalid "
+         "| trials |\n|---|---|---|---|---|---|---|\n");
   for (int which = 1; which <= 3; ++which) {
     model_object_t obj;
     model_mass_t truth, uni;
@@ -107,12 +129,12 @@ int main(void) {
     /* -z face at yaw 0 and at the yaw of the largest chord margin. */
     const double up[4] = {1, 0, 0, 0};
     snprintf(name, sizeof name, "rock_%d -z face, yaw 0", which);
-    report(name, &obj.mesh, w, o, up, truth.com_m, truth.com_m);
+    report(name, &obj.mesh, w, o, up, truth.com_m, truth.com_m, 0.008);
     double yaw = 0.0, mbest = 0.0, q[4];
     balance_yaw_best(&obj.mesh, up, truth.com_m, BALANCE_EDGE_PX, NULL, &yaw, &mbest);
     balance_orientation_yawed(up, yaw, q);
     snprintf(name, sizeof name, "rock_%d -z face, best yaw %.0f deg", which, yaw * 180.0 / PI);
-    report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m);
+    report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.008);
     /* Every flat face: the yaw with the smallest chord margin (sweep) and the best one. */
     balance_face_t faces[256];
     size_t nf = 0;
@@ -135,13 +157,34 @@ int main(void) {
       balance_orientation_yawed(faces[i].orientation_wxyz, wyaw, q);
       snprintf(name, sizeof name, "rock_%d face n=(%.2f,%.2f,%.2f) worst yaw", which,
                faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2]);
-      report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m);
+      report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.008);
       balance_yaw_best(&obj.mesh, faces[i].orientation_wxyz, truth.com_m, BALANCE_EDGE_PX, NULL,
                        &yaw, &mbest);
       balance_orientation_yawed(faces[i].orientation_wxyz, yaw, q);
       snprintf(name, sizeof name, "rock_%d face n=(%.2f,%.2f,%.2f) best yaw", which,
                faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2]);
-      report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m);
+      report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.008);
+    }
+    /* Point support: hull faces that are not flat patches (no mesh triangle in the plane: the
+     * rock rests on isolated vertices of its rounded side), stable (CoM margin >= 0.5 mm: none of
+     * the bundled rocks' rounded faces reaches the 2 mm candidate margin) and confirmed by a
+     * trial. Four yaws; range +-15 mm (the flip may lie millimetres inside). */
+    balance_regime_config_default(&rc);
+    rc.min_com_margin_m = 0.5e-3;
+    balance_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf);
+    for (size_t i = 0; i < nf && i < 256; ++i) {
+      if (faces[i].flat || faces[i].face_count > 0 || !faces[i].candidate) continue;
+      int confirmed = 0;
+      if (balance_stable_confirm(w, o, faces[i].orientation_wxyz, truth.com_m, NULL, NULL,
+                                 &confirmed) != BALANCE_OK || !confirmed)
+        continue;
+      for (int k = 0; k < 4; ++k) {
+        balance_orientation_yawed(faces[i].orientation_wxyz, k * PI / 4.0, q);
+        snprintf(name, sizeof name, "rock_%d points n=(%.2f,%.2f,%.2f) m %.2f yaw %d", which,
+                 faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2],
+                 faces[i].com_margin_m * 1e3, 45 * k);
+        report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.015);
+      }
     }
     balance_world_destroy(w);
     model_object_free(&obj);
@@ -193,7 +236,7 @@ int main(void) {
         balance_object_create(w, &m, &mass, &o) != BALANCE_OK)
       return 1;
     const double up[4] = {1, 0, 0, 0};
-    report("ellipsoid on its pole", &m, w, o, up, mass.com_m, mass.com_m);
+    report("ellipsoid on its pole", &m, w, o, up, mass.com_m, mass.com_m, 0.008);
     balance_world_destroy(w);
     model_mesh_free(&m);
   }

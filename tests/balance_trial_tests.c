@@ -6,6 +6,7 @@
 #include "balance_internal.h"
 #include "balance_phys_util.h"
 #include "balance_suites.h"
+#include "comlearn/balance_poses.h"
 
 static const double q_id[4] = {1, 0, 0, 0};
 
@@ -388,6 +389,217 @@ START_TEST(two_objects_step) {
 }
 END_TEST
 
+/* An icosphere of radius r_m centred on the link origin: the icosahedron subdivided `levels`
+ * times, every vertex pushed onto the sphere (model_mesh_free releases). */
+static void icosphere(model_mesh_t *m, double r_m, int levels) {
+  const double t = 0.5 * (1.0 + sqrt(5.0));
+  static const uint32_t f0[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                     {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                     {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                     {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  const double v0[12][3] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0},
+                            {0, -1, t}, {0, 1, t}, {0, -1, -t}, {0, 1, -t},
+                            {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  size_t nt = 20, nv = 12, cap_t = 20, cap_v = 12;
+  for (int l = 0; l < levels; l++) cap_t *= 4, cap_v += cap_t / 2;
+  double(*v)[3] = malloc(cap_v * sizeof *v);
+  uint32_t(*tri)[3] = malloc(cap_t * sizeof *tri), (*nxt)[3] = malloc(cap_t * sizeof *nxt);
+  ck_assert(v && tri && nxt);
+  memcpy(v, v0, sizeof v0);
+  memcpy(tri, f0, sizeof f0);
+  for (int l = 0; l < levels; l++) {
+    size_t n2 = 0;
+    for (size_t i = 0; i < nt; i++) {
+      uint32_t mid[3];
+      for (int k = 0; k < 3; k++) {
+        const uint32_t a = tri[i][k], b = tri[i][(k + 1) % 3];
+        double c[3];
+        for (int j = 0; j < 3; j++) c[j] = 0.5 * (v[a][j] + v[b][j]);
+        uint32_t found = UINT32_MAX; /* shared edge midpoints: linear search is fine here */
+        for (size_t q = 12; q < nv && found == UINT32_MAX; q++)
+          if (v[q][0] == c[0] && v[q][1] == c[1] && v[q][2] == c[2]) found = (uint32_t)q;
+        if (found == UINT32_MAX) {
+          memcpy(v[nv], c, sizeof c);
+          found = (uint32_t)nv++;
+        }
+        mid[k] = found;
+      }
+      const uint32_t a = tri[i][0], b = tri[i][1], c = tri[i][2];
+      const uint32_t sub[4][3] = {{a, mid[0], mid[2]}, {b, mid[1], mid[0]}, {c, mid[2], mid[1]},
+                                  {mid[0], mid[1], mid[2]}};
+      memcpy(nxt[n2], sub, sizeof sub);
+      n2 += 4;
+    }
+    memcpy(tri, nxt, n2 * sizeof *tri);
+    nt = n2;
+  }
+  for (size_t i = 0; i < nv; i++) {
+    const double n = sqrt(v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2]);
+    for (int j = 0; j < 3; j++) v[i][j] *= r_m / n;
+  }
+  free(nxt);
+  m->vertex_count = nv;
+  m->triangle_count = nt;
+  m->vertices_m = v;
+  m->triangles = tri;
+}
+
+/* Exact touch height of a convex mesh's link origin above a horizontal line parallel to world y
+ * at horizontal distance -x_m (x_m > 0: the line is x_m on the -x side of the origin): the lower
+ * boundary of the mesh's projection on the x-z plane at x = -x_m, as the lowest chord between two
+ * projected vertices straddling it. Independent of the library (O(V^2)). */
+static double hull_height_over_line(const model_mesh_t *m, double x_m) {
+  double lo = INFINITY;
+  for (size_t i = 0; i < m->vertex_count; i++)
+    for (size_t j = 0; j < m->vertex_count; j++) {
+      const double *a = m->vertices_m[i], *b = m->vertices_m[j];
+      if (!(a[0] <= -x_m && b[0] > -x_m)) continue;
+      const double u = (-x_m - a[0]) / (b[0] - a[0]);
+      lo = fmin(lo, a[2] + u * (b[2] - a[2]));
+    }
+  return -lo;
+}
+
+/* A sphere whose centre lies d beyond the +X edge is lowered onto the edge line: its centre ends
+ * sqrt(R^2 - d^2) above the top (exactly the polyhedron's answer; the inscribed mesh sits at most
+ * its sagitta lower), the only contacts are edge-line points, and it rolls off. */
+START_TEST(sphere_beyond_the_edge_rests_on_the_edge_line) {
+  const double r = 0.03;
+  model_mesh_t mesh;
+  icosphere(&mesh, r, 3);
+  ck_assert_uint_eq(mesh.vertex_count, 642);
+  model_mass_t mass;
+  ck_assert_int_eq(model_mesh_mass(&mesh, 1000.0, &mass), MODEL_OK);
+  balance_config_t cfg;
+  balance_config_default(&cfg);
+  balance_world_t *w = NULL;
+  balance_object_t *o = NULL;
+  ck_assert_int_eq(balance_world_create(&cfg, &w), BALANCE_OK);
+  ck_assert_int_eq(balance_object_create(w, &mesh, &mass, &o), BALANCE_OK);
+  const double hx = 0.5 * cfg.base_size_m[0];
+  const double ds[3] = {0.005, 0.015, 0.025};
+  for (int k = 0; k < 3; k++) {
+    const double d = ds[k], p[3] = {-d, 0.0, 0.0}; /* the link point -d x over the edge */
+    balance_pose_t pose;
+    ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, BALANCE_EDGE_PX, p, 0.0, 1e-6, &pose),
+                     BALANCE_OK);
+    ck_assert_double_eq_tol(pose.position_m[0], hx + d, 1e-15);
+    const double exact = hull_height_over_line(&mesh, d);
+    ck_assert_double_eq_tol(pose.position_m[2], exact - 1e-6, 1e-12);
+    /* Level 3 of a 30 mm sphere: the faces sit at most ~0.2 mm inside it (sagitta). */
+    const double sphere = sqrt(r * r - d * d);
+    ck_assert(exact <= sphere + 1e-12);
+    ck_assert_msg(sphere - exact < 0.2e-3 * r / sphere, "d %g: %g vs %g", d, exact, sphere);
+    /* Touching only B's edge line: every contact is an edge-line point, 1 um deep. */
+    ck_assert_int_eq(balance_object_place(o, &pose), BALANCE_OK);
+    const size_t cap = balance_fast_capacity(o);
+    balance_point_t *pts = malloc(cap * sizeof *pts);
+    ck_assert_ptr_nonnull(pts);
+    const size_t n = balance_fast_contacts(w, o, pts, cap);
+    ck_assert_uint_ge(n, 1);
+    for (size_t i = 0; i < n; i++) {
+      ck_assert_int_eq(pts[i].edge_plane, BALANCE_EDGE_PX);
+      ck_assert_double_eq_tol(pts[i].pos_m[0], hx, 1e-12);
+      ck_assert(pts[i].depth_m <= 1e-6 + 1e-12);
+    }
+    free(pts);
+    balance_object_remove(o);
+    balance_trial_result_t res;
+    ck_assert_int_eq(balance_trial_run(w, o, &pose, NULL, &res), BALANCE_OK);
+    ck_assert_int_eq(res.outcome, BALANCE_TIPS);
+  }
+  /* Entirely beyond the edge: nothing over B. */
+  const double far[3] = {-0.031, 0.0, 0.0};
+  balance_pose_t pose;
+  ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, BALANCE_EDGE_PX, far, 0.0, 1e-6, &pose),
+                   BALANCE_E_POSE);
+  balance_world_destroy(w);
+  model_mesh_free(&mesh);
+}
+END_TEST
+
+/* The touch height against B as a solid box: a box partly beyond the edge still rests on the top
+ * face (unchanged); a box tilted with its low side beyond the edge rests on the edge line, its
+ * bottom face crossing it at z = -1 um: centre 0.025 / cos(a) above the top, whichever edge. */
+START_TEST(tilted_box_rests_on_the_edge_line) {
+  fixture_t f;
+  box_fixture(&f, BALANCE_CONTACT_FAST);
+  const double hx = 0.15;
+  balance_pose_t pose;
+  const double p[3] = {0.015, 0.0, 0.0}; /* 5 mm of the 40 mm bottom beyond the edge */
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, p, 0.0, 1e-6, &pose),
+                   BALANCE_OK);
+  ck_assert(pose.position_m[2] == 0.025 - 1e-6);
+  ck_assert_double_eq_tol(pose.position_m[0], hx - 0.015, 1e-15);
+  const double a = 0.2, yaxis[3] = {0, 1, 0}, xaxis[3] = {1, 0, 0}, c0[3] = {0, 0, 0};
+  double q[4];
+  bp_quat(yaxis, a, q); /* +x goes down: the +x bottom edge is the lowest, beyond the edge */
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q, BALANCE_EDGE_PX, c0, 0.01, 1e-6, &pose),
+                   BALANCE_OK);
+  ck_assert_double_eq_tol(pose.position_m[2], 0.025 / cos(a) - 1e-6, 1e-12);
+  ck_assert_double_eq_tol(pose.position_m[1], 0.01, 1e-15);
+  /* The same about x over the -Y edge (-y goes down there: rotate by +a about x). */
+  bp_quat(xaxis, a, q);
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q, BALANCE_EDGE_NY, c0, 0.0, 1e-6, &pose),
+                   BALANCE_OK);
+  ck_assert_double_eq_tol(pose.position_m[2], 0.025 / cos(a) - 1e-6, 1e-12);
+  fixture_free(&f);
+}
+END_TEST
+
+/* Point support: rock_1 on a rounded hull face (no mesh triangle in the plane; a long, 3 mm wide
+ * support triangle of three vertices, the CoM ~1 mm inside it), yawed 90 degrees so the triangle
+ * crosses the edge. Once its far vertex is beyond the edge the rock drops onto the edge line at a
+ * point that leaves the CoM outside the new support sideways, and rolls off: it tips with the true
+ * CoM 3 and 6 mm inside the edge (bench_regimes: flip at 11.8 mm) and stays 15 mm inside. The flat
+ * -z face at the same offsets stays. */
+START_TEST(point_support_rock_tips_with_com_inside) {
+  model_object_t obj;
+  model_mass_t truth;
+  bp_rock("rock_1_even", &obj, &truth);
+  balance_config_t cfg;
+  balance_config_default(&cfg);
+  balance_world_t *w = NULL;
+  balance_object_t *o = NULL;
+  ck_assert_int_eq(balance_world_create(&cfg, &w), BALANCE_OK);
+  ck_assert_int_eq(balance_object_create(w, &obj.mesh, &truth, &o), BALANCE_OK);
+  balance_regime_config_t rc;
+  balance_regime_config_default(&rc);
+  rc.min_com_margin_m = 0.5e-3;
+  balance_face_t faces[256];
+  size_t nf = 0;
+  ck_assert_int_eq(balance_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf), BALANCE_OK);
+  const double want[3] = {-0.31, 0.34, 0.89};
+  const balance_face_t *face = NULL;
+  for (size_t i = 0; i < nf && i < 256; i++) {
+    const double *n = faces[i].normal_link;
+    if (!faces[i].flat && faces[i].face_count == 0 && faces[i].candidate &&
+        n[0] * want[0] + n[1] * want[1] + n[2] * want[2] > 0.99)
+      face = &faces[i];
+  }
+  ck_assert_ptr_nonnull(face);
+  int confirmed = 0;
+  ck_assert_int_eq(balance_stable_confirm(w, o, face->orientation_wxyz, truth.com_m, NULL, NULL,
+                                          &confirmed),
+                   BALANCE_OK);
+  ck_assert_int_eq(confirmed, 1);
+  double q[4], u[3];
+  const double n[3] = {1, 0, 0};
+  balance_orientation_yawed(face->orientation_wxyz, 0.5 * 3.14159265358979323846, q);
+  bp_edge_dir_link(q, n, u);
+  /* bp_trial_at(p0 = CoM, s): the CoM lies s inside the edge. */
+  ck_assert_int_eq(bp_trial_at(w, o, q, BALANCE_EDGE_PX, truth.com_m, u, 0.003), BALANCE_TIPS);
+  ck_assert_int_eq(bp_trial_at(w, o, q, BALANCE_EDGE_PX, truth.com_m, u, 0.006), BALANCE_TIPS);
+  ck_assert_int_eq(bp_trial_at(w, o, q, BALANCE_EDGE_PX, truth.com_m, u, 0.015), BALANCE_STAYS);
+  double uz[3];
+  bp_edge_dir_link(q_id, n, uz);
+  ck_assert_int_eq(bp_trial_at(w, o, q_id, BALANCE_EDGE_PX, truth.com_m, uz, 0.003), BALANCE_STAYS);
+  ck_assert_int_eq(bp_trial_at(w, o, q_id, BALANCE_EDGE_PX, truth.com_m, uz, -0.003), BALANCE_TIPS);
+  balance_world_destroy(w);
+  model_object_free(&obj);
+}
+END_TEST
+
 Suite *balance_trial_suite(void) {
   Suite *s = suite_create("balance_trial");
   TCase *tc = tcase_create("trial");
@@ -398,6 +610,9 @@ Suite *balance_trial_suite(void) {
   tcase_add_test(tc, deterministic);
   tcase_add_test(tc, noise_hooks);
   tcase_add_test(tc, two_objects_step);
+  tcase_add_test(tc, sphere_beyond_the_edge_rests_on_the_edge_line);
+  tcase_add_test(tc, tilted_box_rests_on_the_edge_line);
+  tcase_add_test(tc, point_support_rock_tips_with_com_inside);
   suite_add_tcase(s, tc);
   TCase *bad = tcase_create("bad_input");
   tcase_add_test(bad, bad_poses);

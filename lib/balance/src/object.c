@@ -409,6 +409,72 @@ double balance_object_bottom_z(const balance_object_t *o, const double q_in[4]) 
   return lo;
 }
 
+/* Lowest z of the segment (s0, z0)-(s1, z1) of a vertical plane within |s| <= half (z is linear
+ * along it: the lowest point is an end of the clipped segment); INFINITY if it misses. */
+static double clipped_low_z(double s0, double z0, double s1, double z1, double half) {
+  if (s1 < s0) {
+    double t = s0;
+    s0 = s1, s1 = t, t = z0, z0 = z1, z1 = t;
+  }
+  if (s1 < -half || s0 > half) return INFINITY;
+  if (!(s1 > s0)) return fmin(z0, z1);
+  const double a = fmax(s0, -half), b = fmin(s1, half);
+  return fmin(z0 + (a - s0) / (s1 - s0) * (z1 - z0), z0 + (b - s0) / (s1 - s0) * (z1 - z0));
+}
+
+/* Lowest world z, with the link origin at pos (z as given), of the part of the mesh that lies
+ * over B as a solid box: vertices over the footprint |x| <= hx, |y| <= hy, and every triangle's
+ * cut by the vertical planes x = +-hx, y = +-hy within the footprint's side there (B's top edge
+ * lines, their ends the corners). INFINITY when no part of the mesh is over B. */
+static double solid_touch_z(const balance_object_t *o, double r[3][3], const double pos[3],
+                            double hx, double hy) {
+  const model_mesh_t *m = &o->mesh_link;
+  double lo = INFINITY;
+  for (size_t i = 0; i < m->vertex_count; i++) {
+    double v[3];
+    link_vertex_world(r, pos, m->vertices_m[i], v);
+    if (fabs(v[0]) <= hx && fabs(v[1]) <= hy) lo = fmin(lo, v[2]);
+  }
+  for (size_t t = 0; t < m->triangle_count; t++) {
+    double x[3][3];
+    for (int k = 0; k < 3; k++) link_vertex_world(r, pos, m->vertices_m[m->triangles[t][k]], x[k]);
+    for (int pl = 0; pl < 4; pl++) {
+      const int axis = pl < 2 ? 0 : 1, along = 1 - axis;
+      const double plane = (pl % 2 == 0 ? 1.0 : -1.0) * (axis == 0 ? hx : hy);
+      const double half = axis == 0 ? hy : hx;
+      double d[3];
+      for (int k = 0; k < 3; k++) d[k] = x[k][axis] - plane;
+      if ((d[0] > 0.0 && d[1] > 0.0 && d[2] > 0.0) || (d[0] < 0.0 && d[1] < 0.0 && d[2] < 0.0))
+        continue;
+      if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) { /* the triangle lies in the plane */
+        for (int k = 0; k < 3; k++) {
+          const int j = (k + 1) % 3;
+          lo = fmin(lo, clipped_low_z(x[k][along], x[k][2], x[j][along], x[j][2], half));
+        }
+        continue;
+      }
+      /* Otherwise the triangle meets the plane in a segment (or a point): at most two points,
+       * its vertices on the plane and its edges' crossings. */
+      double s[2] = {0.0, 0.0}, z[2] = {0.0, 0.0};
+      int n = 0;
+      for (int k = 0; k < 3 && n < 2; k++) {
+        const int j = (k + 1) % 3;
+        if (d[k] == 0.0) {
+          s[n] = x[k][along];
+          z[n++] = x[k][2];
+        } else if (d[k] * d[j] < 0.0) {
+          const double u = d[k] / (d[k] - d[j]);
+          s[n] = x[k][along] + u * (x[j][along] - x[k][along]);
+          z[n++] = x[k][2] + u * (x[j][2] - x[k][2]);
+        }
+      }
+      if (n == 1) s[1] = s[0], z[1] = z[0];
+      if (n > 0) lo = fmin(lo, clipped_low_z(s[0], z[0], s[1], z[1], half));
+    }
+  }
+  return lo;
+}
+
 balance_status_t balance_pose_over_edge(const balance_world_t *w, const balance_object_t *o,
                                         const double q_in[4], balance_edge_t edge,
                                         const double point_link_m[3], double along_m,
@@ -452,7 +518,15 @@ balance_status_t balance_pose_over_edge(const balance_world_t *w, const balance_
     link_vertex_world(r, p.position_m, m->vertices_m[i], v);
     if (v[2] <= -touch_depth_m + 1e-6 && fabs(v[0]) <= hx && fabs(v[1]) <= hy) on_top = 1;
   }
-  if (!on_top) return BALANCE_E_POSE;
+  if (!on_top) {
+    /* The lowest vertices are off B: lowered vertically, the mesh first touches B's top face
+     * (a vertex over the footprint) or a top edge line (a triangle crossing the edge's vertical
+     * plane within the edge's length; B's corners are the ends of those segments). */
+    p.position_m[2] = 0.0;
+    const double zlow = solid_touch_z(o, r, p.position_m, hx, hy);
+    if (!isfinite(zlow)) return BALANCE_E_POSE;
+    p.position_m[2] = -zlow - touch_depth_m;
+  }
   *out = p;
   return BALANCE_OK;
 }

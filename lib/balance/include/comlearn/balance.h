@@ -155,12 +155,19 @@ double balance_object_bottom_z(const balance_object_t *obj, const double orienta
 /* The pose that sets the object in `orientation_wxyz` down on B with the link-frame point
  * point_link_m exactly over `edge` (normal . p = d in the world), at `along_m` along the edge
  * (the point's world y for the X edges, its world x for the Y edges; 0 is the edge's middle),
- * its lowest point touch_depth_m below B's top (trials use 1e-6: pre-penetrated by 1 um, never
- * dropped). The quaternion is normalised (its norm must be 1 within 1e-6). Pure geometry.
+ * lowered vertically until it first touches B as a solid box, then touch_depth_m further (trials
+ * use 1e-6: pre-penetrated by 1 um, never dropped). The height:
+ *   - when some of the mesh's lowest vertices (within 1 um of the lowest) lie over B's top
+ *     footprint: the lowest vertex touch_depth_m below the top (as a table would be touched);
+ *   - otherwise the lowest point of the mesh over B: a vertex over the footprint, or where the
+ *     mesh crosses the vertical plane through one of B's four top edges within that edge's length
+ *     (the object resting on the edge line, e.g. a rounded underside whose support point lies
+ *     beyond the edge), that point touch_depth_m below the top.
+ * The quaternion is normalised (its norm must be 1 within 1e-6). Pure geometry, no allocation.
  * Returns BALANCE_E_ARG (NULL, bad edge, touch_depth_m outside [0, 1e-4]), BALANCE_E_NONFINITE,
  * BALANCE_E_POSE (quaternion norm, |along_m| beyond the edge's half length, a coordinate of
- * point_link_m beyond 100 m, or none of the object's lowest points over B's top: it would not
- * rest on B). */
+ * point_link_m beyond 100 m, or no part of the mesh over B's top or its edges: it would not rest
+ * on B). */
 balance_status_t balance_pose_over_edge(const balance_world_t *world, const balance_object_t *obj,
                                         const double orientation_wxyz[4], balance_edge_t edge,
                                         const double point_link_m[3], double along_m,

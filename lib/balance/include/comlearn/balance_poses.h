@@ -4,10 +4,11 @@
  *
  * Why the geometry: an edge test measures the CoM exactly only where a flat patch of the object
  * crosses the edge along a chord that spans the CoM sideways (docs/physics.md, "Regimes"). On a
- * rounded underside the object drops onto the edge when its support passes over it and tips by
- * overshoot (millimetres inside the truth); touching the edge at a single point it rolls sideways
- * (0.2-2.2 mm). The functions here tell which regime a planned trial is in, list the flat faces an
- * object can rest on, and choose yaws whose chord spans the CoM estimate.
+ * rounded underside resting on isolated points the object drops onto the edge line when a support
+ * passes over it and rolls sideways off that single point (bench_regimes: up to 12 mm, median
+ * 1.3 mm inside the truth on the bundled rocks). The functions here tell which regime a planned
+ * trial is in, list the flat faces an object can rest on, and choose yaws whose chord spans the
+ * CoM estimate.
  *
  * Who passes what (estimator / simulator boundary):
  *   - Every geometric function takes the object's mesh in its link frame (what perception gives)
