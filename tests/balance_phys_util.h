@@ -15,21 +15,8 @@
 
 /* A box [lo, hi], 8 vertices, 12 outward triangles (model_mesh_free releases). */
 static inline void bp_box(model_mesh_t *m, const double lo[3], const double hi[3]) {
-  static const uint32_t tris[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7},
-                                       {0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5},
-                                       {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
-  m->vertex_count = 8;
-  m->triangle_count = 12;
-  m->vertices_m = malloc(8 * sizeof *m->vertices_m);
-  m->triangles = malloc(sizeof tris);
-  ck_assert_ptr_nonnull(m->vertices_m);
-  ck_assert_ptr_nonnull(m->triangles);
-  for (int i = 0; i < 8; ++i) {
-    m->vertices_m[i][0] = (i % 4 == 1 || i % 4 == 2) ? hi[0] : lo[0];
-    m->vertices_m[i][1] = (i % 4 >= 2) ? hi[1] : lo[1];
-    m->vertices_m[i][2] = i >= 4 ? hi[2] : lo[2];
-  }
-  memcpy(m->triangles, tris, sizeof tris);
+  memset(m, 0, sizeof *m);
+  ck_assert_int_eq(model_mesh_box(lo, hi, m), MODEL_OK);
 }
 
 /* An L-shaped prism (two boxes joined): the polygon (0,0) (60,0) (60,20) (20,20) (20,50) (0,50)

@@ -320,10 +320,30 @@ START_TEST(test_aabb_and_center) {
 }
 END_TEST
 
+START_TEST(test_polygon_square) {
+  /* A 40 x 20 mm rectangle's corners, shuffled, with interior and edge points. */
+  double pts[9][2] = {{0.04, 0.02}, {0.01, 0.01}, {0.0, 0.0}, {0.02, 0.0}, {0.0, 0.02},
+                      {0.04, 0.0},  {0.03, 0.005}, {0.02, 0.02}, {0.0, 0.01}};
+  double hull[10][2];
+  const size_t n = model_polygon_hull(pts, 9, hull);
+  ck_assert_uint_eq(n, 4); /* collinear edge points dropped */
+  const double (*h)[2] = (const double(*)[2])hull;
+  ck_assert_double_eq_tol(model_polygon_area(h, n), 0.04 * 0.02, 1e-18); /* counter-clockwise */
+  ck_assert_double_eq_tol(model_polygon_width(h, n), 0.02, 1e-15);
+  const double inside[2] = {0.03, 0.015}, outside[2] = {0.05, 0.025}, corner[2] = {0.0, 0.0};
+  ck_assert_double_eq_tol(model_polygon_margin(h, n, inside), 0.005, 1e-15);
+  ck_assert_double_eq_tol(model_polygon_margin(h, n, outside), -hypot(0.01, 0.005), 1e-15);
+  ck_assert_double_eq_tol(model_polygon_margin(h, n, corner), 0.0, 1e-15);
+  ck_assert(model_polygon_margin(h, 2, inside) == -HUGE_VAL);
+  ck_assert_double_eq(model_polygon_area(h, 2), 0.0);
+}
+END_TEST
+
 Suite *model_hull_suite(void) {
   Suite *s = suite_create("model_hull");
   TCase *tc = tcase_create("hull");
   tcase_set_timeout(tc, 60);
+  tcase_add_test(tc, test_polygon_square);
   tcase_add_test(tc, test_hull_cube_interior_and_duplicates);
   tcase_add_test(tc, test_hull_lattice_and_face_points);
   tcase_add_test(tc, test_hull_random_points);

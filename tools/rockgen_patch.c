@@ -15,60 +15,16 @@ static void cross3(const double a[3], const double b[3], double c[3]) {
   c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static double cross2(const double o[2], const double a[2], const double b[2]) {
-  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-}
-
-static int cmp_uv(const void *pa, const void *pb) {
-  const double *a = pa, *b = pb;
-  if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
-  if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
-  return 0;
-}
-
-/* Convex hull of n points (sorted in place), counter-clockwise, collinear points dropped
- * (Andrew's monotone chain). hull needs room for n + 1 points. Returns the hull size. */
-static size_t hull2d(double (*pts)[2], size_t n, double (*hull)[2]) {
-  qsort(pts, n, sizeof *pts, cmp_uv);
-  if (n < 3) {
-    memcpy(hull, pts, n * sizeof *pts);
-    return n;
-  }
-  size_t k = 0;
-  for (size_t i = 0; i < n; ++i) {
-    while (k >= 2 && cross2(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
-    memcpy(hull[k++], pts[i], sizeof *pts);
-  }
-  const size_t lower = k + 1;
-  for (size_t i = n - 1; i-- > 0;) {
-    while (k >= lower && cross2(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
-    memcpy(hull[k++], pts[i], sizeof *pts);
-  }
-  return k - 1; /* the last point repeats the first */
-}
-
-/* Smallest width and largest diameter of a convex polygon (brute force: a few dozen points). */
-static void hull_extent(const double (*h)[2], size_t n, double *width, double *diameter) {
-  double w = n >= 3 ? HUGE_VAL : 0.0, dia = 0.0;
+/* Largest distance between two vertices of a polygon (a few dozen points: brute force). */
+static double polygon_diameter(const double (*h)[2], size_t n) {
+  double dia = 0.0;
   for (size_t i = 0; i < n; ++i) {
     for (size_t j = i + 1; j < n; ++j) {
-      const double dx = h[j][0] - h[i][0], dy = h[j][1] - h[i][1];
-      const double dd = sqrt(dx * dx + dy * dy);
+      const double dd = hypot(h[j][0] - h[i][0], h[j][1] - h[i][1]);
       if (dd > dia) dia = dd;
     }
   }
-  for (size_t i = 0; n >= 3 && i < n; ++i) {
-    const double *a = h[i], *b = h[(i + 1) % n];
-    const double len = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
-    double far = 0.0;
-    for (size_t j = 0; j < n; ++j) {
-      const double dist = cross2(a, b, h[j]) / len;
-      if (dist > far) far = dist;
-    }
-    if (far < w) w = far;
-  }
-  *width = w;
-  *diameter = dia;
+  return dia;
 }
 
 static void plane_basis(const double n[3], double u[3], double v[3]) {
@@ -214,8 +170,9 @@ model_status_t rockgen_patches_find(const model_mesh_t *mesh, double min_area_m2
       for (int k = 0; k < 3; ++k) in_patch[mesh->triangles[queue[i]][k]] = 0;
     }
     p->offset_m = hsum / (double)np;
-    const size_t nh = hull2d(pts, np, hull);
-    hull_extent((const double(*)[2])hull, nh, &p->width_m, &p->diameter_m);
+    const size_t nh = model_polygon_hull(pts, np, hull);
+    p->width_m = model_polygon_width((const double(*)[2])hull, nh);
+    p->diameter_m = polygon_diameter((const double(*)[2])hull, nh);
     /* Support: does the plane bound the body, and where does the body touch it? */
     double excess = -HUGE_VAL;
     size_t ns = 0;
@@ -229,7 +186,7 @@ model_status_t rockgen_patches_find(const model_mesh_t *mesh, double min_area_m2
       }
     }
     p->support_excess_m = excess;
-    const size_t nsh = hull2d(pts, ns, hull);
+    const size_t nsh = model_polygon_hull(pts, ns, hull);
     if (nsh > ROCKGEN_MAX_SUPPORT) {
       st = MODEL_E_UNSUPPORTED;
       goto done;
@@ -255,15 +212,7 @@ done:
 }
 
 double rockgen_patch_margin(const rockgen_patch_t *patch, const double com_m[3]) {
-  if (patch == NULL || com_m == NULL || patch->support_count < 3) return -HUGE_VAL;
+  if (patch == NULL || com_m == NULL) return -HUGE_VAL;
   const double p[2] = {dot3(patch->basis[0], com_m), dot3(patch->basis[1], com_m)};
-  double margin = HUGE_VAL;
-  const size_t n = patch->support_count;
-  for (size_t i = 0; i < n; ++i) {
-    const double *a = patch->support_uv[i], *b = patch->support_uv[(i + 1) % n];
-    const double len = sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]));
-    const double dist = cross2(a, b, p) / len;
-    if (dist < margin) margin = dist;
-  }
-  return margin;
+  return model_polygon_margin((const double(*)[2])patch->support_uv, patch->support_count, p);
 }

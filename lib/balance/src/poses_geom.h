@@ -27,17 +27,7 @@ double balance_geom_quat_angle(const double a[4], const double b[4]);
 /* Mesh usable for geometry: non-NULL arrays, counts > 0, indices in range, finite vertices. */
 balance_status_t balance_geom_mesh_check(const model_mesh_t *mesh);
 
-/* Convex hull of n points (sorted in place), counter-clockwise, collinear points dropped
- * (monotone chain). hull needs room for n + 1 points. Returns the hull size. */
-size_t balance_geom_hull2d(double (*pts)[2], size_t n, double (*hull)[2]);
-
-/* Area and smallest width of a convex counter-clockwise polygon (0 for fewer than 3 points). */
-double balance_geom_poly_area(const double (*poly)[2], size_t n);
-double balance_geom_poly_width(const double (*poly)[2], size_t n);
-
-/* Signed distance from p to the boundary of a convex counter-clockwise polygon, positive inside;
- * -HUGE_VAL for fewer than 3 vertices. */
-double balance_geom_poly_margin(const double (*poly)[2], size_t n, const double p[2]);
+/* Planar hull, area, width and margin: model_polygon_*() in comlearn/model.h. */
 
 /* The chord of the line p + s d (d unit) through a convex counter-clockwise polygon: returns 1 and
  * [s0, s1] when the line crosses its interior (s1 - s0 > 0), 0 otherwise. */

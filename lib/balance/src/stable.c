@@ -78,11 +78,11 @@ static balance_status_t face_analyse(const model_mesh_t *mesh, const double n[3]
     pts[np][1] = dot3(w, mesh->vertices_m[v]);
     ++np;
   }
-  size_t nh = balance_geom_hull2d(pts, np, hull);
-  f->area_m2 = balance_geom_poly_area((const double(*)[2])hull, nh);
-  f->width_m = balance_geom_poly_width((const double(*)[2])hull, nh);
+  size_t nh = model_polygon_hull(pts, np, hull);
+  f->area_m2 = model_polygon_area((const double(*)[2])hull, nh);
+  f->width_m = model_polygon_width((const double(*)[2])hull, nh);
   const double c2[2] = {dot3(u, com), dot3(w, com)};
-  f->com_margin_m = balance_geom_poly_margin((const double(*)[2])hull, nh, c2);
+  f->com_margin_m = model_polygon_margin((const double(*)[2])hull, nh, c2);
   f->candidate = f->com_margin_m >= cfg->min_com_margin_m;
   /* The flat patch: mesh triangles in the plane. */
   np = 0;
@@ -106,9 +106,9 @@ static balance_status_t face_analyse(const model_mesh_t *mesh, const double n[3]
     for (int k = 0; k < 3; ++k) used[mesh->triangles[t][k]] = 0;
   }
   if (f->face_count > 0) {
-    nh = balance_geom_hull2d(pts, np, hull);
-    f->patch_area_m2 = balance_geom_poly_area((const double(*)[2])hull, nh);
-    f->patch_width_m = balance_geom_poly_width((const double(*)[2])hull, nh);
+    nh = model_polygon_hull(pts, np, hull);
+    f->patch_area_m2 = model_polygon_area((const double(*)[2])hull, nh);
+    f->patch_width_m = model_polygon_width((const double(*)[2])hull, nh);
   }
   f->flat = f->patch_area_m2 >= cfg->min_patch_area_m2 && f->patch_width_m >= cfg->min_patch_width_m;
   return balance_orientation_resting(n, f->orientation_wxyz);

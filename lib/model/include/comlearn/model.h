@@ -173,6 +173,24 @@ model_status_t model_mesh_mass(const model_mesh_t *mesh, double density_kg_m3, m
  * *hull is zeroed. Allocates; about 10-20 ms for 5000 points all on the hull. */
 model_status_t model_mesh_hull(const model_mesh_t *mesh, model_mesh_t *hull, model_error_t *err);
 
+/* Planar convex polygons, counter-clockwise, as arrays of (u, v) points in metres. Used for support
+ * polygons and resting patches. None of these allocates. */
+
+/* Convex hull of `count` points (sorted in place), counter-clockwise, collinear points dropped
+ * (monotone chain). hull needs room for count + 1 points. Returns the hull's vertex count. */
+size_t model_polygon_hull(double (*points)[2], size_t count, double (*hull)[2]);
+
+/* Area of a convex counter-clockwise polygon; 0 for fewer than 3 vertices. */
+double model_polygon_area(const double (*poly)[2], size_t count);
+
+/* Smallest width of a convex polygon (attained with one side flush); 0 for fewer than 3. */
+double model_polygon_width(const double (*poly)[2], size_t count);
+
+/* Signed distance from p to the boundary of a convex counter-clockwise polygon: positive inside
+ * (the distance to the nearest side), negative outside (minus the distance to the polygon);
+ * -HUGE_VAL for fewer than 3 vertices. */
+double model_polygon_margin(const double (*poly)[2], size_t count, const double p[2]);
+
 /* An object as the estimator sees it: the collision geometry of one URDF link. */
 typedef struct {
   char robot_name[128];

@@ -1,0 +1,93 @@
+/* Planar convex polygons: the support polygons and resting patches of lib/balance and the rock
+ * tools (comlearn/model.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "comlearn/model.h"
+
+static double cross2(const double o[2], const double a[2], const double b[2]) {
+  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+static int cmp_xy(const void *pa, const void *pb) {
+  const double *a = pa, *b = pb;
+  if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
+  if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
+  return 0;
+}
+
+size_t model_polygon_hull(double (*pts)[2], size_t n, double (*hull)[2]) {
+  qsort(pts, n, sizeof *pts, cmp_xy);
+  if (n < 3) {
+    memcpy(hull, pts, n * sizeof *pts);
+    return n;
+  }
+  size_t k = 0;
+  for (size_t i = 0; i < n; ++i) {
+    while (k >= 2 && cross2(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+    memcpy(hull[k++], pts[i], sizeof *pts);
+  }
+  const size_t lower = k + 1;
+  for (size_t i = n - 1; i-- > 0;) {
+    while (k >= lower && cross2(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+    memcpy(hull[k++], pts[i], sizeof *pts);
+  }
+  return k - 1; /* the last point repeats the first */
+}
+
+double model_polygon_area(const double (*poly)[2], size_t n) {
+  if (n < 3) return 0.0;
+  double a = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const double *p = poly[i], *q = poly[(i + 1) % n];
+    a += p[0] * q[1] - p[1] * q[0];
+  }
+  return 0.5 * a;
+}
+
+double model_polygon_width(const double (*poly)[2], size_t n) {
+  /* The smallest width of a convex polygon is attained with one side flush (rotating calipers);
+   * brute force over sides is O(n^2), fine for a few hundred vertices. */
+  if (n < 3) return 0.0;
+  double w = HUGE_VAL;
+  for (size_t i = 0; i < n; ++i) {
+    const double *a = poly[i], *b = poly[(i + 1) % n];
+    const double len = hypot(b[0] - a[0], b[1] - a[1]);
+    double far = 0.0;
+    for (size_t j = 0; j < n; ++j) {
+      const double d = cross2(a, b, poly[j]) / len;
+      if (d > far) far = d;
+    }
+    if (far < w) w = far;
+  }
+  return w;
+}
+
+double model_polygon_margin(const double (*poly)[2], size_t n, const double p[2]) {
+  if (n < 3) return -HUGE_VAL;
+  double inside = HUGE_VAL; /* min over sides of the signed distance (valid inside) */
+  double outside = 0.0;     /* distance to the polygon when p is outside */
+  int out = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const double *a = poly[i], *b = poly[(i + 1) % n];
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    const double len = hypot(ex, ey);
+    const double d = cross2(a, b, p) / len;
+    if (d < inside) inside = d;
+    if (d < 0.0) out = 1;
+  }
+  if (!out) return inside;
+  /* Outside: the distance to the nearest side segment, negated. */
+  outside = HUGE_VAL;
+  for (size_t i = 0; i < n; ++i) {
+    const double *a = poly[i], *b = poly[(i + 1) % n];
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    double s = ((p[0] - a[0]) * ex + (p[1] - a[1]) * ey) / (ex * ex + ey * ey);
+    if (s < 0.0) s = 0.0;
+    if (s > 1.0) s = 1.0;
+    const double dist = hypot(p[0] - (a[0] + s * ex), p[1] - (a[1] + s * ey));
+    if (dist < outside) outside = dist;
+  }
+  return -outside;
+}
