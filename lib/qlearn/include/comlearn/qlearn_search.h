@@ -1,0 +1,119 @@
+/*
+ * comlearn/qlearn_search.h - the two search policies that need few placements: bisect
+ * (noiseless outcomes) and PBA (probabilistic bisection, noisy outcomes).
+ *
+ * Callers normally use them through qlearn_policy_* (comlearn/qlearn.h), which checks the
+ * settings and the common arguments first; the functions here check their own arguments too, so
+ * they may be called directly. Conventions (1-D coordinate x, STAYS means c < x, TIPS means
+ * c > x) are those of comlearn/qlearn.h. Every function touches only its arguments: no heap, no
+ * I/O, no globals; every loop is bounded by a compile-time constant. On error the state is
+ * unchanged. The cfg passed to every call must be the one passed to _init.
+ */
+#ifndef COMLEARN_QLEARN_SEARCH_H
+#define COMLEARN_QLEARN_SEARCH_H
+
+#include <stdint.h>
+
+#include "comlearn/qlearn_types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- bisect ----------------------------------------------------------------------------------
+ * Trial 1 at the prior p (skipped when p lies on a range bound); trial 2 one probe step s0 toward
+ * the CoM (p + s0 after TIPS, p - s0 after STAYS; skipped when that leaves the bracket); then plain
+ * bisection of the bracket [lo, hi] that the outcomes leave, until hi - lo <= resolution (with
+ * a relative slack of 1e-9 for rounding of the bracket ends).
+ * s0 = resolution * 2^floor(log2(range / (16 resolution))) (at least the resolution), so a CoM
+ * within s0 of the prior costs 2 + log2(s0 / resolution) trials.
+ * Bound (proved in docs/learner.md, checked by tests/qlearn_search_tests.c): with the prior in the
+ * range and noiseless outcomes, at most ceil(log2(range / resolution)) + 2 trials, since after the
+ * two probes the bracket is at most the range wide. The final bracket contains c (noiseless).
+ * An outcome that contradicts the bracket (STAYS at x < lo, TIPS at x > hi: noisy data) is
+ * rejected with QLEARN_E_RANGE; outcomes exactly at a bracket end collapse it (knife edge). */
+typedef enum {
+  QLEARN_BISECT_PRIOR = 0, /* next trial: the prior */
+  QLEARN_BISECT_PROBE = 1, /* next trial: the prior +- one probe step */
+  QLEARN_BISECT_HALVE = 2  /* next trial: the bracket's midpoint */
+} qlearn_bisect_phase_t;
+
+typedef struct {
+  double lo_m;      /* c is known to lie in [lo_m, hi_m] */
+  double hi_m;
+  double probe_m;   /* the probe step s0 (> 0) */
+  double next_m;    /* the next trial (valid while not done) */
+  qlearn_bisect_phase_t phase;
+  uint32_t trials;  /* outcomes accepted */
+} qlearn_bisect_t;
+
+/* Start: bracket = the range. QLEARN_E_ARG for NULL, QLEARN_E_NONFINITE / QLEARN_E_RANGE for a
+ * bad cfg (range, resolution, prior outside the range). */
+qlearn_status_t qlearn_bisect_init(qlearn_bisect_t *bisect, const qlearn_policy_config_t *cfg);
+/* Next coordinate x (metres). QLEARN_E_DONE when hi - lo <= resolution; state never changes. */
+qlearn_status_t qlearn_bisect_next(const qlearn_bisect_t *bisect,
+                                   const qlearn_policy_config_t *cfg, double *x_m);
+/* Outcome at x. QLEARN_E_NONFINITE / QLEARN_E_RANGE (x outside the range, or contradicting the
+ * bracket), QLEARN_E_ARG (bad outcome), QLEARN_E_DONE, QLEARN_E_CAPACITY (max_trials reached). */
+qlearn_status_t qlearn_bisect_observe(qlearn_bisect_t *bisect, const qlearn_policy_config_t *cfg,
+                                      double x_m, qlearn_outcome_t outcome);
+/* 1 when the bracket is at most the resolution wide, else 0 (also 0 for NULL). */
+int qlearn_bisect_done(const qlearn_bisect_t *bisect, const qlearn_policy_config_t *cfg);
+/* Midpoint of the bracket and half its width: c lies in [*c_m - *hw, *c_m + *hw] (noiseless). */
+qlearn_status_t qlearn_bisect_estimate(const qlearn_bisect_t *bisect,
+                                       const qlearn_policy_config_t *cfg, double *c_m,
+                                       double *halfwidth_m);
+
+/* ---- PBA: probabilistic bisection --------------------------------------------------------------
+ * Horstein's scheme as analysed by Waeber, Frazier & Henderson (2013): the posterior density of c
+ * over the range is kept on QLEARN_PBA_BINS equal bins (piecewise constant, float masses: fixed
+ * memory); the next trial is the posterior median; each outcome multiplies every bin by the
+ * likelihood of that outcome averaged over the bin (exact for a piecewise-constant density):
+ *   QLEARN_NOISE_FLIP    P(correct outcome) = 1 - flip_prob; the bin holding x is split at x
+ *   QLEARN_NOISE_PROBIT  P(TIPS | c) = Phi((c - x) / sigma_m), averaged over the bin in closed form
+ *                        (sigma_m == 0 is the noiseless step)
+ * Likelihoods are floored at QLEARN_PBA_LIK_FLOOR (a tiny lapse rate) so a contradictory outcome
+ * cannot zero the posterior. Done when the equal-tailed credible interval of mass cfg->credible is
+ * at most the resolution wide, or after max_trials outcomes. Estimate: the posterior median, and
+ * the half width max(median - q_lo, q_hi - median) + w / 2, which covers the (possibly
+ * asymmetric) equal-tailed interval [q_lo, q_hi] plus half a bin w. Quantiles interpolate
+ * linearly inside a bin.
+ * Discretisation: the bin width w = range / QLEARN_PBA_BINS (48.8 um for the default 10 cm)
+ * limits what the posterior can resolve: inside a bin the density is uniform, so the mass a
+ * trial at x leaves on one side of x is spread over the whole bin and quantiles can be off by up
+ * to a bin (hence the w / 2 added to the half width). Choose resolution >= 2 w; a resolution
+ * below one bin is never reached by the interval and the search ends at max_trials. */
+#define QLEARN_PBA_BINS 2048
+#define QLEARN_PBA_LIK_FLOOR 1e-6
+
+typedef struct {
+  float mass[QLEARN_PBA_BINS]; /* posterior mass per bin, sums to 1 */
+  double median_m;             /* cached after every update: the median, */
+  double ci_lo_m;              /*   and the equal-tailed credible interval */
+  double ci_hi_m;
+  uint32_t trials;             /* outcomes accepted */
+} qlearn_pba_t;
+
+/* Start with the uniform posterior over the range. Errors as qlearn_bisect_init, plus
+ * QLEARN_E_ARG / QLEARN_E_RANGE for a bad noise model or credible mass. */
+qlearn_status_t qlearn_pba_init(qlearn_pba_t *pba, const qlearn_policy_config_t *cfg);
+/* The posterior median. QLEARN_E_DONE when done. */
+qlearn_status_t qlearn_pba_next(const qlearn_pba_t *pba, const qlearn_policy_config_t *cfg,
+                                double *x_m);
+/* Bayes update with the outcome at x. Errors as qlearn_bisect_observe (no contradiction error). */
+qlearn_status_t qlearn_pba_observe(qlearn_pba_t *pba, const qlearn_policy_config_t *cfg,
+                                   double x_m, qlearn_outcome_t outcome);
+/* 1 when the credible interval is at most the resolution wide or max_trials were observed. */
+int qlearn_pba_done(const qlearn_pba_t *pba, const qlearn_policy_config_t *cfg);
+/* Posterior median and the half width that covers the credible interval. */
+qlearn_status_t qlearn_pba_estimate(const qlearn_pba_t *pba, const qlearn_policy_config_t *cfg,
+                                    double *c_m, double *halfwidth_m);
+
+_Static_assert(QLEARN_PBA_BINS >= 16 && QLEARN_PBA_BINS <= 4096, "PBA bin count out of range");
+_Static_assert(sizeof(qlearn_pba_t) <= 12 * 1024, "PBA state must leave room in 16 KiB");
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* COMLEARN_QLEARN_SEARCH_H */
