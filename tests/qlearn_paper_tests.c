@@ -147,6 +147,67 @@ START_TEST(offset_prior_clamps_to_the_range) {
 }
 END_TEST
 
+/* A prior off the grid of the range bounds (e.g. a mesh CoM): the grid x = prior + k res then
+ * stops short of range_lo / range_hi by up to a resolution. A c in that strip, inside the range,
+ * must still be bracketed (bench_qlearn, mesh-CoM rows: 2 of 1000 runs came back QLEARN_E_RANGE). */
+static void check_bracket(qlearn_policy_kind_t kind, const qlearn_policy_config_t *cfg, double c) {
+  static qlearn_paper_t p;
+  const int n = walk(&p, cfg, c, NULL, 0);
+  ck_assert_msg(qlearn_paper_done(&p, cfg), "kind %d c %.17g prior %.17g: not done after %d",
+                (int)kind, c, cfg->prior_m, n);
+  double e, h;
+  const qlearn_status_t st = qlearn_paper_estimate(&p, cfg, &e, &h);
+  ck_assert_msg(st == QLEARN_OK, "kind %d c %.17g prior %.17g: status %d (c is in the range)",
+                (int)kind, c, cfg->prior_m, (int)st);
+  ck_assert_msg(fabs(e - c) <= h, "kind %d c %.17g prior %.17g: not in [%.17g, %.17g]", (int)kind,
+                c, cfg->prior_m, e - h, e + h);
+  ck_assert_msg(2.0 * h <= cfg->resolution_m * (1.0 + 1e-9), "kind %d c %.17g prior %.17g: "
+                "width %.17g", (int)kind, c, cfg->prior_m, 2.0 * h);
+  ck_assert_int_le(n, 3 * 11); /* at most 11 placements per level */
+}
+
+static double unit(uint64_t *s) { return (double)lcg(s) / 9007199254740992.0; }
+
+static void off_grid_priors(qlearn_policy_kind_t kind, int count) {
+  /* The two bench_qlearn cases, exactly. */
+  qlearn_policy_config_t cfg = paper_cfg(kind);
+  cfg.prior_m = 0.046841811541620662;
+  check_bracket(kind, &cfg, 0.049992193484443628);
+  cfg.prior_m = -0.049212188688643847;
+  check_bracket(kind, &cfg, -0.049951391291328223);
+  /* Seeded (c, prior) pairs on three ranges / resolutions; c uniform over the range, or in the
+   * last resolution before a bound; prior = c + U(-4, 4) mm (clamped), or uniform. */
+  const double ranges[3][3] = {{-0.05, 0.05, 1e-4}, {-0.037, 0.061, 3e-4}, {-0.02, 0.013, 7e-5}};
+  uint64_t s = 20190;
+  for (int r = 0; r < 3; r++) {
+    cfg = paper_cfg(kind);
+    cfg.range_lo_m = ranges[r][0];
+    cfg.range_hi_m = ranges[r][1];
+    cfg.resolution_m = ranges[r][2];
+    const double span = cfg.range_hi_m - cfg.range_lo_m;
+    for (int i = 0; i < count; i++) {
+      double c;
+      switch (i % 3) {
+      case 0: c = cfg.range_lo_m + span * unit(&s); break;
+      case 1: c = cfg.range_hi_m - cfg.resolution_m * unit(&s); break;
+      default: c = cfg.range_lo_m + cfg.resolution_m * unit(&s); break;
+      }
+      if (!(c > cfg.range_lo_m && c < cfg.range_hi_m)) continue;
+      const double prior = (i % 2) ? c + 0.008 * (unit(&s) - 0.5) : cfg.range_lo_m + span * unit(&s);
+      cfg.prior_m = fmin(cfg.range_hi_m, fmax(cfg.range_lo_m, prior));
+      check_bracket(kind, &cfg, c);
+    }
+  }
+}
+
+START_TEST(qtable_brackets_c_from_off_grid_priors) {
+  off_grid_priors(QLEARN_POLICY_PAPER_QTABLE, 1500);
+}
+END_TEST
+
+START_TEST(mlp_brackets_c_from_off_grid_priors) { off_grid_priors(QLEARN_POLICY_PAPER_MLP, 100); }
+END_TEST
+
 START_TEST(threshold_outside_the_range_is_reported) {
   static qlearn_paper_t p;
   const qlearn_policy_config_t cfg = paper_cfg(QLEARN_POLICY_PAPER_QTABLE);
@@ -273,6 +334,8 @@ Suite *qlearn_paper_suite(void) {
   tcase_add_test(tc, mlp_finds_200_thresholds);
   tcase_add_test(tc, offset_prior_clamps_to_the_range);
   tcase_add_test(tc, threshold_outside_the_range_is_reported);
+  tcase_add_test(tc, qtable_brackets_c_from_off_grid_priors);
+  tcase_add_test(tc, mlp_brackets_c_from_off_grid_priors);
   tcase_add_test(tc, estimate_before_the_end_is_what_outcomes_leave);
   suite_add_tcase(s, tc);
   tc = tcase_create("contract");

@@ -16,17 +16,33 @@ static int is_paper(const qlearn_policy_config_t *cfg) {
   return cfg->kind == QLEARN_POLICY_PAPER_QTABLE || cfg->kind == QLEARN_POLICY_PAPER_MLP;
 }
 
-/* Grid limits: the grid points inside [range_lo, range_hi] (a little slack for rounding). */
+/* State limits: the grid points inside [range_lo, range_hi] plus, when a bound is off the grid
+ * (a prior off the bounds' grid), one state beyond the last grid point that grid_x clamps to the
+ * bound itself. Without it, a c between the last grid point and the bound (inside the range)
+ * could never be bracketed and would be reported as outside. A little slack for rounding. */
 static int64_t grid_lo(const qlearn_policy_config_t *cfg) {
-  return (int64_t)ceil((cfg->range_lo_m - cfg->prior_m) / cfg->resolution_m - 1e-9);
+  return (int64_t)floor((cfg->range_lo_m - cfg->prior_m) / cfg->resolution_m + 1e-9);
 }
 static int64_t grid_hi(const qlearn_policy_config_t *cfg) {
-  return (int64_t)floor((cfg->range_hi_m - cfg->prior_m) / cfg->resolution_m + 1e-9);
+  return (int64_t)ceil((cfg->range_hi_m - cfg->prior_m) / cfg->resolution_m - 1e-9);
 }
 
 static double grid_x(const qlearn_policy_config_t *cfg, int64_t k) {
   const double x = cfg->prior_m + (double)k * cfg->resolution_m;
   return fmin(fmax(x, cfg->range_lo_m), cfg->range_hi_m);
+}
+
+/* The state nearest x_m (x_m inside the range): the grid point, or a bound's state, whose
+ * grid_x is closest. A placement at a bound maps to that bound's state even when the bound is
+ * less than half a step past the last grid point. */
+static int64_t grid_k(const qlearn_policy_config_t *cfg, double x_m) {
+  const int64_t klo = grid_lo(cfg), khi = grid_hi(cfg);
+  int64_t k = (int64_t)llround((x_m - cfg->prior_m) / cfg->resolution_m);
+  if (k < klo) k = klo;
+  if (k > khi) k = khi;
+  if (k < khi && fabs(grid_x(cfg, k + 1) - x_m) < fabs(grid_x(cfg, k) - x_m)) k++;
+  if (k > klo && fabs(grid_x(cfg, k - 1) - x_m) < fabs(grid_x(cfg, k) - x_m)) k--;
+  return k;
 }
 
 /* The MLP's input: the state in units of the coarsest step. */
@@ -82,7 +98,7 @@ qlearn_status_t qlearn_paper_observe(qlearn_paper_t *paper, const qlearn_policy_
   if (paper->trials >= cfg->max_trials || paper->trials >= QLEARN_MAX_TRIALS) {
     return QLEARN_E_CAPACITY;
   }
-  const int64_t k_obs = (int64_t)llround((x_m - cfg->prior_m) / cfg->resolution_m);
+  const int64_t k_obs = grid_k(cfg, x_m);
 
   /* Reward: STAYS (c < x) -> OUT (x decreases), TIPS (c > x) -> IN. */
   double q[2];
@@ -174,6 +190,7 @@ qlearn_status_t qlearn_paper_q(const qlearn_paper_t *paper, const qlearn_policy_
   if (!isfinite(x_m)) return QLEARN_E_NONFINITE;
   const double kd = (x_m - cfg->prior_m) / cfg->resolution_m;
   if (!(fabs(kd) < 4503599627370496.0)) return QLEARN_E_RANGE;
-  learner_q(paper, cfg, (int64_t)llround(kd), q);
+  const int inside = x_m >= cfg->range_lo_m && x_m <= cfg->range_hi_m;
+  learner_q(paper, cfg, inside ? grid_k(cfg, x_m) : (int64_t)llround(kd), q);
   return QLEARN_OK;
 }

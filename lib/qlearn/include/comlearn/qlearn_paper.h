@@ -3,8 +3,10 @@
  * comlearn/qlearn.h (policies QLEARN_POLICY_PAPER_QTABLE and QLEARN_POLICY_PAPER_MLP).
  *
  * State: the CoM estimate x relative to the reference point (cfg->prior_m, 0 = the bounding-box
- * center in the paper), on the grid x = prior + k * resolution (k an integer). Each trial places
- * the object with x over the edge. Actions (the paper's +1 / -1):
+ * center in the paper), on the grid x = prior + k * resolution (k an integer), limited to
+ * [range_lo, range_hi]; a range bound off that grid (a prior off the bounds' grid) is one more
+ * state, next to the last grid point, so every c inside the range can be bracketed. Each trial
+ * places the object with x over the edge. Actions (the paper's +1 / -1):
  *   QLEARN_PAPER_OUT  paper's +1: the object moves out over the edge, away from B's center;
  *                     the point over the edge moves to smaller x (x -= step). Rewarded on STAYS
  *                     (STAYS means c < x: x must decrease to reach c).
@@ -16,7 +18,8 @@
  * 1 mm, 0.1 mm for the paper's 1e-4 m): when the outcome flips, the walk steps back to the last
  * state before the flip (a move of the estimate, not a new placement: its outcome is known) and
  * continues from there, by argmax Q at that state, with the next finer step. Done when the finest
- * step brackets the flip; the estimate is the middle of that bracket. docs/learner.md lists every
+ * step brackets the flip (a bracket ending at an off-grid bound is narrower than the resolution);
+ * the estimate is the middle of that bracket. docs/learner.md lists every
  * choice made where the paper's text is ambiguous, with hand-traced examples.
  *
  * Assumes noiseless outcomes. Memory: no heap, no I/O, no globals; qlearn_paper_t is
@@ -65,12 +68,13 @@ typedef struct {
  * QLEARN_E_RANGE if the range holds more than 2^52 grid points. */
 qlearn_status_t qlearn_paper_init(qlearn_paper_t *paper, const qlearn_policy_config_t *cfg);
 
-/* x of the next placement (on the grid, inside the range). QLEARN_E_DONE when finished. */
+/* x of the next placement (a grid point inside the range, or a range bound). QLEARN_E_DONE when
+ * finished. */
 qlearn_status_t qlearn_paper_next(const qlearn_paper_t *paper, const qlearn_policy_config_t *cfg,
                                   double *x_m);
 
 /* Record a placement at x_m (normally what _next gave; an achieved placement off the grid is
- * rounded to the nearest grid point for the state, while the bracket keeps x_m itself), reward,
+ * mapped to the nearest state, grid point or bound, while the bracket keeps x_m itself), reward,
  * refit, and choose the next placement. QLEARN_E_NONFINITE / _RANGE for a bad x_m, QLEARN_E_ARG
  * for a bad outcome, QLEARN_E_DONE after the end, QLEARN_E_CAPACITY at cfg->max_trials (or a
  * learner buffer full), QLEARN_E_NOCONVERGE if the MLP refit diverged. On error, unchanged. */
@@ -87,7 +91,7 @@ qlearn_status_t qlearn_paper_estimate(const qlearn_paper_t *paper,
                                       const qlearn_policy_config_t *cfg, double *c_m,
                                       double *halfwidth_m);
 
-/* Q(x, .) of the current learner at the grid point nearest x_m (for tests and diagnostics):
+/* Q(x, .) of the current learner at the state nearest x_m (for tests and diagnostics):
  * q[QLEARN_PAPER_OUT], q[QLEARN_PAPER_IN]. */
 qlearn_status_t qlearn_paper_q(const qlearn_paper_t *paper, const qlearn_policy_config_t *cfg,
                                double x_m, double *q);
