@@ -110,8 +110,6 @@ struct balance_world {
 
 /* ---- geometry helpers (world.c); pure ---- */
 
-/* Row-major rotation matrix of a unit quaternion (w, x, y, z). */
-void balance_quat_to_matrix(const double q_wxyz[4], double r[3][3]);
 /* Angle of the rotation between two unit quaternions, in [0, pi]. */
 double balance_quat_angle(const double a_wxyz[4], const double b_wxyz[4]);
 

@@ -71,7 +71,7 @@ size_t balance_fast_contacts(const balance_world_t *w, balance_object_t *o, bala
   const dReal *bp = dBodyGetPosition(o->body), *bq = dBodyGetQuaternion(o->body);
   const double p[3] = {bp[0], bp[1], bp[2]}, q[4] = {bq[0], bq[1], bq[2], bq[3]};
   double r[3][3];
-  balance_quat_to_matrix(q, r);
+  model_quat_to_rot(q, r);
   balance_fast_cache_t *fc = &o->fast;
   if (!fc->valid) {
     rebuild(fc, o, r, p, q);
@@ -168,7 +168,7 @@ size_t balance_fast_contacts_reduced(const balance_world_t *w, balance_object_t 
                          balance_quat_angle(q, fc->sel_quat_wxyz) * o->radius_m;
     if (moved < BALANCE_FAST_RESELECT_M && fc->sel_count <= cap) {
       double r[3][3];
-      balance_quat_to_matrix(q, r);
+      model_quat_to_rot(q, r);
       size_t n = 0;
       for (size_t i = 0; i < fc->sel_count; i++)
         if (refresh_point(w, o, r, p, fc->sel_id[i], fc->sel_plane[i], &out[n])) n++;

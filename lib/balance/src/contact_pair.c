@@ -15,8 +15,8 @@ static size_t verts_in_hull(const balance_object_t *src, const balance_object_t 
   const dReal *pd = dBodyGetPosition(dst->body), *qd = dBodyGetQuaternion(dst->body);
   const double qs4[4] = {qs[0], qs[1], qs[2], qs[3]}, qd4[4] = {qd[0], qd[1], qd[2], qd[3]};
   double rs[3][3], rd[3][3];
-  balance_quat_to_matrix(qs4, rs);
-  balance_quat_to_matrix(qd4, rd);
+  model_quat_to_rot(qs4, rs);
+  model_quat_to_rot(qd4, rd);
   const double reach = dst->radius_m + BALANCE_CONTACT_BAND_M;
   for (size_t i = 0; i < src->mesh_link.vertex_count && n < cap; i++) {
     const double *v = src->verts_body_m[i];

@@ -290,7 +290,7 @@ double balance_object_penetration_m(const balance_object_t *o, const balance_pos
   const double hx = 0.5 * cfg->base_size_m[0], hy = 0.5 * cfg->base_size_m[1];
   const double sz = cfg->base_size_m[2];
   double r[3][3];
-  balance_quat_to_matrix(pose->orientation_wxyz, r);
+  model_quat_to_rot(pose->orientation_wxyz, r);
   double depth = 0.0;
   const model_mesh_t *m = &o->mesh_link;
   for (size_t i = 0; i < m->vertex_count; i++) {
@@ -333,7 +333,7 @@ balance_status_t balance_object_place(balance_object_t *o, const balance_pose_t 
   if (st != BALANCE_OK) return st;
   if (balance_object_penetration_m(o, &p) > BALANCE_MAX_START_DEPTH_M) return BALANCE_E_POSE;
   double r[3][3], c[3];
-  balance_quat_to_matrix(p.orientation_wxyz, r);
+  model_quat_to_rot(p.orientation_wxyz, r);
   link_vertex_world(r, p.position_m, o->mass.com_m, c);
   dBodySetPosition(o->body, c[0], c[1], c[2]);
   dQuaternion q = {p.orientation_wxyz[0], p.orientation_wxyz[1], p.orientation_wxyz[2],
@@ -363,7 +363,7 @@ int balance_object_is_placed(const balance_object_t *o) { return o ? o->placed :
 void balance_object_pose_get(const balance_object_t *o, balance_pose_t *out) {
   const dReal *q = dBodyGetQuaternion(o->body), *c = dBodyGetPosition(o->body);
   double qq[4] = {q[0], q[1], q[2], q[3]}, r[3][3];
-  balance_quat_to_matrix(qq, r);
+  model_quat_to_rot(qq, r);
   for (int i = 0; i < 4; i++) out->orientation_wxyz[i] = qq[i];
   for (int i = 0; i < 3; i++)
     out->position_m[i] = c[i] - (r[i][0] * o->mass.com_m[0] + r[i][1] * o->mass.com_m[1] +
@@ -399,7 +399,7 @@ double balance_object_bottom_z(const balance_object_t *o, const double q_in[4]) 
                         q_in[3] * q_in[3]);
   for (int i = 0; i < 4; i++) q[i] = q_in[i] / n;
   double r[3][3];
-  balance_quat_to_matrix(q, r);
+  model_quat_to_rot(q, r);
   double lo = INFINITY;
   const model_mesh_t *m = &o->mesh_link;
   for (size_t i = 0; i < m->vertex_count; i++) {
@@ -502,7 +502,7 @@ balance_status_t balance_pose_over_edge(const balance_world_t *w, const balance_
                          q_in[3] * q_in[3]);
   for (int i = 0; i < 4; i++) p.orientation_wxyz[i] = q_in[i] / qn;
   double r[3][3], rp[3];
-  balance_quat_to_matrix(p.orientation_wxyz, r);
+  model_quat_to_rot(p.orientation_wxyz, r);
   for (int i = 0; i < 3; i++)
     rp[i] = r[i][0] * point_link_m[0] + r[i][1] * point_link_m[1] + r[i][2] * point_link_m[2];
   /* The point lies on the edge line: its coordinate along the normal axis is n[axis] * d. */

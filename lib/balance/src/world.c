@@ -23,19 +23,6 @@ static void ode_init_once(void) {
   dSetMessageHandler(ode_message_silent);
 }
 
-void balance_quat_to_matrix(const double q[4], double r[3][3]) {
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
-  r[0][0] = 1.0 - 2.0 * (y * y + z * z);
-  r[0][1] = 2.0 * (x * y - w * z);
-  r[0][2] = 2.0 * (x * z + w * y);
-  r[1][0] = 2.0 * (x * y + w * z);
-  r[1][1] = 1.0 - 2.0 * (x * x + z * z);
-  r[1][2] = 2.0 * (y * z - w * x);
-  r[2][0] = 2.0 * (x * z - w * y);
-  r[2][1] = 2.0 * (y * z + w * x);
-  r[2][2] = 1.0 - 2.0 * (x * x + y * y);
-}
-
 double balance_quat_angle(const double a[4], const double b[4]) {
   /* 2 acos(w) loses precision near 0; the vector part of the relative rotation does not. */
   const double w = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];

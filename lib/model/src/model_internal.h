@@ -11,6 +11,7 @@
 #define COMLEARN_MODEL_INTERNAL_H
 
 #include "comlearn/model.h"
+#include "comlearn/model_chain.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -69,6 +70,14 @@ typedef struct {
 model_status_t model_urdf_link_read(const char *urdf_path, const char *link_name,
                                     model_urdf_link_t *out, model_error_t *err);
 void model_urdf_link_free(model_urdf_link_t *link);
+
+/* The joints from base_link to tip_link as urdfdom holds them (names, types, origins, axes,
+ * limits), copied without numeric checks (model_chain_load does those). Structural errors:
+ * MODEL_E_NOLINK, MODEL_E_CHAIN (tip not below base, too many joints, floating/planar joint, a
+ * name too long), plus those of parsing. Geometry build only. */
+model_status_t model_urdf_chain_read(const char *urdf_path, const char *base_link,
+                                     const char *tip_link, model_chain_t *out,
+                                     model_error_t *err);
 
 /* ---- urdf.cpp, inertial side (comlearn_model_sim only) --------------------------------------- */
 

@@ -24,6 +24,7 @@ const char *model_status_str(model_status_t status) {
     case MODEL_E_UNSUPPORTED: return "unsupported format or geometry";
     case MODEL_E_REGION: return "invalid density region";
     case MODEL_E_HULL: return "convex hull failed";
+    case MODEL_E_CHAIN: return "no usable kinematic chain between the links";
   }
   return "unknown model status";
 }

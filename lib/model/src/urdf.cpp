@@ -55,9 +55,14 @@ class CaptureHandler final : public console_bridge::OutputHandler {
  public:
   void log(const std::string &text, console_bridge::LogLevel level, const char *, int) override {
     if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) {
-      if (urdf_error_count++ == 0) {
+      // The first error says what was wrong; the next ones say where (urdfdom's "... for joint
+      // [j2]"), so keep up to three.
+      if (urdf_error_count == 0) {
         first_urdf_error = text;
+      } else if (urdf_error_count < 3) {
+        first_urdf_error += "; " + text;
       }
+      ++urdf_error_count;
     }
   }
 };
@@ -141,23 +146,12 @@ model_status_t find_link(const urdf::ModelInterface &model, const char *path,
 
 // Rotation matrix of a unit quaternion (urdfdom stores the origin's rpy as one).
 void rotation_matrix(const urdf::Rotation &q, double r[3][3]) {
-  double x = q.x, y = q.y, z = q.z, w = q.w;
-  double n = std::sqrt(x * x + y * y + z * z + w * w);
+  double v[4] = {q.w, q.x, q.y, q.z};
+  const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
   if (n > 0.0) {
-    x /= n;
-    y /= n;
-    z /= n;
-    w /= n;
+    for (double &c : v) c /= n;
   }
-  r[0][0] = 1 - 2 * (y * y + z * z);
-  r[0][1] = 2 * (x * y - z * w);
-  r[0][2] = 2 * (x * z + y * w);
-  r[1][0] = 2 * (x * y + z * w);
-  r[1][1] = 1 - 2 * (x * x + z * z);
-  r[1][2] = 2 * (y * z - x * w);
-  r[2][0] = 2 * (x * z - y * w);
-  r[2][1] = 2 * (y * z + x * w);
-  r[2][2] = 1 - 2 * (x * x + y * y);
+  model_quat_to_rot(v, r);
 }
 
 void copy_name(char *dst, size_t size, const std::string &src) {
@@ -273,6 +267,94 @@ model_status_t link_read(const char *urdf_path, const char *link_name, model_urd
   return MODEL_OK;
 }
 
+// Walks from the tip up to the base through each link's parent joint, then copies the joints
+// base first. urdfdom has already rejected cycles and links with two parents.
+model_status_t chain_read(const char *urdf_path, const char *base_name, const char *tip_name,
+                          model_chain_t *out, model_error_t *err) {
+  urdf::ModelInterfaceSharedPtr model;
+  model_status_t st = parse(urdf_path, model, err);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  urdf::LinkConstSharedPtr base, tip;
+  st = find_link(*model, urdf_path, base_name, base, err);
+  if (st == MODEL_OK) {
+    st = find_link(*model, urdf_path, tip_name, tip, err);
+  }
+  if (st != MODEL_OK) {
+    return st;
+  }
+  copy_name(out->robot_name, sizeof out->robot_name, model->getName());
+  copy_name(out->base_link, sizeof out->base_link, base->name);
+  copy_name(out->tip_link, sizeof out->tip_link, tip->name);
+  urdf::JointConstSharedPtr path[MODEL_CHAIN_MAX_JOINTS];
+  size_t n = 0;
+  urdf::LinkConstSharedPtr link = tip;
+  while (link->name != base->name) {
+    urdf::JointConstSharedPtr joint = link->parent_joint;
+    if (!joint) {
+      return model_fail(err, MODEL_E_CHAIN,
+                        "URDF %s: link '%s' does not descend from '%s' (reached the root '%s')",
+                        urdf_path, tip->name.c_str(), base->name.c_str(), link->name.c_str());
+    }
+    if (n == MODEL_CHAIN_MAX_JOINTS) {
+      return model_fail(err, MODEL_E_CHAIN, "URDF %s: chain '%s' -> '%s' has more than %d joints",
+                        urdf_path, base->name.c_str(), tip->name.c_str(),
+                        (int)MODEL_CHAIN_MAX_JOINTS);
+    }
+    path[n++] = joint;
+    link = model->getLink(joint->parent_link_name);
+    if (!link) {
+      return model_fail(err, MODEL_E_CHAIN, "URDF %s: joint '%s' has no parent link '%s'",
+                        urdf_path, joint->name.c_str(), joint->parent_link_name.c_str());
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const urdf::Joint &j = *path[n - 1 - i];
+    model_joint_t *o = &out->joints[i];
+    if (j.name.size() >= sizeof o->name || j.parent_link_name.size() >= sizeof o->parent_link ||
+        j.child_link_name.size() >= sizeof o->child_link) {
+      return model_fail(err, MODEL_E_CHAIN, "URDF %s: joint '%.100s...': a name is too long",
+                        urdf_path, j.name.c_str());
+    }
+    copy_name(o->name, sizeof o->name, j.name);
+    copy_name(o->parent_link, sizeof o->parent_link, j.parent_link_name);
+    copy_name(o->child_link, sizeof o->child_link, j.child_link_name);
+    switch (j.type) {
+      case urdf::Joint::REVOLUTE: o->type = MODEL_JOINT_REVOLUTE; break;
+      case urdf::Joint::CONTINUOUS: o->type = MODEL_JOINT_CONTINUOUS; break;
+      case urdf::Joint::PRISMATIC: o->type = MODEL_JOINT_PRISMATIC; break;
+      case urdf::Joint::FIXED: o->type = MODEL_JOINT_FIXED; break;
+      default:
+        return model_fail(err, MODEL_E_CHAIN,
+                          "URDF %s: joint '%s' is floating, planar or of unknown type "
+                          "(supported: revolute, continuous, prismatic, fixed)",
+                          urdf_path, j.name.c_str());
+    }
+    const urdf::Pose &origin = j.parent_to_joint_origin_transform;
+    o->origin_xyz_m[0] = origin.position.x;
+    o->origin_xyz_m[1] = origin.position.y;
+    o->origin_xyz_m[2] = origin.position.z;
+    origin.rotation.getRPY(o->origin_rpy_rad[0], o->origin_rpy_rad[1], o->origin_rpy_rad[2]);
+    rotation_matrix(origin.rotation, o->origin_rot);
+    o->axis[0] = j.axis.x;
+    o->axis[1] = j.axis.y;
+    o->axis[2] = j.axis.z;
+    o->lower = -HUGE_VAL;
+    o->upper = HUGE_VAL;
+    if (j.limits) {
+      o->velocity = j.limits->velocity;
+      if (o->type == MODEL_JOINT_REVOLUTE || o->type == MODEL_JOINT_PRISMATIC) {
+        o->has_limits = 1;
+        o->lower = j.limits->lower;
+        o->upper = j.limits->upper;
+      }
+    }
+  }
+  out->joint_count = n;
+  return MODEL_OK;
+}
+
 #else // MODEL_URDF_INERTIAL
 
 model_status_t inertial_read(const char *urdf_path, const char *link_name,
@@ -348,6 +430,21 @@ void model_urdf_link_free(model_urdf_link_t *link) {
     std::free(link->geoms);
     std::memset(link, 0, sizeof *link);
   }
+}
+
+model_status_t model_urdf_chain_read(const char *urdf_path, const char *base_link,
+                                     const char *tip_link, model_chain_t *out,
+                                     model_error_t *err) {
+  if (out == nullptr || base_link == nullptr || tip_link == nullptr) {
+    return model_fail(err, MODEL_E_ARG, "model_urdf_chain_read: NULL argument");
+  }
+  std::memset(out, 0, sizeof *out);
+  model_status_t st =
+      guarded(urdf_path, err, [&] { return chain_read(urdf_path, base_link, tip_link, out, err); });
+  if (st != MODEL_OK) {
+    std::memset(out, 0, sizeof *out);
+  }
+  return st;
 }
 
 #else // MODEL_URDF_INERTIAL

@@ -46,7 +46,8 @@ typedef enum {
   MODEL_E_NOMEM = -12,        /* allocation failed */
   MODEL_E_UNSUPPORTED = -13,  /* mesh format or URDF geometry type not supported */
   MODEL_E_REGION = -14,       /* a density region that is not valid (zero normal, ...) */
-  MODEL_E_HULL = -15          /* convex hull failed (all points coplanar, iteration cap) */
+  MODEL_E_HULL = -15,         /* convex hull failed (all points coplanar, iteration cap) */
+  MODEL_E_CHAIN = -16         /* no kinematic chain between two links, or an unusable joint */
 } model_status_t;
 
 /* A static English description of a status; never NULL. */
@@ -190,6 +191,10 @@ double model_polygon_width(const double (*poly)[2], size_t count);
  * (the distance to the nearest side), negative outside (minus the distance to the polygon);
  * -HUGE_VAL for fewer than 3 vertices. */
 double model_polygon_margin(const double (*poly)[2], size_t count, const double p[2]);
+
+/* The rotation matrix of a unit quaternion (w, x, y, z): rot * v rotates v. The quaternion is
+ * not normalised here. */
+void model_quat_to_rot(const double q_wxyz[4], double rot[3][3]);
 
 /* An object as the estimator sees it: the collision geometry of one URDF link. */
 typedef struct {
