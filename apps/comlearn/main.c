@@ -3,9 +3,10 @@
  * and prints the results (a table, or JSON with --json). Exit codes: 0 success, 1 runtime failure,
  * 2 usage or bad input.
  *
- * Commands (more arrive with the estimator):
+ * Commands:
  *   inspect OBJECT.urdf...   what perception knows of an object (geometry only); --truth adds the
  *                            URDF inertial for reporting, read after the geometry.
+ *   estimate OBJECT.urdf     learn the CoM from edge placements (cmd_estimate.c).
  */
 #define _GNU_SOURCE
 #include <getopt.h>
@@ -16,6 +17,7 @@
 
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "cmd_estimate.h"
 #include "log.h"
 
 enum { EXIT_USAGE = 2 };
@@ -39,8 +41,11 @@ static void usage(FILE *out) {
           "  inspect OBJECT.urdf...   geometry of each object as the estimator sees it:\n"
           "                           triangles, bounding box and its center, volume,\n"
           "                           uniform-density CoM, convex hull\n"
+          "  estimate OBJECT.urdf     learn the center of mass from placements on the edge\n"
+          "                           of block B (--direct: in-process; the LCM path is not\n"
+          "                           available yet); see `comlearn estimate --help`\n"
           "\n"
-          "options:\n"
+          "inspect options:\n"
           "  --link NAME      URDF link to read (default: the root link)\n"
           "  --json           print one JSON object on stdout instead of a table (default: off)\n"
           "  --truth          also read the URDF <inertial> (mass, true CoM) and report the\n"
@@ -235,6 +240,7 @@ int main(int argc, char **argv) {
     return EXIT_SUCCESS;
   }
   if (strcmp(cmd, "inspect") == 0) return cmd_inspect(argc - 1, argv + 1);
+  if (strcmp(cmd, "estimate") == 0) return cmd_estimate(argc - 1, argv + 1);
   LOG_E("unknown command '%s'", cmd);
   usage(stderr);
   return EXIT_USAGE;

@@ -1,0 +1,354 @@
+/*
+ * cmd_estimate.c - `comlearn estimate OBJECT.urdf`: load the geometry (never the inertial), run
+ * the estimate through a trial backend, print the result. --truth reads the URDF inertial after
+ * the estimate, for the report only.
+ */
+#define _GNU_SOURCE
+#include "cmd_estimate.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "comlearn/balance_poses.h"
+#include "comlearn/model.h"
+#include "comlearn/model_inertial.h"
+#include "estimate.h"
+#include "estimate_direct.h"
+#include "log.h"
+
+enum { EXIT_USAGE = 2 };
+
+static void usage(FILE *out) {
+  fprintf(out,
+          "usage: comlearn estimate OBJECT.urdf [options]\n"
+          "\n"
+          "Learns the object's center of mass from placements on the edge of block B: a\n"
+          "resting-pose check and two edge searches on a flat face, a check and one search on a\n"
+          "second flat face, then a 3-D solve (docs/estimate.md).\n"
+          "\n"
+          "options:\n"
+          "  --policy P         bisect | pba | paper-qtable | paper-mlp (default: bisect)\n"
+          "  --resolution-mm R  search resolution in mm, 0.001..10 (default: 0.1)\n"
+          "  --direct           run the trials in-process on lib/balance (no LCM, no arm)\n"
+          "  --lcm-url URL      LCM URL (default: udpm://239.255.76.67:7667?ttl=0)\n"
+          "  --spawn-sim        start a comlearn-sim for the call\n"
+          "                     NOTE: the LCM path (default, --lcm-url, --spawn-sim) is not\n"
+          "                     available yet; only --direct runs an estimate today\n"
+          "  --link NAME        URDF link to read (default: the root link)\n"
+          "  --json             print one JSON object on stdout (default: a table)\n"
+          "  --truth            after the estimate, read the URDF <inertial> and report the\n"
+          "                     error; for reporting only (default: off)\n"
+          "  -v, --verbose      log debug messages on stderr (default: info)\n"
+          "  -q, --quiet        log errors only; no progress (default: info, progress on a tty)\n"
+          "  -h, --help         show this help\n"
+          "\n"
+          "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n");
+}
+
+static const char *policy_name(qlearn_policy_kind_t k) {
+  switch (k) {
+    case QLEARN_POLICY_BISECT: return "bisect";
+    case QLEARN_POLICY_PBA: return "pba";
+    case QLEARN_POLICY_PAPER_QTABLE: return "paper-qtable";
+    case QLEARN_POLICY_PAPER_MLP: return "paper-mlp";
+  }
+  return "?";
+}
+
+static int policy_parse(const char *s, qlearn_policy_kind_t *k) {
+  static const qlearn_policy_kind_t all[] = {QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA,
+                                             QLEARN_POLICY_PAPER_QTABLE, QLEARN_POLICY_PAPER_MLP};
+  for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
+    if (strcmp(s, policy_name(all[i])) == 0) {
+      *k = all[i];
+      return 0;
+    }
+  return -1;
+}
+
+static const char *outcome_name(balance_outcome_t o) {
+  switch (o) {
+    case BALANCE_STAYS: return "stays";
+    case BALANCE_TIPS: return "tips";
+    case BALANCE_SLIDES: return "slides";
+    case BALANCE_INVALID: return "invalid";
+  }
+  return "?";
+}
+
+static const char *regime_name(int r) {
+  switch (r) {
+    case BALANCE_REGIME_FLAT_PATCH: return "flat_patch";
+    case BALANCE_REGIME_EDGE_ROLL: return "edge_roll";
+    case BALANCE_REGIME_POINT_SUPPORT: return "point_support";
+    default: return "none";
+  }
+}
+
+static void progress(void *ctx, size_t index, const char *what) {
+  (void)ctx;
+  fprintf(stderr, "\rcomlearn estimate: trial %3zu  %-60s", index, what);
+  fflush(stderr);
+}
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void json_str(const char *v) {
+  putchar('"');
+  for (const char *p = v; *p; ++p) {
+    unsigned char c = (unsigned char)*p;
+    if (c == '"' || c == '\\') printf("\\%c", c);
+    else if (c < 0x20) printf("\\u%04x", c);
+    else putchar(c);
+  }
+  putchar('"');
+}
+
+static void json_num(double v) {
+  if (isfinite(v)) printf("%.9g", v);
+  else printf("null");
+}
+
+static void json_vec(const char *key, const double *v, int n) {
+  printf("\"%s\": [", key);
+  for (int i = 0; i < n; ++i) {
+    if (i) printf(", ");
+    json_num(v[i]);
+  }
+  printf("]");
+}
+
+static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res_m,
+                       const char *backend, const estimate_result_t *r, double wall_s,
+                       const model_mass_t *truth) {
+  printf("{\"object\": ");
+  json_str(urdf);
+  printf(", \"policy\": \"%s\", \"backend\": \"%s\", \"resolution_m\": ", policy_name(policy),
+         backend);
+  json_num(res_m);
+  printf(", ");
+  json_vec("com_m", r->com_m, 3);
+  printf(", ");
+  json_vec("halfwidth_m", r->halfwidth_m, 3);
+  printf(", \"found\": [%s, %s, %s], ", r->found[0] ? "true" : "false",
+         r->found[1] ? "true" : "false", r->found[2] ? "true" : "false");
+  printf("\"trials\": %zu, \"stable_trials\": %zu, \"edge_trials\": %zu, \"flagged_trials\": %zu, ",
+         r->trial_count, r->stable_trials, r->trial_count - r->stable_trials, r->flagged_trials);
+  json_vec("uniform_com_m", r->uniform_com_m, 3);
+  printf(", \"rank\": %d, \"chi2\": ", r->rank);
+  json_num(r->chi2);
+  printf(", \"wall_s\": %.6f", wall_s);
+  if (truth) {
+    double e[3];
+    for (int k = 0; k < 3; ++k) e[k] = r->found[k] ? r->com_m[k] - truth->com_m[k] : NAN;
+    printf(", ");
+    json_vec("truth_m", truth->com_m, 3);
+    printf(", ");
+    json_vec("error_m", e, 3);
+  }
+  printf(", \"note\": ");
+  json_str(r->msg);
+  printf(", \"faces\": [");
+  for (size_t i = 0; i < r->face_count; ++i) {
+    const estimate_face_t *f = &r->face[i];
+    printf("%s{", i ? ", " : "");
+    json_vec("normal_link", f->normal_link, 3);
+    printf(", \"area_m2\": ");
+    json_num(f->area_m2);
+    printf(", \"com_margin_m\": ");
+    json_num(f->com_margin_m);
+    printf(", \"stable\": %s}", f->confirmed ? "true" : "false");
+  }
+  printf("], \"searches\": [");
+  for (size_t i = 0; i < r->search_count; ++i) {
+    const estimate_search_t *s = &r->search[i];
+    printf("%s{\"face\": %d, \"yaw_rad\": ", i ? ", " : "", s->face);
+    json_num(s->yaw_rad);
+    printf(", ");
+    json_vec("dir_link", s->dir_link, 3);
+    printf(", \"chord_margin_m\": ");
+    json_num(s->chord_margin_m);
+    printf(", \"prior_m\": ");
+    json_num(s->prior_m);
+    printf(", \"range_m\": [");
+    json_num(s->range_lo_m);
+    printf(", ");
+    json_num(s->range_hi_m);
+    printf("], \"c_m\": ");
+    json_num(s->c_m);
+    printf(", \"halfwidth_m\": ");
+    json_num(s->halfwidth_m);
+    printf(", \"trials\": %u, \"fed\": %s}", s->trials, s->fed ? "true" : "false");
+  }
+  printf("], \"trial_log\": [");
+  for (size_t i = 0; i < r->trial_count; ++i) {
+    const estimate_trial_t *t = &r->trial[i];
+    printf("%s{\"kind\": \"%s\", \"face\": %d, \"search\": %d, \"x_m\": ", i ? ", " : "",
+           t->kind == ESTIMATE_TRIAL_STABLE ? "stable" : "edge", t->face, t->search);
+    json_num(t->x_m);
+    printf(", \"outcome\": \"%s\", \"regime\": \"%s\", \"flagged\": %s}", outcome_name(t->outcome),
+           regime_name(t->regime), t->flagged ? "true" : "false");
+  }
+  printf("]}\n");
+}
+
+static void print_table(const char *urdf, qlearn_policy_kind_t policy, const estimate_result_t *r,
+                        double wall_s, const model_mass_t *truth) {
+  static const char axis[3] = {'x', 'y', 'z'};
+  printf("%s: policy %s, %zu trials (%zu stable-pose checks, %zu flagged), %.3f s\n", urdf,
+         policy_name(policy), r->trial_count, r->stable_trials, r->flagged_trials, wall_s);
+  printf("axis  estimate (mm)  +- (mm)  found%s\n", truth ? "   truth (mm)  error (mm)" : "");
+  for (int k = 0; k < 3; ++k) {
+    printf("  %c   %12.4f  %7.4f  %5s", axis[k], 1e3 * r->com_m[k], 1e3 * r->halfwidth_m[k],
+           r->found[k] ? "yes" : "no");
+    if (truth)
+      printf("   %10.4f  %10.4f", 1e3 * truth->com_m[k],
+             r->found[k] ? 1e3 * (r->com_m[k] - truth->com_m[k]) : NAN);
+    printf("\n");
+  }
+  for (size_t i = 0; i < r->search_count; ++i)
+    printf("search %zu: face %d, %u trials, %s\n", i, r->search[i].face, r->search[i].trials,
+           r->search[i].fed ? "fed to the solve" : "NOT fed (flagged or failed)");
+  if (r->msg[0]) printf("note: %s\n", r->msg);
+}
+
+static int exit_for_model(model_status_t s) { return s == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE; }
+
+int cmd_estimate(int argc, char **argv) {
+  static const struct option opts[] = {
+      {"policy", required_argument, NULL, 'p'}, {"resolution-mm", required_argument, NULL, 'r'},
+      {"direct", no_argument, NULL, 'd'},       {"lcm-url", required_argument, NULL, 'u'},
+      {"spawn-sim", no_argument, NULL, 's'},    {"link", required_argument, NULL, 'l'},
+      {"json", no_argument, NULL, 'j'},         {"truth", no_argument, NULL, 't'},
+      {"verbose", no_argument, NULL, 'v'},      {"quiet", no_argument, NULL, 'q'},
+      {"help", no_argument, NULL, 'h'},         {NULL, 0, NULL, 0}};
+  estimate_config_t cfg;
+  estimate_config_default(&cfg);
+  const char *link = NULL, *lcm_url = NULL;
+  int direct = 0, spawn = 0, json = 0, truth = 0, quiet = 0, c;
+  optind = 1;
+  while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
+    switch (c) {
+      case 'p':
+        if (policy_parse(optarg, &cfg.policy) != 0) {
+          LOG_E("--policy: '%s' is not one of bisect, pba, paper-qtable, paper-mlp", optarg);
+          return EXIT_USAGE;
+        }
+        break;
+      case 'r': {
+        char *end;
+        errno = 0;
+        double mm = strtod(optarg, &end);
+        if (end == optarg || *end != '\0' || errno != 0 || !isfinite(mm) || mm < 0.001 ||
+            mm > 10.0) {
+          LOG_E("--resolution-mm: '%s' is not a number in [0.001, 10]", optarg);
+          return EXIT_USAGE;
+        }
+        cfg.resolution_m = 1e-3 * mm;
+        break;
+      }
+      case 'd': direct = 1; break;
+      case 'u':
+        if (!optarg[0]) {
+          LOG_E("--lcm-url: empty URL");
+          return EXIT_USAGE;
+        }
+        lcm_url = optarg;
+        break;
+      case 's': spawn = 1; break;
+      case 'l': link = optarg; break;
+      case 'j': json = 1; break;
+      case 't': truth = 1; break;
+      case 'v': log_set_level(LOG_DEBUG); break;
+      case 'q': quiet = 1; log_set_level(LOG_ERROR); break;
+      case 'h': usage(stdout); return EXIT_SUCCESS;
+      default: usage(stderr); return EXIT_USAGE;
+    }
+  }
+  if (optind != argc - 1) {
+    LOG_E("estimate needs exactly one OBJECT.urdf");
+    usage(stderr);
+    return EXIT_USAGE;
+  }
+  const char *urdf = argv[optind];
+  if (direct && (spawn || lcm_url)) {
+    LOG_E("--direct runs in-process: it takes neither --spawn-sim nor --lcm-url");
+    return EXIT_USAGE;
+  }
+
+  /* The estimator's view: geometry only. */
+  model_error_t merr = {{0}};
+  model_object_t obj = {0};
+  model_status_t ms = model_object_load(urdf, link, &obj, &merr);
+  if (ms != MODEL_OK) {
+    LOG_E("%s (%s)", merr.msg[0] ? merr.msg : urdf, model_status_str(ms));
+    return exit_for_model(ms);
+  }
+  if (!direct) {
+    LOG_E("the LCM path (comlearn-sim, --lcm-url, --spawn-sim) is not available yet in this "
+          "build; run with --direct");
+    model_object_free(&obj);
+    return EXIT_FAILURE;
+  }
+
+  char err[512] = "";
+  estimate_direct_t *sim = NULL;
+  estimate_backend_t backend;
+  int rc = estimate_direct_open(urdf, link, NULL, &sim, &backend, err, sizeof err);
+  if (rc != 0) {
+    LOG_E("%s", err);
+    model_object_free(&obj);
+    return rc;
+  }
+  if (!quiet && isatty(STDERR_FILENO)) cfg.progress = progress;
+
+  estimate_result_t *res = malloc(sizeof *res);
+  if (!res) {
+    LOG_E("out of memory");
+    estimate_direct_close(sim);
+    model_object_free(&obj);
+    return EXIT_FAILURE;
+  }
+  double t0 = now_s();
+  estimate_status_t es = estimate_run(&obj.mesh, &backend, &cfg, res);
+  double wall = now_s() - t0;
+  if (cfg.progress) fprintf(stderr, "\n");
+  estimate_direct_close(sim);
+  model_object_free(&obj);
+  if (es != ESTIMATE_OK) {
+    LOG_E("%s: %s%s%s", urdf, estimate_status_str(es), res->msg[0] ? ": " : "", res->msg);
+    free(res);
+    /* geometry that gives no flat face or no stable pose: the object does not suit the method */
+    return es == ESTIMATE_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
+  }
+  for (int k = 0; k < 3; ++k)
+    if (!res->found[k])
+      LOG_W("component %c not found: %s", "xyz"[k], res->msg[0] ? res->msg : "no usable plane");
+
+  /* The truth, read after the estimate is final, for the report only. */
+  model_mass_t tm;
+  const model_mass_t *tp = NULL;
+  if (truth) {
+    ms = model_inertial_load(urdf, link, &tm, &merr);
+    if (ms != MODEL_OK) {
+      LOG_E("--truth: %s (%s)", merr.msg[0] ? merr.msg : urdf, model_status_str(ms));
+      free(res);
+      return exit_for_model(ms);
+    }
+    tp = &tm;
+  }
+  if (json) print_json(urdf, cfg.policy, cfg.resolution_m, backend.name, res, wall, tp);
+  else print_table(urdf, cfg.policy, res, wall, tp);
+  free(res);
+  return EXIT_SUCCESS;
+}

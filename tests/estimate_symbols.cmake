@@ -1,0 +1,16 @@
+# cmake -DNM=nm -DLIB=libcomlearn_estimate.a -P this
+# The estimator side must not reference the URDF inertial: no symbol (defined or undefined)
+# naming "inertial" or the two-material mass routine of comlearn_model_sim.
+cmake_minimum_required(VERSION 3.20)
+execute_process(COMMAND ${NM} -C ${LIB} OUTPUT_VARIABLE text RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${NM} ${LIB} failed (${rc})")
+endif()
+string(TOLOWER "${text}" lower)
+if(lower MATCHES "inertial" OR lower MATCHES "mass_halfspace")
+  message(FATAL_ERROR "the estimator library references the inertial truth:\n${text}")
+endif()
+if(NOT lower MATCHES "estimate_run")
+  message(FATAL_ERROR "estimate_run not found in ${LIB}: wrong archive?")
+endif()
+message(STATUS "estimator library holds no inertial symbol")
