@@ -355,6 +355,53 @@ static estimate_status_t solve_all(run_t *run, qlearn_solve_result_t *res) {
   return ESTIMATE_OK;
 }
 
+/* Bound on the threshold bias of one flat-patch edge test in lib/balance (docs/physics.md: <= 2.4 um
+ * measured, <= 5 um asserted by the accuracy tests). */
+#define ESTIMATE_PHYSICS_BIAS_M 5e-6
+
+/* A noiseless bracket (bisect, paper policies) holds each plane's threshold within its half width,
+ * so the error of the least-squares solution is bounded by sum_j |P_kj| (h_j + bias), with P the
+ * solve's weighted pseudo-inverse. A statistical z-sigma can be smaller than that bound when the
+ * planes are oblique (an error in one plane spreads into several components); report the larger,
+ * so the interval is a guarantee. Only when the planes determine all three components (rank 3). */
+static void bound_halfwidths(const run_t *run, qlearn_solve_result_t *res) {
+  if (run->cfg->policy == QLEARN_POLICY_PBA || res->rank != 3) return;
+  double m[3][3] = {{0}};
+  for (size_t i = 0; i < run->out->search_count; ++i) {
+    const estimate_search_t *sr = &run->out->search[i];
+    if (!sr->fed) continue;
+    const double h = sr->halfwidth_m > 1e-9 ? sr->halfwidth_m : 1e-9, w = 3.0 / (h * h);
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) m[a][b] += w * sr->plane_n_obj[a] * sr->plane_n_obj[b];
+  }
+  /* inverse of the symmetric 3 x 3 normal matrix by cofactors */
+  double inv[3][3];
+  inv[0][0] = m[1][1] * m[2][2] - m[1][2] * m[2][1];
+  inv[0][1] = m[0][2] * m[2][1] - m[0][1] * m[2][2];
+  inv[0][2] = m[0][1] * m[1][2] - m[0][2] * m[1][1];
+  inv[1][0] = m[1][2] * m[2][0] - m[1][0] * m[2][2];
+  inv[1][1] = m[0][0] * m[2][2] - m[0][2] * m[2][0];
+  inv[1][2] = m[0][2] * m[1][0] - m[0][0] * m[1][2];
+  inv[2][0] = m[1][0] * m[2][1] - m[1][1] * m[2][0];
+  inv[2][1] = m[0][1] * m[2][0] - m[0][0] * m[2][1];
+  inv[2][2] = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+  const double det = m[0][0] * inv[0][0] + m[0][1] * inv[1][0] + m[0][2] * inv[2][0];
+  if (!(fabs(det) > 0.0) || !isfinite(det)) return;
+  double bound[3] = {0, 0, 0};
+  for (size_t i = 0; i < run->out->search_count; ++i) {
+    const estimate_search_t *sr = &run->out->search[i];
+    if (!sr->fed) continue;
+    const double h = sr->halfwidth_m > 1e-9 ? sr->halfwidth_m : 1e-9, w = 3.0 / (h * h);
+    for (int k = 0; k < 3; ++k) {
+      double p = 0.0; /* P_kj = w_j (M^-1 n_j)_k */
+      for (int a = 0; a < 3; ++a) p += inv[k][a] / det * sr->plane_n_obj[a];
+      bound[k] += fabs(w * p) * (sr->halfwidth_m + ESTIMATE_PHYSICS_BIAS_M);
+    }
+  }
+  for (int k = 0; k < 3; ++k)
+    if (res->found[k] && bound[k] > res->halfwidth_m[k]) res->halfwidth_m[k] = bound[k];
+}
+
 /* Move the guess so that it agrees with the fed searches (within their span): the components
  * found replace the prior's, the rest stays at the prior. */
 static void update_guess(run_t *run) {
@@ -544,6 +591,7 @@ static estimate_status_t estimate_body(run_t *run) {
   qlearn_solve_result_t res;
   estimate_status_t s = solve_all(run, &res);
   if (s != ESTIMATE_OK) return s;
+  bound_halfwidths(run, &res);
   out->rank = res.rank;
   out->chi2 = res.chi2;
   for (int k = 0; k < 3; ++k) {
