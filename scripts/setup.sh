@@ -28,6 +28,18 @@ if [ ${#missing[@]} -gt 0 ]; then
   apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
 fi
 
+# LCM's default transport (udpm) needs a multicast route; a host with only loopback has none.
+# Idempotent: only when `ip route get` finds no route, and only as root.
+mcast=239.255.76.67
+if ip route get "$mcast" >/dev/null 2>&1; then
+  echo "setup: multicast route to $mcast present" >&2
+elif [ "$(id -u)" -eq 0 ]; then
+  ip route add 224.0.0.0/4 dev lo
+  echo "setup: added multicast route: ip route add 224.0.0.0/4 dev lo" >&2
+else
+  echo "setup: no multicast route to $mcast; as root run: ip route add 224.0.0.0/4 dev lo" >&2
+fi
+
 cd "$here"
 cmake --preset "$preset" >&2
 cmake --build --preset "$preset" -j "$(nproc)" >&2

@@ -1,0 +1,379 @@
+/* comlearn-sim: the YuMi controller and world stand-in on LCM (docs/sim.md). */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <getopt.h>
+#include <limits.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <lcm/lcm.h>
+
+#include "comlearn/msg.h"
+#include "sim.h"
+
+#ifndef COMLEARN_YUMI_URDF
+#define COMLEARN_YUMI_URDF "assets/yumi/yumi.urdf"
+#endif
+
+enum { LOG_ERROR = 0, LOG_WARN = 1, LOG_INFO = 2, LOG_DEBUG = 3 };
+static int log_level = LOG_INFO;
+
+static void logf_(int level, const char *fmt, ...) {
+  if (level > log_level) return;
+  static const char *const names[] = {"error", "warn", "info", "debug"};
+  fprintf(stderr, "comlearn-sim: %s: ", names[level]);
+  va_list ap;
+  va_start(ap, fmt);
+  vfprintf(stderr, fmt, ap);
+  va_end(ap);
+  fputc('\n', stderr);
+}
+
+static volatile sig_atomic_t stop_flag = 0;
+static void on_signal(int sig) {
+  (void)sig;
+  stop_flag = 1;
+}
+
+typedef struct {
+  const char *lcm_url;
+  int realtime;
+  uint64_t seed;
+  double placement_noise_mm, pose_noise_mm, drop_rate;
+  const char *prefix;
+  const char *yumi_urdf;
+} options_t;
+
+static void usage(FILE *f) {
+  fprintf(f,
+          "usage: comlearn-sim [OPTIONS]\n"
+          "\n"
+          "Stand-in for the YuMi controller and the world: subscribes YUMI_COMMAND and SIM_CONTROL,\n"
+          "publishes YUMI_STATUS and OBJECT_STATE every 4 ms of the simulated clock (docs/sim.md).\n"
+          "Runs until SIGINT or SIGTERM, then exits 0.\n"
+          "\n"
+          "  --lcm-url URL             LCM URL (default: %s)\n"
+          "  --realtime                pace the simulated clock to wall-clock time (default: off:\n"
+          "                            motions and trials run as fast as possible, idle time at\n"
+          "                            wall-clock speed)\n"
+          "  --seed N                  seed of the placement / pose noise and of --drop-rate\n"
+          "                            (default: 1)\n"
+          "  --placement-noise-mm S    std. dev. of a horizontal offset of each release [mm], 0..100\n"
+          "                            (default: 0)\n"
+          "  --pose-noise-mm S         std. dev. of the perceived settled position [mm], 0..100\n"
+          "                            (default: 0)\n"
+          "  --drop-rate P             fraction of incoming and outgoing messages dropped, 0..1\n"
+          "                            (default: 0)\n"
+          "  --channel-prefix P        prefix of every channel name, e.g. TEST_ (default: none)\n"
+          "  --yumi-urdf PATH          YuMi model (default: %s)\n"
+          "  -v, --verbose             log every refused message (default: off)\n"
+          "  -q, --quiet               errors only (default: off)\n"
+          "  -h, --help                this help\n"
+          "\n"
+          "Exit codes: 0 stopped by a signal, 1 runtime failure, 2 bad usage.\n",
+          MSG_LCM_URL_DEFAULT, COMLEARN_YUMI_URDF);
+}
+
+static int parse_double(const char *s, double lo, double hi, double *out) {
+  char *end;
+  errno = 0;
+  double v = strtod(s, &end);
+  if (errno != 0 || end == s || *end != '\0' || !isfinite(v) || v < lo || v > hi) return -1;
+  *out = v;
+  return 0;
+}
+
+static int parse_options(int argc, char **argv, options_t *o) {
+  static const struct option longopts[] = {
+      {"lcm-url", required_argument, NULL, 'u'},
+      {"realtime", no_argument, NULL, 'r'},
+      {"seed", required_argument, NULL, 's'},
+      {"placement-noise-mm", required_argument, NULL, 'P'},
+      {"pose-noise-mm", required_argument, NULL, 'N'},
+      {"drop-rate", required_argument, NULL, 'd'},
+      {"channel-prefix", required_argument, NULL, 'c'},
+      {"yumi-urdf", required_argument, NULL, 'y'},
+      {"verbose", no_argument, NULL, 'v'},
+      {"quiet", no_argument, NULL, 'q'},
+      {"help", no_argument, NULL, 'h'},
+      {NULL, 0, NULL, 0}};
+  int c;
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "vqh", longopts, NULL)) != -1) {
+    switch (c) {
+    case 'u': o->lcm_url = optarg; break;
+    case 'r': o->realtime = 1; break;
+    case 's': {
+      char *end;
+      errno = 0;
+      unsigned long long v = strtoull(optarg, &end, 0);
+      if (errno != 0 || end == optarg || *end != '\0' || optarg[0] == '-') {
+        fprintf(stderr, "comlearn-sim: --seed: not an unsigned integer: '%s'\n", optarg);
+        return 2;
+      }
+      o->seed = (uint64_t)v;
+      break;
+    }
+    case 'P':
+    case 'N':
+      if (parse_double(optarg, 0.0, 100.0, c == 'P' ? &o->placement_noise_mm : &o->pose_noise_mm)) {
+        fprintf(stderr, "comlearn-sim: --%s: need a number in [0, 100], got '%s'\n",
+                c == 'P' ? "placement-noise-mm" : "pose-noise-mm", optarg);
+        return 2;
+      }
+      break;
+    case 'd':
+      if (parse_double(optarg, 0.0, 1.0, &o->drop_rate)) {
+        fprintf(stderr, "comlearn-sim: --drop-rate: need a number in [0, 1], got '%s'\n", optarg);
+        return 2;
+      }
+      break;
+    case 'c': o->prefix = optarg; break;
+    case 'y': o->yumi_urdf = optarg; break;
+    case 'v': log_level = LOG_DEBUG; break;
+    case 'q': log_level = LOG_ERROR; break;
+    case 'h': usage(stdout); return -1;
+    default:
+      if (optopt != 0 && optopt != '?')
+        fprintf(stderr, "comlearn-sim: option needs a value or is unknown: -%c\n", optopt);
+      else
+        fprintf(stderr, "comlearn-sim: unknown option or missing value: %s\n", argv[optind - 1]);
+      fprintf(stderr, "try 'comlearn-sim --help'\n");
+      return 2;
+    }
+  }
+  if (optind < argc) {
+    fprintf(stderr, "comlearn-sim: unexpected argument '%s'\ntry 'comlearn-sim --help'\n",
+            argv[optind]);
+    return 2;
+  }
+  return 0;
+}
+
+/* ---- the LCM shell -------------------------------------------------------------------------- */
+
+typedef struct {
+  lcm_t *lcm;
+  sim_t sim;
+  double drop_rate;
+  uint64_t drop_rng;
+  msg_stats_t stats;
+  char ch_command[256], ch_control[256], ch_status[256], ch_object[256];
+  int publish_now;
+  uint64_t dropped_in, dropped_out;
+} daemon_t;
+
+static uint64_t splitmix64(uint64_t *s) {
+  uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+static int drop(daemon_t *d) {
+  if (d->drop_rate <= 0.0) return 0;
+  const double u = (double)(splitmix64(&d->drop_rng) >> 11) * (1.0 / 9007199254740992.0);
+  return u < d->drop_rate;
+}
+
+/* Raw handlers: the drop dice first (a dropped message never arrived), then msg_decode's schema
+ * check, which counts every buffer that does not decode. */
+static void on_command_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
+  daemon_t *d = user;
+  if (drop(d)) {
+    d->dropped_in++;
+    return;
+  }
+  comlearn_yumi_command_t cmd;
+  msg_status_t st = msg_decode(comlearn_yumi_command_t_get_type_info(), rbuf->data,
+                               rbuf->data_size, &cmd, &d->stats);
+  if (st != MSG_OK) {
+    sim_undecodable(&d->sim, channel, msg_status_str(st));
+    logf_(LOG_DEBUG, "undecodable buffer on %s (%u bytes): %s", channel, rbuf->data_size,
+          msg_status_str(st));
+    return;
+  }
+  sim_received(&d->sim);
+  int32_t r = sim_command(&d->sim, &cmd);
+  if (r != 0) logf_(LOG_DEBUG, "%s", d->sim.error_text);
+  comlearn_yumi_command_t_decode_cleanup(&cmd);
+  d->publish_now = 1;
+}
+
+static void on_control_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
+  daemon_t *d = user;
+  if (drop(d)) {
+    d->dropped_in++;
+    return;
+  }
+  comlearn_sim_control_t sc;
+  msg_status_t st = msg_decode(comlearn_sim_control_t_get_type_info(), rbuf->data,
+                               rbuf->data_size, &sc, &d->stats);
+  if (st != MSG_OK) {
+    sim_undecodable(&d->sim, channel, msg_status_str(st));
+    logf_(LOG_DEBUG, "undecodable buffer on %s (%u bytes): %s", channel, rbuf->data_size,
+          msg_status_str(st));
+    return;
+  }
+  sim_received(&d->sim);
+  int32_t r = sim_control(&d->sim, &sc);
+  logf_(r == 0 ? LOG_INFO : LOG_WARN, "SIM_CONTROL seq %lld action %d object '%s': result %d",
+        (long long)sc.seq, (int)sc.action, sc.object_id, (int)r);
+  comlearn_sim_control_t_decode_cleanup(&sc);
+  d->publish_now = 1;
+}
+
+static void publish(daemon_t *d) {
+  comlearn_yumi_status_t st;
+  sim_status_fill(&d->sim, &st);
+  if (drop(d))
+    d->dropped_out++;
+  else if (comlearn_yumi_status_t_publish(d->lcm, d->ch_status, &st) != 0)
+    logf_(LOG_WARN, "publish %s failed", d->ch_status);
+  comlearn_object_state_t os;
+  sim_object_fill(&d->sim, &os);
+  if (drop(d))
+    d->dropped_out++;
+  else if (comlearn_object_state_t_publish(d->lcm, d->ch_object, &os) != 0)
+    logf_(LOG_WARN, "publish %s failed", d->ch_object);
+}
+
+static int64_t wall_us(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (int64_t)ts.tv_sec * 1000000 + ts.tv_nsec / 1000;
+}
+
+/* Handle what LCM has queued, without waiting (bounded: a flood cannot starve the clock). */
+static int drain(daemon_t *d) {
+  for (int i = 0; i < 1000; i++) {
+    int r = lcm_handle_timeout(d->lcm, 0);
+    if (r == 0) return 0;
+    if (r < 0) return stop_flag ? 0 : -1;
+  }
+  return 0;
+}
+
+static int run(daemon_t *d, int realtime) {
+  /* Pacing anchor: when paced, sim time = anchor_sim + (wall - anchor_wall). Re-anchored when a
+   * fast burst ends, so the clock continues from where the burst left it. */
+  int64_t anchor_wall = wall_us(), anchor_sim = d->sim.utime;
+  int paced_prev = 1;
+  int failures = 0;
+  publish(d);
+  while (!stop_flag) {
+    const int paced = realtime || !sim_busy(&d->sim);
+    if (paced && !paced_prev) {
+      anchor_wall = wall_us();
+      anchor_sim = d->sim.utime;
+    }
+    paced_prev = paced;
+    int rc;
+    if (paced) {
+      const int64_t due = anchor_wall + (d->sim.utime + SIM_DT_US - anchor_sim);
+      const int64_t wait = due - wall_us();
+      rc = lcm_handle_timeout(d->lcm, wait > 0 ? (int)((wait + 999) / 1000) : 0);
+      if (rc >= 0) rc = drain(d) < 0 ? -1 : rc;
+    } else {
+      rc = drain(d);
+    }
+    if (rc < 0 && !stop_flag) {
+      if (++failures > 100) {
+        logf_(LOG_ERROR, "lcm_handle_timeout keeps failing; giving up");
+        return 1;
+      }
+    } else {
+      failures = 0;
+    }
+    if (d->publish_now) {
+      d->publish_now = 0;
+      publish(d);
+    }
+    /* Advance the clock: one tick when fast; when paced, every tick that is due (at most 100 at
+     * once, after which the anchor moves: a stalled host does not cause a burst of catch-up). */
+    int ticks = 0;
+    while (!stop_flag) {
+      const int now_paced = realtime || !sim_busy(&d->sim);
+      if (now_paced && d->sim.utime + SIM_DT_US > anchor_sim + (wall_us() - anchor_wall)) break;
+      if (!now_paced && ticks >= 1) break;
+      sim_step(&d->sim);
+      if (d->sim.utime % SIM_STATUS_PERIOD_US == 0) publish(d);
+      if (++ticks >= 100) {
+        anchor_wall = wall_us();
+        anchor_sim = d->sim.utime;
+        break;
+      }
+    }
+  }
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  options_t o = {.lcm_url = MSG_LCM_URL_DEFAULT, .seed = 1, .prefix = "",
+                 .yumi_urdf = COMLEARN_YUMI_URDF};
+  int prc = parse_options(argc, argv, &o);
+  if (prc < 0) return 0;
+  if (prc > 0) return prc;
+
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+
+  static daemon_t d;
+  d.drop_rate = o.drop_rate;
+  d.drop_rng = o.seed ^ 0xD5A61266F0C9392Cull;
+  snprintf(d.ch_command, sizeof d.ch_command, "%s%s", o.prefix, MSG_CHANNEL_YUMI_COMMAND);
+  snprintf(d.ch_control, sizeof d.ch_control, "%s%s", o.prefix, MSG_CHANNEL_SIM_CONTROL);
+  snprintf(d.ch_status, sizeof d.ch_status, "%s%s", o.prefix, MSG_CHANNEL_YUMI_STATUS);
+  snprintf(d.ch_object, sizeof d.ch_object, "%s%s", o.prefix, MSG_CHANNEL_OBJECT_STATE);
+
+  sim_config_t cfg = {.yumi_urdf = o.yumi_urdf, .seed = o.seed,
+                      .placement_noise_m = o.placement_noise_mm * 1e-3,
+                      .pose_noise_m = o.pose_noise_mm * 1e-3};
+  char err[512];
+  if (sim_init(&d.sim, &cfg, err, sizeof err) != 0) {
+    logf_(LOG_ERROR, "%s", err);
+    return 1;
+  }
+  d.lcm = lcm_create(o.lcm_url);
+  if (d.lcm == NULL) {
+    logf_(LOG_ERROR, "cannot open LCM at '%s' (udpm needs a multicast route: "
+                     "ip route add 224.0.0.0/4 dev lo, as root; scripts/setup.sh does it)",
+          o.lcm_url);
+    sim_fini(&d.sim);
+    return 1;
+  }
+  lcm_subscription_t *s1 = lcm_subscribe(d.lcm, d.ch_command, on_command_raw, &d);
+  lcm_subscription_t *s2 = lcm_subscribe(d.lcm, d.ch_control, on_control_raw, &d);
+  if (s1 == NULL || s2 == NULL) {
+    logf_(LOG_ERROR, "lcm_subscribe failed");
+    lcm_destroy(d.lcm);
+    sim_fini(&d.sim);
+    return 1;
+  }
+  /* Latest command only: a backlog of old commands is worth nothing. */
+  lcm_subscription_set_queue_capacity(s1, 100);
+  logf_(LOG_INFO, "running on %s (%s), channels %s %s -> %s %s", o.lcm_url,
+        o.realtime ? "realtime" : "as fast as possible", d.ch_command, d.ch_control, d.ch_status,
+        d.ch_object);
+  int rc = run(&d, o.realtime);
+  logf_(LOG_INFO,
+        "stopping at sim time %.3f s: %lld received, %lld rejected, %lld undecodable, "
+        "%llu dropped in, %llu dropped out",
+        (double)d.sim.utime * 1e-6, (long long)d.sim.n_received, (long long)d.sim.n_rejected,
+        (long long)d.sim.n_undecodable, (unsigned long long)d.dropped_in,
+        (unsigned long long)d.dropped_out);
+  lcm_unsubscribe(d.lcm, s1);
+  lcm_unsubscribe(d.lcm, s2);
+  lcm_destroy(d.lcm);
+  sim_fini(&d.sim);
+  return rc;
+}

@@ -1,0 +1,605 @@
+/* sim.c - comlearn-sim's kinematic YuMi, held object and physics (see sim.h, docs/sim.md). */
+#include "sim.h"
+
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "comlearn/model_inertial.h"
+
+#define ERR(name) COMLEARN_YUMI_STATUS_T_##name
+#define SC(name) COMLEARN_OBJECT_STATE_T_##name
+
+static void set_error(sim_t *s, int32_t code, const char *fmt, ...) {
+  s->error_code = code;
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(s->error_text, sizeof s->error_text, fmt, ap);
+  va_end(ap);
+}
+
+static void clear_error(sim_t *s) {
+  s->error_code = ERR(ERR_NONE);
+  s->error_text[0] = '\0';
+}
+
+/* ---- small pose helpers ------------------------------------------------------------------ */
+
+static void rot_to_quat(const double r[3][3], double q[4]) {
+  const double tr = r[0][0] + r[1][1] + r[2][2];
+  if (tr > 0.0) {
+    const double s = sqrt(tr + 1.0) * 2.0;
+    q[0] = 0.25 * s;
+    q[1] = (r[2][1] - r[1][2]) / s;
+    q[2] = (r[0][2] - r[2][0]) / s;
+    q[3] = (r[1][0] - r[0][1]) / s;
+  } else if (r[0][0] > r[1][1] && r[0][0] > r[2][2]) {
+    const double s = sqrt(1.0 + r[0][0] - r[1][1] - r[2][2]) * 2.0;
+    q[0] = (r[2][1] - r[1][2]) / s;
+    q[1] = 0.25 * s;
+    q[2] = (r[0][1] + r[1][0]) / s;
+    q[3] = (r[0][2] + r[2][0]) / s;
+  } else if (r[1][1] > r[2][2]) {
+    const double s = sqrt(1.0 + r[1][1] - r[0][0] - r[2][2]) * 2.0;
+    q[0] = (r[0][2] - r[2][0]) / s;
+    q[1] = (r[0][1] + r[1][0]) / s;
+    q[2] = 0.25 * s;
+    q[3] = (r[1][2] + r[2][1]) / s;
+  } else {
+    const double s = sqrt(1.0 + r[2][2] - r[0][0] - r[1][1]) * 2.0;
+    q[0] = (r[1][0] - r[0][1]) / s;
+    q[1] = (r[0][2] + r[2][0]) / s;
+    q[2] = (r[1][2] + r[2][1]) / s;
+    q[3] = 0.25 * s;
+  }
+  const double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  for (int i = 0; i < 4; i++) q[i] /= n;
+  if (q[0] < 0.0)
+    for (int i = 0; i < 4; i++) q[i] = -q[i];
+}
+
+static void pose_to_balance(const placement_pose_t *p, balance_pose_t *b) {
+  memcpy(b->position_m, p->pos_m, sizeof b->position_m);
+  rot_to_quat(p->rot, b->orientation_wxyz);
+}
+
+static void pose_from_balance(const balance_pose_t *b, placement_pose_t *p) {
+  model_quat_to_rot(b->orientation_wxyz, p->rot);
+  memcpy(p->pos_m, b->position_m, sizeof p->pos_m);
+}
+
+/* Rotation vector of rb * ra^T (world axes): the rotation that takes a to b. */
+static void rot_delta(const placement_pose_t *pa, const placement_pose_t *pb, double w[3]) {
+  const double(*ra)[3] = pa->rot, (*rb)[3] = pb->rot;
+  double d[3][3];
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      d[i][j] = 0.0;
+      for (int k = 0; k < 3; k++) d[i][j] += rb[i][k] * ra[j][k];
+    }
+  const double c = fmax(-1.0, fmin(1.0, 0.5 * (d[0][0] + d[1][1] + d[2][2] - 1.0)));
+  const double ang = acos(c);
+  double ax[3] = {d[2][1] - d[1][2], d[0][2] - d[2][0], d[1][0] - d[0][1]};
+  const double sn = sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]);
+  for (int i = 0; i < 3; i++) w[i] = sn > 1e-15 ? ax[i] / sn * ang : 0.5 * ax[i];
+}
+
+static void quat_slerp(const double a[4], const double b0[4], double t, double out[4]) {
+  double b[4];
+  double dot = 0.0;
+  for (int i = 0; i < 4; i++) dot += a[i] * b0[i];
+  const double sgn = dot < 0.0 ? -1.0 : 1.0;
+  for (int i = 0; i < 4; i++) b[i] = sgn * b0[i];
+  dot = fabs(dot);
+  double wa, wb;
+  if (dot > 0.9995) {
+    wa = 1.0 - t;
+    wb = t;
+  } else {
+    const double th = acos(dot), s = sin(th);
+    wa = sin((1.0 - t) * th) / s;
+    wb = sin(t * th) / s;
+  }
+  double n = 0.0;
+  for (int i = 0; i < 4; i++) {
+    out[i] = wa * a[i] + wb * b[i];
+    n += out[i] * out[i];
+  }
+  n = sqrt(n);
+  for (int i = 0; i < 4; i++) out[i] /= n;
+}
+
+/* ---- set-up -------------------------------------------------------------------------------- */
+
+int sim_init(sim_t *s, const sim_config_t *cfg, char *err, size_t err_len) {
+  memset(s, 0, sizeof *s);
+  s->cfg = *cfg;
+  for (int a = 0; a < 2; a++) {
+    placement_error_t pe = {{0}};
+    placement_status_t ps = placement_arm_load_yumi(&s->arm[a], cfg->yumi_urdf,
+                                                    a == 0 ? PLACEMENT_ARM_LEFT : PLACEMENT_ARM_RIGHT,
+                                                    &pe);
+    if (ps != PLACEMENT_OK) {
+      snprintf(err, err_len, "cannot load the YuMi model %s: %s (%s)", cfg->yumi_urdf,
+               placement_status_str(ps), pe.msg);
+      return -1;
+    }
+    placement_yumi_nominal(a == 0 ? PLACEMENT_ARM_LEFT : PLACEMENT_ARM_RIGHT, s->q[a]);
+    memcpy(s->q_target[a], s->q[a], sizeof s->q[a]);
+  }
+  placement_plan_config_default(&s->plan);
+  placement_pose_inverse(&s->plan.block_in_base, &s->base_in_block);
+  s->state = ERR(STATE_HOLD);
+  s->in_position = 1;
+  s->last_seq = -1;
+  s->last_seq_utime = -1;
+  s->active_expire_utime = INT64_MAX;
+  s->motion_us = -1;
+  s->sc_seq_processed = -1;
+  s->sc_ack_seq = -1;
+  s->sc_ack_result = SC(SIM_CONTROL_APPLIED);
+  s->held_arm = 0;
+  return 0;
+}
+
+static void object_unload(sim_t *s) {
+  balance_world_destroy(s->world);
+  s->world = NULL;
+  s->obj = NULL;
+  model_object_free(&s->model);
+  s->loaded = 0;
+  s->phase = SIM_OBJ_NONE;
+  s->object_id[0] = '\0';
+}
+
+void sim_fini(sim_t *s) { object_unload(s); }
+
+int sim_busy(const sim_t *s) {
+  return s->motion_us >= 0 || (s->phase == SIM_OBJ_TRIAL && s->utime < s->trial_t1);
+}
+
+/* ---- object pose -------------------------------------------------------------------------- */
+
+static void tool_pose(const sim_t *s, int arm, placement_pose_t *tcp_in_base) {
+  if (placement_fk(&s->arm[arm], s->q[arm], tcp_in_base) != PLACEMENT_OK)
+    placement_pose_identity(tcp_in_base); /* unreachable: q is always finite */
+}
+
+/* The object's link frame in the world (yumi_body) now; 0 when not tracked. */
+static int object_pose(sim_t *s, placement_pose_t *out, int *moving) {
+  *moving = 0;
+  switch (s->phase) {
+  case SIM_OBJ_NONE: return 0;
+  case SIM_OBJ_HELD:
+  case SIM_OBJ_REFUSED: {
+    if (s->phase == SIM_OBJ_REFUSED) {
+      *out = s->rel_world;
+      return 1;
+    }
+    placement_pose_t tcp;
+    tool_pose(s, s->held_arm, &tcp);
+    placement_pose_mul(&tcp, &s->link_in_tool, out);
+    return 1;
+  }
+  case SIM_OBJ_TRIAL: {
+    if (s->utime >= s->trial_t1) {
+      *out = s->set_world;
+      return 1;
+    }
+    /* Played back on the sim clock: lib/balance decided the whole trial at release (its result
+     * is the authority, bit-identical to `comlearn estimate --direct`); in between, the pose is
+     * interpolated from the released to the final one. */
+    const double t = (double)(s->utime - s->trial_t0) / (double)(s->trial_t1 - s->trial_t0);
+    balance_pose_t a, b;
+    pose_to_balance(&s->rel_world, &a);
+    pose_to_balance(&s->set_world, &b);
+    balance_pose_t m;
+    for (int i = 0; i < 3; i++) m.position_m[i] = a.position_m[i] + t * (b.position_m[i] - a.position_m[i]);
+    quat_slerp(a.orientation_wxyz, b.orientation_wxyz, t, m.orientation_wxyz);
+    pose_from_balance(&m, out);
+    *moving = 1;
+    return 1;
+  }
+  }
+  return 0;
+}
+
+/* Release the held object into lib/balance exactly where it is. */
+static void object_release(sim_t *s) {
+  placement_pose_t world_pose, block_pose;
+  int moving;
+  object_pose(s, &world_pose, &moving);
+  s->rel_world = world_pose;
+  placement_pose_mul(&s->base_in_block, &world_pose, &block_pose);
+  double z0 = 0.0;
+  placement_status_t ps = placement_plan_touch_z(&s->model.mesh, &block_pose,
+                                                 s->plan.block_size_m, 0.0, &z0);
+  if (ps != PLACEMENT_OK) {
+    s->phase = SIM_OBJ_REFUSED;
+    set_error(s, ERR(ERR_FAULT), "release refused: object %s is not over block B (%s); not simulated",
+              s->object_id, placement_status_str(ps));
+    return;
+  }
+  const double gap = block_pose.pos_m[2] - z0;
+  if (gap > SIM_RELEASE_MAX_GAP_M || gap < -SIM_RELEASE_MAX_GAP_M) {
+    s->phase = SIM_OBJ_REFUSED;
+    set_error(s, ERR(ERR_FAULT),
+              "release refused: object %s %.4f mm %s B's top (limit %.3f mm); not simulated",
+              s->object_id, fabs(gap) * 1e3, gap > 0 ? "above" : "inside",
+              SIM_RELEASE_MAX_GAP_M * 1e3);
+    return;
+  }
+  balance_pose_t rel;
+  pose_to_balance(&block_pose, &rel);
+  balance_noise_t noise = {.seed = s->cfg.seed ^ (0x9E3779B97F4A7C15ull * (s->trial_count + 1)),
+                           .placement_noise_m = s->cfg.placement_noise_m,
+                           .pose_noise_m = s->cfg.pose_noise_m};
+  s->trial_count++;
+  balance_status_t bs = balance_trial_run(s->world, s->obj, &rel, &noise, &s->trial);
+  if (bs != BALANCE_OK) {
+    s->phase = SIM_OBJ_REFUSED;
+    set_error(s, ERR(ERR_FAULT), "release refused by the physics: %s", balance_status_str(bs));
+    return;
+  }
+  pose_from_balance(&s->trial.released, &block_pose);
+  placement_pose_mul(&s->plan.block_in_base, &block_pose, &s->rel_world);
+  pose_from_balance(&s->trial.settled, &block_pose);
+  placement_pose_mul(&s->plan.block_in_base, &block_pose, &s->set_world);
+  s->trial_t0 = s->utime;
+  s->trial_t1 = s->utime + (int64_t)s->trial.steps * (int64_t)llround(
+                                                          balance_world_config(s->world)->dt_s * 1e6);
+  if (s->trial_t1 <= s->trial_t0) s->trial_t1 = s->trial_t0 + 1;
+  s->phase = SIM_OBJ_TRIAL;
+}
+
+/* ---- stepping ------------------------------------------------------------------------------ */
+
+static void hold_here(sim_t *s) {
+  for (int a = 0; a < 2; a++) {
+    memcpy(s->q_target[a], s->q[a], sizeof s->q[a]);
+    memset(s->qdot[a], 0, sizeof s->qdot[a]);
+    s->width_target[a] = s->width[a];
+  }
+  s->motion_us = -1;
+  s->in_position = 1;
+}
+
+void sim_step(sim_t *s) {
+  s->utime += SIM_DT_US;
+  /* Expiry of the executing command: stop and hold (docs/messages.md). */
+  if (s->state == ERR(STATE_POSITION) && s->utime >= s->active_expire_utime) {
+    hold_here(s);
+    s->state = ERR(STATE_HOLD);
+    s->active_expire_utime = INT64_MAX;
+    set_error(s, ERR(ERR_EXPIRED), "command seq %lld expired at utime %lld; holding",
+              (long long)s->last_seq, (long long)s->utime);
+  }
+  if (s->motion_us >= 0) {
+    const int64_t el = s->utime - s->motion_t0;
+    const int done = el >= s->motion_us;
+    const double f = done ? 1.0 : (double)el / (double)s->motion_us;
+    const double tsec = (double)s->motion_us * 1e-6;
+    for (int a = 0; a < 2; a++) {
+      for (int k = 0; k < PLACEMENT_JOINTS; k++) {
+        const double d = s->q_target[a][k] - s->q_start[a][k];
+        s->q[a][k] = done ? s->q_target[a][k] : s->q_start[a][k] + f * d;
+        s->qdot[a][k] = done || tsec <= 0.0 ? 0.0 : d / tsec;
+      }
+      s->width[a] = done ? s->width_target[a]
+                         : s->width_start[a] + f * (s->width_target[a] - s->width_start[a]);
+    }
+    if (done) {
+      s->motion_us = -1;
+      s->in_position = 1;
+    }
+  }
+  /* Gripper opened past the held width: the fingers let go. */
+  if (s->phase == SIM_OBJ_HELD && s->width[s->held_arm] > s->held_width) object_release(s);
+
+  /* Velocities and the rest window of the object, by differences over one tick. */
+  placement_pose_t p;
+  int moving;
+  if (object_pose(s, &p, &moving)) {
+    if (s->have_prev) {
+      for (int i = 0; i < 3; i++) s->vel[i] = (p.pos_m[i] - s->pose_prev.pos_m[i]) / (SIM_DT_US * 1e-6);
+      double w[3];
+      rot_delta(&s->pose_prev, &p, w);
+      for (int i = 0; i < 3; i++) s->omega[i] = w[i] / (SIM_DT_US * 1e-6);
+    }
+    const double vn = sqrt(s->vel[0] * s->vel[0] + s->vel[1] * s->vel[1] + s->vel[2] * s->vel[2]);
+    const double wn =
+        sqrt(s->omega[0] * s->omega[0] + s->omega[1] * s->omega[1] + s->omega[2] * s->omega[2]);
+    s->quiet_ticks = (vn < 1e-3 && wn < 1e-2) ? s->quiet_ticks + 1 : 0;
+    s->pose_prev = p;
+    s->have_prev = 1;
+  } else {
+    s->have_prev = 0;
+  }
+}
+
+/* ---- commands ------------------------------------------------------------------------------ */
+
+static const char *mode_str(int8_t m) {
+  switch (m) {
+  case COMLEARN_YUMI_COMMAND_T_MODE_HOLD: return "HOLD";
+  case COMLEARN_YUMI_COMMAND_T_MODE_POSITION: return "POSITION";
+  case COMLEARN_YUMI_COMMAND_T_MODE_STOP: return "STOP";
+  default: return "?";
+  }
+}
+
+static int32_t refuse(sim_t *s, int32_t code, const char *fmt, const char *detail) {
+  s->n_rejected++;
+  set_error(s, code, fmt, detail);
+  return code;
+}
+
+int32_t sim_command(sim_t *s, const comlearn_yumi_command_t *c) {
+  char d[SIM_TEXT_MAX];
+  if (c->seq <= s->last_seq) {
+    snprintf(d, sizeof d, "seq %lld <= last accepted %lld", (long long)c->seq,
+             (long long)s->last_seq);
+    return refuse(s, ERR(ERR_SEQ), "command refused: %s", d);
+  }
+  if (s->utime >= c->expire_utime) {
+    snprintf(d, sizeof d, "seq %lld stale: expire_utime %lld <= controller utime %lld",
+             (long long)c->seq, (long long)c->expire_utime, (long long)s->utime);
+    return refuse(s, ERR(ERR_STALE), "command refused: %s", d);
+  }
+  if (c->mode != COMLEARN_YUMI_COMMAND_T_MODE_HOLD &&
+      c->mode != COMLEARN_YUMI_COMMAND_T_MODE_POSITION &&
+      c->mode != COMLEARN_YUMI_COMMAND_T_MODE_STOP) {
+    snprintf(d, sizeof d, "seq %lld: unknown mode %d", (long long)c->seq, (int)c->mode);
+    return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
+  }
+  for (int a = 0; a < 2; a++) {
+    for (int k = 0; k < PLACEMENT_JOINTS; k++) {
+      const double v = c->q_commanded_rad[a][k];
+      if (!isfinite(v) || v < s->arm[a].lower_rad[k] || v > s->arm[a].upper_rad[k]) {
+        snprintf(d, sizeof d, "seq %lld: q_commanded_rad[%d][%d] = %g %s [%g, %g]",
+                 (long long)c->seq, a, k, v, isfinite(v) ? "outside" : "not finite, limits",
+                 s->arm[a].lower_rad[k], s->arm[a].upper_rad[k]);
+        return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
+      }
+    }
+    const double w = c->gripper_width_commanded_m[a];
+    if (!isfinite(w) || w < 0.0 || w > SIM_GRIPPER_MAX_M) {
+      snprintf(d, sizeof d, "seq %lld: gripper_width_commanded_m[%d] = %g outside [0, %g]",
+               (long long)c->seq, a, w, SIM_GRIPPER_MAX_M);
+      return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
+    }
+  }
+  if (c->mode == COMLEARN_YUMI_COMMAND_T_MODE_POSITION &&
+      (!isfinite(c->velocity_scale) || c->velocity_scale <= 0.0 || c->velocity_scale > 1.0)) {
+    snprintf(d, sizeof d, "seq %lld: velocity_scale %g outside (0, 1]", (long long)c->seq,
+             c->velocity_scale);
+    return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
+  }
+  if (c->mode == COMLEARN_YUMI_COMMAND_T_MODE_POSITION && s->stop_latched) {
+    snprintf(d, sizeof d, "seq %lld: POSITION while stopped (send HOLD to clear)",
+             (long long)c->seq);
+    return refuse(s, ERR(ERR_STOPPED), "command refused: %s", d);
+  }
+  /* Accepted: it replaces whatever was executing (latest command only). */
+  s->last_seq = c->seq;
+  s->last_seq_utime = c->utime;
+  clear_error(s);
+  (void)mode_str;
+  if (c->mode != COMLEARN_YUMI_COMMAND_T_MODE_POSITION) {
+    hold_here(s);
+    s->active_expire_utime = INT64_MAX;
+    if (c->mode == COMLEARN_YUMI_COMMAND_T_MODE_STOP) {
+      s->stop_latched = 1;
+      s->state = ERR(STATE_STOPPED);
+    } else {
+      s->stop_latched = 0;
+      s->state = ERR(STATE_HOLD);
+    }
+    return 0;
+  }
+  s->state = ERR(STATE_POSITION);
+  s->active_expire_utime = c->expire_utime;
+  /* One straight line in joint and gripper space, timed by the slowest axis at its limit x
+   * velocity_scale: every axis arrives together (the plan's linear joint interpolation). */
+  double t = 0.0;
+  for (int a = 0; a < 2; a++) {
+    for (int k = 0; k < PLACEMENT_JOINTS; k++) {
+      s->q_start[a][k] = s->q[a][k];
+      s->q_target[a][k] = c->q_commanded_rad[a][k];
+      t = fmax(t, fabs(s->q_target[a][k] - s->q[a][k]) /
+                      (s->arm[a].velocity_rad_s[k] * c->velocity_scale));
+    }
+    s->width_start[a] = s->width[a];
+    s->width_target[a] = c->gripper_width_commanded_m[a];
+    t = fmax(t, fabs(s->width_target[a] - s->width[a]) / (SIM_GRIPPER_SPEED_M_S * c->velocity_scale));
+  }
+  s->motion_t0 = s->utime;
+  s->motion_us = (int64_t)ceil(t * 1e6);
+  s->in_position = 0;
+  if (s->motion_us == 0) {
+    for (int a = 0; a < 2; a++) {
+      memcpy(s->q[a], s->q_target[a], sizeof s->q[a]);
+      memset(s->qdot[a], 0, sizeof s->qdot[a]);
+      s->width[a] = s->width_target[a];
+    }
+    s->motion_us = -1;
+    s->in_position = 1;
+  }
+  return 0;
+}
+
+/* ---- simulation control -------------------------------------------------------------------- */
+
+static int32_t sc_done(sim_t *s, const comlearn_sim_control_t *c, int32_t result) {
+  s->sc_seq_processed = c->seq;
+  s->sc_ack_seq = c->seq;
+  s->sc_ack_result = result;
+  if (result != SC(SIM_CONTROL_APPLIED)) s->n_rejected++;
+  return result;
+}
+
+static void put_in_gripper(sim_t *s, const comlearn_sim_control_t *c) {
+  s->held_arm = c->arm;
+  s->held_width = c->gripper_width_m;
+  placement_pose_from_wxyz(c->link_in_tool_position_m, c->link_in_tool_wxyz, &s->link_in_tool);
+  /* The hand-over sets the fingers; a motion in progress keeps going for everything else. */
+  s->width[c->arm] = s->width_target[c->arm] = s->width_start[c->arm] = c->gripper_width_m;
+  s->phase = SIM_OBJ_HELD;
+  s->have_prev = 0;
+  s->quiet_ticks = 0;
+  memset(s->vel, 0, sizeof s->vel);
+  memset(s->omega, 0, sizeof s->omega);
+}
+
+int32_t sim_control(sim_t *s, const comlearn_sim_control_t *c) {
+  if (c->seq <= s->sc_seq_processed) {
+    /* Ignored: the acknowledgement keeps naming the last processed seq (so a restarted sender
+     * resumes from it + 1), with ERR_SEQ as the result. */
+    s->sc_ack_result = SC(SIM_CONTROL_ERR_SEQ);
+    s->n_rejected++;
+    return SC(SIM_CONTROL_ERR_SEQ);
+  }
+  const int act = c->action;
+  if (act != COMLEARN_SIM_CONTROL_T_ACTION_LOAD && act != COMLEARN_SIM_CONTROL_T_ACTION_RESET &&
+      act != COMLEARN_SIM_CONTROL_T_ACTION_REMOVE)
+    return sc_done(s, c, SC(SIM_CONTROL_ERR_INVALID));
+  const size_t idlen = strlen(c->object_id);
+  if (idlen == 0 || idlen >= SIM_ID_MAX) return sc_done(s, c, SC(SIM_CONTROL_ERR_INVALID));
+  if (act != COMLEARN_SIM_CONTROL_T_ACTION_REMOVE) {
+    if (c->arm != 0 && c->arm != 1) return sc_done(s, c, SC(SIM_CONTROL_ERR_INVALID));
+    if (!isfinite(c->gripper_width_m) || c->gripper_width_m < 0.0 ||
+        c->gripper_width_m > SIM_GRIPPER_MAX_M)
+      return sc_done(s, c, SC(SIM_CONTROL_ERR_INVALID));
+    for (int i = 0; i < 3; i++)
+      if (!isfinite(c->link_in_tool_position_m[i]) || fabs(c->link_in_tool_position_m[i]) > 1.0)
+        return sc_done(s, c, SC(SIM_CONTROL_ERR_INVALID));
+    placement_pose_t g;
+    if (placement_pose_from_wxyz(c->link_in_tool_position_m, c->link_in_tool_wxyz, &g) !=
+        PLACEMENT_OK)
+      return sc_done(s, c, SC(SIM_CONTROL_ERR_INVALID));
+  }
+  if (act == COMLEARN_SIM_CONTROL_T_ACTION_LOAD) {
+    if (c->urdf_path[0] == '\0') return sc_done(s, c, SC(SIM_CONTROL_ERR_INVALID));
+    model_object_t mo;
+    model_mass_t mass;
+    model_error_t me;
+    if (model_object_load(c->urdf_path, NULL, &mo, &me) != MODEL_OK)
+      return sc_done(s, c, SC(SIM_CONTROL_ERR_LOAD));
+    if (model_inertial_load(c->urdf_path, NULL, &mass, &me) != MODEL_OK) {
+      model_object_free(&mo);
+      return sc_done(s, c, SC(SIM_CONTROL_ERR_LOAD));
+    }
+    balance_config_t bc;
+    balance_config_default(&bc);
+    memcpy(bc.base_size_m, s->plan.block_size_m, sizeof bc.base_size_m);
+    balance_world_t *w = NULL;
+    balance_object_t *o = NULL;
+    if (balance_world_create(&bc, &w) != BALANCE_OK ||
+        balance_object_create(w, &mo.mesh, &mass, &o) != BALANCE_OK) {
+      balance_world_destroy(w);
+      model_object_free(&mo);
+      return sc_done(s, c, SC(SIM_CONTROL_ERR_LOAD));
+    }
+    object_unload(s);
+    s->model = mo;
+    s->mass = mass;
+    s->world = w;
+    s->obj = o;
+    s->loaded = 1;
+    memcpy(s->object_id, c->object_id, idlen + 1);
+    put_in_gripper(s, c);
+    return sc_done(s, c, SC(SIM_CONTROL_APPLIED));
+  }
+  if (!s->loaded || strcmp(c->object_id, s->object_id) != 0)
+    return sc_done(s, c, SC(SIM_CONTROL_ERR_UNKNOWN_ID));
+  if (act == COMLEARN_SIM_CONTROL_T_ACTION_RESET)
+    put_in_gripper(s, c);
+  else
+    object_unload(s);
+  return sc_done(s, c, SC(SIM_CONTROL_APPLIED));
+}
+
+void sim_undecodable(sim_t *s, const char *channel, const char *reason) {
+  s->n_undecodable++;
+  set_error(s, ERR(ERR_DECODE), "undecodable buffer on %s: %s", channel, reason);
+}
+
+void sim_received(sim_t *s) { s->n_received++; }
+
+/* ---- outputs ------------------------------------------------------------------------------- */
+
+void sim_status_fill(sim_t *s, comlearn_yumi_status_t *st) {
+  memset(st, 0, sizeof *st);
+  st->utime = s->utime;
+  st->state = s->state;
+  st->in_position = s->in_position && s->motion_us < 0;
+  st->last_accepted_seq = s->last_seq;
+  st->last_accepted_utime = s->last_seq_utime;
+  memcpy(st->q_measured_rad, s->q, sizeof s->q);
+  memcpy(st->qdot_estimated_rad_s, s->qdot, sizeof s->qdot);
+  memcpy(st->q_commanded_rad, s->q_target, sizeof s->q_target);
+  memcpy(st->gripper_width_measured_m, s->width, sizeof s->width);
+  memcpy(st->gripper_width_commanded_m, s->width_target, sizeof s->width_target);
+  st->error_code = s->error_code;
+  st->error_text = s->error_text;
+  st->messages_received = s->n_received;
+  st->messages_rejected = s->n_rejected;
+  st->messages_undecodable = s->n_undecodable;
+}
+
+void sim_object_fill(sim_t *s, comlearn_object_state_t *os) {
+  memset(os, 0, sizeof *os);
+  os->utime = s->utime;
+  os->object_id = s->object_id;
+  os->sim_control_seq = s->sc_ack_seq;
+  os->sim_control_result = s->sc_ack_result;
+  os->orientation_measured_wxyz[0] = 1.0;
+  placement_pose_t p;
+  int moving;
+  if (!s->loaded || !object_pose(s, &p, &moving)) return;
+  os->tracked = 1;
+  balance_pose_t b;
+  pose_to_balance(&p, &b);
+  memcpy(os->position_measured_m, b.position_m, sizeof b.position_m);
+  memcpy(os->orientation_measured_wxyz, b.orientation_wxyz, sizeof b.orientation_wxyz);
+  memcpy(os->velocity_estimated_m_s, s->vel, sizeof s->vel);
+  memcpy(os->omega_estimated_rad_s, s->omega, sizeof s->omega);
+  switch (s->phase) {
+  case SIM_OBJ_HELD:
+    os->at_rest = s->quiet_ticks >= SIM_REST_TICKS;
+    os->on_base = 0;
+    break;
+  case SIM_OBJ_REFUSED:
+    os->at_rest = 0;
+    os->on_base = 0;
+    break;
+  case SIM_OBJ_TRIAL:
+    if (s->utime < s->trial_t1) {
+      os->at_rest = 0;
+      os->on_base = 1;
+    } else {
+      /* After the trial: STAYS rests on B; TIPS has gone over the edge (B's world has no floor,
+       * so it is reported off B and not at rest); SLIDES / INVALID: on B while the CoM is over
+       * B's top. */
+      placement_pose_t blk;
+      pose_from_balance(&s->trial.settled, &blk);
+      double com[3];
+      for (int i = 0; i < 3; i++) {
+        com[i] = blk.pos_m[i];
+        for (int j = 0; j < 3; j++) com[i] += blk.rot[i][j] * s->mass.com_m[j];
+      }
+      const int over = fabs(com[0]) <= 0.5 * s->plan.block_size_m[0] &&
+                       fabs(com[1]) <= 0.5 * s->plan.block_size_m[1];
+      const balance_outcome_t o = s->trial.outcome;
+      os->at_rest = o == BALANCE_STAYS;
+      os->on_base = o == BALANCE_STAYS || (o != BALANCE_TIPS && over);
+      if (o == BALANCE_STAYS) {
+        memset(os->velocity_estimated_m_s, 0, sizeof os->velocity_estimated_m_s);
+        memset(os->omega_estimated_rad_s, 0, sizeof os->omega_estimated_rad_s);
+      }
+    }
+    break;
+  case SIM_OBJ_NONE: break;
+  }
+}

@@ -1,0 +1,128 @@
+/*
+ * daemon/sim.h - comlearn-sim's controller and world, without LCM: a kinematic YuMi that tracks
+ * the latest accepted command, an object held in a gripper, and lib/balance for the physics after
+ * release. main.c turns LCM messages into these calls; docs/sim.md describes the behaviour.
+ *
+ * Clock: sim->utime [us], advanced only by sim_step() (SIM_DT_US per call). It is the clock of
+ * yumi_status_t.utime and of yumi_command_t.expire_utime.
+ * Frames: "world" of the messages = yumi_body (the YuMi URDF has no world link); B stands at
+ * placement_plan_config_default()'s block_in_base; lib/balance works in B's frame ("block").
+ * Memory: sim_create allocates (arm models, balance world); a load allocates (mesh, world). Not
+ * thread safe: one thread owns a sim_t. Nothing prints; failures are written to err buffers.
+ */
+#ifndef COMLEARN_DAEMON_SIM_H
+#define COMLEARN_DAEMON_SIM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "comlearn/balance.h"
+#include "comlearn/comlearn_object_state_t.h"
+#include "comlearn/comlearn_sim_control_t.h"
+#include "comlearn/comlearn_yumi_command_t.h"
+#include "comlearn/comlearn_yumi_status_t.h"
+#include "comlearn/model.h"
+#include "comlearn/placement.h"
+#include "comlearn/placement_plan.h"
+
+enum {
+  SIM_DT_US = 1000,          /* controller tick [us] */
+  SIM_STATUS_PERIOD_US = 4000, /* YUMI_STATUS / OBJECT_STATE every 4 ms of the sim clock (250 Hz) */
+  SIM_REST_TICKS = 20,       /* at_rest of a held object: quiet for this many ticks */
+  SIM_TEXT_MAX = 256,
+  SIM_ID_MAX = 128
+};
+
+/* Largest gap between the released object's lowest point over B and B's top, either way
+ * (above: it would drop; below: it starts inside B). Equal to lib/balance's start-depth limit. */
+#define SIM_RELEASE_MAX_GAP_M 1e-4
+/* Gripper opening speed limit [m/s] (ABB SmartGripper MAX_SPEED, as placement plans assume). */
+#define SIM_GRIPPER_SPEED_M_S 0.025
+#define SIM_GRIPPER_MAX_M 0.05
+/* Joint positions within this of the target count as reached. */
+#define SIM_POS_TOL_RAD 1e-12
+
+typedef struct {
+  const char *yumi_urdf;      /* assets/yumi/yumi.urdf */
+  uint64_t seed;              /* placement / pose noise stream */
+  double placement_noise_m;   /* [0, 0.1] */
+  double pose_noise_m;        /* [0, 0.1] */
+} sim_config_t;
+
+typedef enum { SIM_OBJ_NONE = 0, SIM_OBJ_HELD, SIM_OBJ_TRIAL, SIM_OBJ_REFUSED } sim_obj_phase_t;
+
+typedef struct {
+  sim_config_t cfg;
+  placement_arm_t arm[2];
+  placement_plan_config_t plan; /* block_in_base, block size */
+  placement_pose_t base_in_block;
+
+  int64_t utime;
+  /* controller */
+  int8_t state;
+  int stop_latched;
+  int in_position;
+  int64_t last_seq, last_seq_utime;
+  int64_t active_expire_utime; /* INT64_MAX when nothing can expire */
+  double q[2][PLACEMENT_JOINTS], qdot[2][PLACEMENT_JOINTS], q_target[2][PLACEMENT_JOINTS];
+  double width[2], width_target[2];
+  /* current motion: straight line in (q, width) from start to target over motion_us */
+  double q_start[2][PLACEMENT_JOINTS], width_start[2];
+  int64_t motion_t0, motion_us; /* motion_us < 0: no motion */
+  int32_t error_code;
+  char error_text[SIM_TEXT_MAX];
+  int64_t n_received, n_rejected, n_undecodable;
+
+  /* object */
+  int loaded;
+  char object_id[SIM_ID_MAX];
+  model_object_t model;
+  model_mass_t mass; /* the truth: the simulator alone reads it */
+  balance_world_t *world;
+  balance_object_t *obj;
+  sim_obj_phase_t phase;
+  int held_arm;
+  double held_width;
+  placement_pose_t link_in_tool;
+  placement_pose_t pose_prev; /* world (yumi_body), last tick: for velocities */
+  int have_prev;
+  double vel[3], omega[3];
+  int quiet_ticks;
+  /* trial: released / settled poses in world, playback on the sim clock */
+  balance_trial_result_t trial;
+  placement_pose_t rel_world, set_world;
+  int64_t trial_t0, trial_t1;
+  uint64_t trial_count;
+  int64_t sc_seq_processed;
+  int64_t sc_ack_seq;
+  int32_t sc_ack_result;
+} sim_t;
+
+/* Load both arms, set the start posture (YuMi nominal, grippers closed), HOLD, clock 0.
+ * 0 on success; -1 with err filled. */
+int sim_init(sim_t *sim, const sim_config_t *cfg, char *err, size_t err_len);
+void sim_fini(sim_t *sim);
+
+/* 1 while something moves on the sim clock (arm or gripper motion, a trial playing out). */
+int sim_busy(const sim_t *sim);
+
+/* Advance the clock by SIM_DT_US: track, expire, release, play out a trial. */
+void sim_step(sim_t *sim);
+
+/* Apply the acceptance rules of docs/messages.md to a decoded command. 0 accepted, else the
+ * ERR_* code it was refused with (also in the status). */
+int32_t sim_command(sim_t *sim, const comlearn_yumi_command_t *cmd);
+
+/* Process a SIM_CONTROL message; returns its SIM_CONTROL_* result (also in OBJECT_STATE). */
+int32_t sim_control(sim_t *sim, const comlearn_sim_control_t *sc);
+
+/* Count an undecodable buffer on `channel` (reason: msg_status_str text). */
+void sim_undecodable(sim_t *sim, const char *channel, const char *reason);
+/* Count a decoded message. */
+void sim_received(sim_t *sim);
+
+/* Fill the outgoing messages. The strings point into sim (valid until the next call). */
+void sim_status_fill(sim_t *sim, comlearn_yumi_status_t *st);
+void sim_object_fill(sim_t *sim, comlearn_object_state_t *os);
+
+#endif /* COMLEARN_DAEMON_SIM_H */
