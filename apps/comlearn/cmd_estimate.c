@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "comlearn/balance_poses.h"
@@ -20,6 +21,7 @@
 #include "comlearn/model_inertial.h"
 #include "estimate.h"
 #include "estimate_direct.h"
+#include "estimate_lcm.h"
 #include "log.h"
 
 enum { EXIT_USAGE = 2 };
@@ -36,10 +38,11 @@ static void usage(FILE *out) {
           "  --policy P         bisect | pba | paper-qtable | paper-mlp (default: bisect)\n"
           "  --resolution-mm R  search resolution in mm, 0.001..10 (default: 0.1)\n"
           "  --direct           run the trials in-process on lib/balance (no LCM, no arm)\n"
-          "  --lcm-url URL      LCM URL (default: udpm://239.255.76.67:7667?ttl=0)\n"
-          "  --spawn-sim        start a comlearn-sim for the call\n"
-          "                     NOTE: the LCM path (default, --lcm-url, --spawn-sim) is not\n"
-          "                     available yet; only --direct runs an estimate today\n"
+          "  --lcm-url URL      LCM URL of the YuMi controller and perception (comlearn-sim)\n"
+          "                     (default: udpm://239.255.76.67:7667?ttl=0; with --spawn-sim:\n"
+          "                     udpm://239.255.76.67:<7700 + pid %% 1000>?ttl=0)\n"
+          "  --spawn-sim        start a comlearn-sim on the URL for the call and stop it at the\n"
+          "                     end (default: off: one must already run there)\n"
           "  --link NAME        URDF link to read (default: the root link)\n"
           "  --json             print one JSON object on stdout (default: a table)\n"
           "  --truth            after the estimate, read the URDF <inertial> and report the\n"
@@ -95,6 +98,11 @@ static void progress(void *ctx, size_t index, const char *what) {
   (void)ctx;
   fprintf(stderr, "\rcomlearn estimate: trial %3zu  %-60s", index, what);
   fflush(stderr);
+}
+
+static void lcm_log(void *ctx, const char *msg) {
+  (void)ctx;
+  LOG_D("lcm: %s", msg);
 }
 
 static double now_s(void) {
@@ -294,19 +302,45 @@ int cmd_estimate(int argc, char **argv) {
     LOG_E("%s (%s)", merr.msg[0] ? merr.msg : urdf, model_status_str(ms));
     return exit_for_model(ms);
   }
-  if (!direct) {
-    LOG_E("the LCM path (comlearn-sim, --lcm-url, --spawn-sim) is not available yet in this "
-          "build; run with --direct");
-    model_object_free(&obj);
-    return EXIT_FAILURE;
-  }
-
   char err[512] = "";
   estimate_direct_t *sim = NULL;
+  estimate_lcm_t *lcmb = NULL;
+  pid_t child = -1;
+  char url_buf[128];
   estimate_backend_t backend;
-  int rc = estimate_direct_open(urdf, link, NULL, &sim, &backend, err, sizeof err);
+  int rc;
+  if (direct) {
+    rc = estimate_direct_open(urdf, link, NULL, &sim, &backend, err, sizeof err);
+  } else {
+    if (spawn) {
+      if (!lcm_url) {
+        snprintf(url_buf, sizeof url_buf, "udpm://239.255.76.67:%u?ttl=0",
+                 7700u + (unsigned)getpid() % 1000u);
+        lcm_url = url_buf;
+      }
+      const char *exe = getenv("COMLEARN_SIM");
+      if (!exe || !exe[0]) exe = COMLEARN_SIM_EXE;
+      child = estimate_lcm_sim_spawn(exe, lcm_url, err, sizeof err);
+      if (child < 0) {
+        LOG_E("--spawn-sim: %s", err);
+        model_object_free(&obj);
+        return EXIT_FAILURE;
+      }
+      LOG_I("started comlearn-sim (pid %d) on %s", (int)child, lcm_url);
+    }
+    estimate_lcm_config_t lc;
+    estimate_lcm_config_default(&lc);
+    lc.lcm_url = lcm_url;
+    lc.urdf_path = urdf;
+    lc.mesh_link = &obj.mesh;
+    lc.yumi_urdf = COMLEARN_YUMI_URDF;
+    lc.policy = policy_name(cfg.policy);
+    lc.log = lcm_log;
+    rc = estimate_lcm_open(&lc, &lcmb, &backend, err, sizeof err);
+  }
   if (rc != 0) {
     LOG_E("%s", err);
+    if (child > 0) estimate_lcm_sim_stop(child, 2.0);
     model_object_free(&obj);
     return rc;
   }
@@ -316,6 +350,8 @@ int cmd_estimate(int argc, char **argv) {
   if (!res) {
     LOG_E("out of memory");
     estimate_direct_close(sim);
+    estimate_lcm_close(lcmb);
+    if (child > 0) estimate_lcm_sim_stop(child, 2.0);
     model_object_free(&obj);
     return EXIT_FAILURE;
   }
@@ -323,7 +359,25 @@ int cmd_estimate(int argc, char **argv) {
   estimate_status_t es = estimate_run(&obj.mesh, &backend, &cfg, res);
   double wall = now_s() - t0;
   if (cfg.progress) fprintf(stderr, "\n");
+  if (lcmb) {
+    if (es == ESTIMATE_OK && estimate_lcm_publish_estimate(lcmb, res, cfg.resolution_m, 1) != 0)
+      LOG_W("publishing COM_ESTIMATE failed");
+    estimate_lcm_stats_t ls;
+    estimate_lcm_stats(lcmb, &ls);
+    LOG_D("lcm: %llu trials, %llu commands (%llu resent), %llu sim controls, %llu trial "
+          "restarts, %llu statuses, %llu object states, %llu undecodable",
+          (unsigned long long)ls.trials, (unsigned long long)ls.commands_sent,
+          (unsigned long long)ls.commands_resent, (unsigned long long)ls.controls_sent,
+          (unsigned long long)ls.trial_restarts, (unsigned long long)ls.statuses,
+          (unsigned long long)ls.object_states, (unsigned long long)ls.undecodable);
+  }
   estimate_direct_close(sim);
+  estimate_lcm_close(lcmb);
+  if (child > 0) {
+    int ws = estimate_lcm_sim_stop(child, 2.0);
+    if (ws == -1 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0)
+      LOG_W("comlearn-sim (pid %d) did not exit cleanly (wait status %d)", (int)child, ws);
+  }
   model_object_free(&obj);
   if (es != ESTIMATE_OK) {
     LOG_E("%s: %s%s%s", urdf, estimate_status_str(es), res->msg[0] ? ": " : "", res->msg);

@@ -1,0 +1,774 @@
+/*
+ * estimate_lcm.c - the LCM trial backend (see estimate_lcm.h and docs/estimate.md).
+ */
+#define _GNU_SOURCE
+#include "estimate_lcm.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <lcm/lcm.h>
+
+#include "comlearn/comlearn_com_estimate_t.h"
+#include "comlearn/comlearn_com_trial_t.h"
+#include "comlearn/comlearn_object_state_t.h"
+#include "comlearn/comlearn_sim_control_t.h"
+#include "comlearn/comlearn_yumi_command_t.h"
+#include "comlearn/comlearn_yumi_status_t.h"
+#include "comlearn/msg.h"
+#include "comlearn/placement.h"
+#include "comlearn/placement_plan.h"
+
+#define ST(name) COMLEARN_YUMI_STATUS_T_##name
+#define CMD(name) COMLEARN_YUMI_COMMAND_T_##name
+#define OS(name) COMLEARN_OBJECT_STATE_T_##name
+#define SC(name) COMLEARN_SIM_CONTROL_T_##name
+
+enum { ID_MAX = 128, PATH_MAX_LEN = 4096 };
+
+/* Grasp (docs/estimate.md): tcp z straight down over the centre of the object's footprint,
+ * GRASP_DEPTH_M below its top, but the finger tips (21.7 mm beyond the tcp) at least
+ * GRASP_TIP_CLEAR_M above B's top. */
+#define GRASP_DEPTH_M 0.010
+#define GRASP_TIP_CLEAR_M 0.004
+#define FINGER_TIP_M 0.0217
+/* Expiry margin on the controller's clock beyond the expected motion time. */
+#define EXPIRE_MARGIN_US 5000000
+
+struct estimate_lcm {
+  estimate_lcm_config_t cfg;
+  char url[512];
+  char urdf[PATH_MAX_LEN];
+  char object_id[ID_MAX];
+  char policy[32];
+  lcm_t *lcm;
+  msg_subscription_t *sub_st, *sub_os;
+  msg_stats_t stats;
+  placement_arm_t arm[2];
+  placement_plan_config_t plan_cfg;
+  double bib_wxyz[4]; /* block_in_base orientation as a quaternion */
+  /* latest messages */
+  comlearn_yumi_status_t st;
+  uint64_t n_st;
+  comlearn_object_state_t os;
+  char os_id[ID_MAX];
+  uint64_t n_os;
+  /* senders */
+  int64_t seq, sc_seq;
+  int loaded;
+  int64_t run_id;
+  estimate_lcm_stats_t counters;
+};
+
+/* ---- small helpers ------------------------------------------------------------------------- */
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int64_t wall_us(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return (int64_t)ts.tv_sec * 1000000 + (int64_t)ts.tv_nsec / 1000;
+}
+
+static void logf_(estimate_lcm_t *l, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void logf_(estimate_lcm_t *l, const char *fmt, ...) {
+  if (!l->cfg.log) return;
+  char buf[512];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(buf, sizeof buf, fmt, ap);
+  va_end(ap);
+  l->cfg.log(l->cfg.log_ctx, buf);
+}
+
+static void quat_mul(const double a[4], const double b[4], double out[4]) {
+  const double r[4] = {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
+                       a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+                       a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
+                       a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
+  memcpy(out, r, sizeof r);
+}
+
+static void quat_conj(const double a[4], double out[4]) {
+  out[0] = a[0];
+  out[1] = -a[1];
+  out[2] = -a[2];
+  out[3] = -a[3];
+}
+
+/* Shepperd's method: the unit quaternion of a rotation matrix. */
+static void quat_from_rot(double r[3][3], double q[4]) {
+  const double tr = r[0][0] + r[1][1] + r[2][2];
+  if (tr > 0) {
+    const double s = 2.0 * sqrt(tr + 1.0);
+    q[0] = 0.25 * s;
+    q[1] = (r[2][1] - r[1][2]) / s;
+    q[2] = (r[0][2] - r[2][0]) / s;
+    q[3] = (r[1][0] - r[0][1]) / s;
+  } else if (r[0][0] > r[1][1] && r[0][0] > r[2][2]) {
+    const double s = 2.0 * sqrt(1.0 + r[0][0] - r[1][1] - r[2][2]);
+    q[0] = (r[2][1] - r[1][2]) / s;
+    q[1] = 0.25 * s;
+    q[2] = (r[0][1] + r[1][0]) / s;
+    q[3] = (r[0][2] + r[2][0]) / s;
+  } else if (r[1][1] > r[2][2]) {
+    const double s = 2.0 * sqrt(1.0 + r[1][1] - r[0][0] - r[2][2]);
+    q[0] = (r[0][2] - r[2][0]) / s;
+    q[1] = (r[0][1] + r[1][0]) / s;
+    q[2] = 0.25 * s;
+    q[3] = (r[1][2] + r[2][1]) / s;
+  } else {
+    const double s = 2.0 * sqrt(1.0 + r[2][2] - r[0][0] - r[1][1]);
+    q[0] = (r[1][0] - r[0][1]) / s;
+    q[1] = (r[0][2] + r[2][0]) / s;
+    q[2] = (r[1][2] + r[2][1]) / s;
+    q[3] = 0.25 * s;
+  }
+}
+
+static int rot_is_identity(const double r[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (r[i][j] != (i == j ? 1.0 : 0.0)) return 0;
+  return 1;
+}
+
+/* World (yumi_body) pose from OBJECT_STATE -> B's frame. With B unrotated (the default) only the
+ * position moves, so the quaternion passes through bit for bit. */
+static void world_to_block(const estimate_lcm_t *l, const double p_w[3], const double q_w[4],
+                           balance_pose_t *out) {
+  const placement_pose_t *b = &l->plan_cfg.block_in_base;
+  double d[3];
+  for (int i = 0; i < 3; ++i) d[i] = p_w[i] - b->pos_m[i];
+  for (int i = 0; i < 3; ++i)
+    out->position_m[i] = b->rot[0][i] * d[0] + b->rot[1][i] * d[1] + b->rot[2][i] * d[2];
+  if (rot_is_identity(b->rot)) {
+    memcpy(out->orientation_wxyz, q_w, 4 * sizeof(double));
+  } else {
+    double c[4];
+    quat_conj(l->bib_wxyz, c);
+    quat_mul(c, q_w, out->orientation_wxyz);
+  }
+}
+
+static void block_to_world(const estimate_lcm_t *l, const balance_pose_t *in, double p_w[3],
+                           double q_w[4]) {
+  const placement_pose_t *b = &l->plan_cfg.block_in_base;
+  for (int i = 0; i < 3; ++i)
+    p_w[i] = b->pos_m[i] + b->rot[i][0] * in->position_m[0] + b->rot[i][1] * in->position_m[1] +
+             b->rot[i][2] * in->position_m[2];
+  if (rot_is_identity(b->rot)) memcpy(q_w, in->orientation_wxyz, 4 * sizeof(double));
+  else quat_mul(l->bib_wxyz, in->orientation_wxyz, q_w);
+}
+
+static double quat_angle(const double a[4], const double b[4]) {
+  double d = fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]);
+  if (d > 1.0) d = 1.0;
+  return 2.0 * acos(d);
+}
+
+/* ---- LCM handlers and waits ---------------------------------------------------------------- */
+
+static void on_status(const lcm_recv_buf_t *rb, const char *ch, const void *msg, void *user) {
+  (void)rb;
+  (void)ch;
+  estimate_lcm_t *l = user;
+  l->st = *(const comlearn_yumi_status_t *)msg;
+  l->st.error_text = NULL; /* not kept (valid only during the call) */
+  l->n_st++;
+}
+
+static void on_object(const lcm_recv_buf_t *rb, const char *ch, const void *msg, void *user) {
+  (void)rb;
+  (void)ch;
+  estimate_lcm_t *l = user;
+  const comlearn_object_state_t *o = msg;
+  l->os = *o;
+  snprintf(l->os_id, sizeof l->os_id, "%s", o->object_id);
+  l->os.object_id = l->os_id;
+  l->n_os++;
+}
+
+typedef int (*pred_t)(const estimate_lcm_t *l, const void *arg);
+
+/* Handle LCM until pred holds or timeout_s of wall time passed; 1 when it held, 0 on timeout,
+ * -1 when LCM fails. */
+static int wait_for(estimate_lcm_t *l, pred_t pred, const void *arg, double timeout_s) {
+  const double end = now_s() + timeout_s;
+  for (;;) {
+    if (pred(l, arg)) return 1;
+    const double left = end - now_s();
+    if (left <= 0) return 0;
+    int ms = (int)ceil(left * 1e3);
+    if (ms > 50) ms = 50;
+    if (lcm_handle_timeout(l->lcm, ms) < 0) return -1;
+  }
+}
+
+static int have_both(const estimate_lcm_t *l, const void *arg) {
+  (void)arg;
+  return l->n_st > 0 && l->n_os > 0;
+}
+
+static int sc_acked(const estimate_lcm_t *l, const void *arg) {
+  return l->n_os > 0 && l->os.sim_control_seq == *(const int64_t *)arg;
+}
+
+static int seq_accepted(const estimate_lcm_t *l, const void *arg) {
+  return l->n_st > 0 && l->st.last_accepted_seq >= *(const int64_t *)arg;
+}
+
+static int seq_in_position(const estimate_lcm_t *l, const void *arg) {
+  return l->n_st > 0 && l->st.last_accepted_seq == *(const int64_t *)arg && l->st.in_position;
+}
+
+/* An object state newer than utime *arg. */
+static int os_after(const estimate_lcm_t *l, const void *arg) {
+  return l->n_os > 0 && l->os.utime > *(const int64_t *)arg;
+}
+
+typedef struct {
+  int64_t t_release_us, horizon_us;
+} outcome_arg_t;
+
+static int outcome_ready(const estimate_lcm_t *l, const void *arg) {
+  const outcome_arg_t *a = arg;
+  if (l->n_os == 0 || l->os.utime <= a->t_release_us || !l->os.tracked) return 0;
+  if (l->os.at_rest && l->os.on_base) return 1;
+  if (!l->os.on_base) return 1;
+  return l->os.utime > a->t_release_us + a->horizon_us;
+}
+
+/* ---- messages ------------------------------------------------------------------------------ */
+
+/* SIM_CONTROL with resends; returns the simulator's result, or -1 on a timeout (err filled). */
+static int sim_control(estimate_lcm_t *l, int8_t action, int arm, const double g_pos[3], const double g_wxyz[4], double width, char *err,
+                       size_t err_size) {
+  comlearn_sim_control_t sc;
+  memset(&sc, 0, sizeof sc);
+  sc.action = action;
+  sc.object_id = l->object_id;
+  sc.urdf_path = action == SC(ACTION_LOAD) ? l->urdf : (char *)"";
+  sc.arm = (int8_t)arm;
+  memcpy(sc.link_in_tool_position_m, g_pos, sizeof sc.link_in_tool_position_m);
+  memcpy(sc.link_in_tool_wxyz, g_wxyz, sizeof sc.link_in_tool_wxyz);
+  sc.gripper_width_m = width;
+  for (int k = 0; k <= l->cfg.max_resends; ++k) {
+    /* continue after whatever the simulator processed last (it may have restarted) */
+    if (l->n_os > 0 && l->os.sim_control_seq >= l->sc_seq) l->sc_seq = l->os.sim_control_seq;
+    sc.seq = ++l->sc_seq;
+    sc.utime = wall_us();
+    if (comlearn_sim_control_t_publish(l->lcm, MSG_CHANNEL_SIM_CONTROL, &sc) != 0) {
+      snprintf(err, err_size, "publish %s failed", MSG_CHANNEL_SIM_CONTROL);
+      return -1;
+    }
+    l->counters.controls_sent++;
+    const int w = wait_for(l, sc_acked, &sc.seq, l->cfg.ack_timeout_s);
+    if (w < 0) {
+      snprintf(err, err_size, "lcm_handle_timeout failed");
+      return -1;
+    }
+    if (w == 1) return l->os.sim_control_result;
+    logf_(l, "SIM_CONTROL seq %lld not acknowledged within %.2f s; resending",
+          (long long)sc.seq, l->cfg.ack_timeout_s);
+  }
+  snprintf(err, err_size, "SIM_CONTROL not acknowledged on %s after %d sends (is comlearn-sim "
+           "running on %s?)", MSG_CHANNEL_OBJECT_STATE, l->cfg.max_resends + 1, l->url);
+  return -1;
+}
+
+/* Send one waypoint (arm `arm` to q / width, the other arm held where it is) and wait until it
+ * is accepted and reached; resend with a new seq on a timeout or a refusal. 0 ok, -1 (err). */
+static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t *wp,
+                         char *err, size_t err_size) {
+  const double scale = l->plan_cfg.velocity_fraction;
+  for (int k = 0; k <= l->cfg.max_resends; ++k) {
+    comlearn_yumi_command_t c;
+    memset(&c, 0, sizeof c);
+    memcpy(c.q_commanded_rad, l->st.q_measured_rad, sizeof c.q_commanded_rad);
+    memcpy(c.gripper_width_commanded_m, l->st.gripper_width_measured_m,
+           sizeof c.gripper_width_commanded_m);
+    memcpy(c.q_commanded_rad[arm], wp->q_rad, sizeof wp->q_rad);
+    c.gripper_width_commanded_m[arm] = wp->gripper_width_m;
+    if (l->st.last_accepted_seq >= l->seq) l->seq = l->st.last_accepted_seq;
+    c.seq = ++l->seq;
+    c.utime = wall_us();
+    /* The sim times joints at scale x their limits and the gripper at scale x 25 mm/s: the
+     * planned duration / scale bounds the motion on the controller's clock. */
+    c.expire_utime = l->st.utime + (int64_t)llround(wp->duration_s / scale * 1e6) + EXPIRE_MARGIN_US;
+    c.mode = CMD(MODE_POSITION);
+    c.velocity_scale = scale;
+    if (comlearn_yumi_command_t_publish(l->lcm, MSG_CHANNEL_YUMI_COMMAND, &c) != 0) {
+      snprintf(err, err_size, "publish %s failed", MSG_CHANNEL_YUMI_COMMAND);
+      return -1;
+    }
+    l->counters.commands_sent++;
+    if (k > 0) l->counters.commands_resent++;
+    int w = wait_for(l, seq_accepted, &c.seq, l->cfg.ack_timeout_s);
+    if (w == 1 && l->st.last_accepted_seq == c.seq)
+      w = wait_for(l, seq_in_position, &c.seq, l->cfg.motion_timeout_s);
+    else if (w == 1)
+      w = 0; /* something newer was accepted: not ours; resend */
+    if (w < 0) {
+      snprintf(err, err_size, "lcm_handle_timeout failed");
+      return -1;
+    }
+    if (w == 1) return 0;
+    logf_(l, "%s waypoint seq %lld: no %s within the timeout (status seq %lld, error %d); "
+          "resending", placement_waypoint_kind_str(wp->kind), (long long)c.seq,
+          l->st.last_accepted_seq >= c.seq ? "in_position" : "acceptance",
+          (long long)l->st.last_accepted_seq, (int)l->st.error_code);
+  }
+  snprintf(err, err_size, "%s waypoint: not accepted / reached after %d sends (status error %d)",
+           placement_waypoint_kind_str(wp->kind), l->cfg.max_resends + 1, (int)l->st.error_code);
+  return -1;
+}
+
+/* ---- one trial ----------------------------------------------------------------------------- */
+
+typedef struct {
+  int arm;
+  double g_pos[3], g_wxyz[4], width;
+  placement_plan_t plan;
+} trial_plan_t;
+
+/* Top-down grasp for the release pose and a plan from the measured joints. Tries yaws of the
+ * fingers 0, 90, -90, 180 degrees with the right arm, then the left. 0 ok, -1 (err). */
+static int plan_trial(estimate_lcm_t *l, const balance_pose_t *rel, trial_plan_t *tp, char *err,
+                      size_t err_size) {
+  placement_pose_t obj_in_block;
+  placement_status_t ps = placement_pose_from_wxyz(rel->position_m, rel->orientation_wxyz,
+                                                   &obj_in_block);
+  if (ps != PLACEMENT_OK) {
+    snprintf(err, err_size, "release pose: %s", placement_status_str(ps));
+    return -1;
+  }
+  /* the object's box in B's frame at the release pose */
+  const model_mesh_t *m = l->cfg.mesh_link;
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (size_t v = 0; v < m->vertex_count; ++v) {
+    const double *p = m->vertices_m[v];
+    for (int i = 0; i < 3; ++i) {
+      const double x = obj_in_block.rot[i][0] * p[0] + obj_in_block.rot[i][1] * p[1] +
+                       obj_in_block.rot[i][2] * p[2] + obj_in_block.pos_m[i];
+      if (x < lo[i]) lo[i] = x;
+      if (x > hi[i]) hi[i] = x;
+    }
+  }
+  double tcp_p[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), hi[2] - GRASP_DEPTH_M};
+  if (tcp_p[2] < FINGER_TIP_M + GRASP_TIP_CLEAR_M) tcp_p[2] = FINGER_TIP_M + GRASP_TIP_CLEAR_M;
+  static const double yaws_deg[] = {0.0, 90.0, -90.0, 180.0};
+  static const int arms[] = {PLACEMENT_ARM_RIGHT, PLACEMENT_ARM_LEFT};
+  placement_status_t last = PLACEMENT_OK;
+  placement_error_t pe = {{0}};
+  for (size_t a = 0; a < 2; ++a) {
+    for (size_t y = 0; y < sizeof yaws_deg / sizeof yaws_deg[0]; ++y) {
+      const double h = 0.5 * yaws_deg[y] * M_PI / 180.0;
+      /* tcp in block: Rz(yaw) Rx(pi) (tcp z down, fingers closing along (cos yaw, sin yaw, 0)) */
+      const double qz[4] = {cos(h), 0, 0, sin(h)}, qx[4] = {0, 1, 0, 0};
+      double q_tcp[4], q_tcp_c[4], q_g[4];
+      quat_mul(qz, qx, q_tcp);
+      quat_conj(q_tcp, q_tcp_c);
+      quat_mul(q_tcp_c, rel->orientation_wxyz, q_g);
+      const double n = sqrt(q_g[0] * q_g[0] + q_g[1] * q_g[1] + q_g[2] * q_g[2] + q_g[3] * q_g[3]);
+      for (int i = 0; i < 4; ++i) q_g[i] /= n;
+      placement_pose_t tcp_in_block;
+      if (placement_pose_from_wxyz(tcp_p, q_tcp, &tcp_in_block) != PLACEMENT_OK) continue;
+      /* link origin in the tcp frame: R_tcp^T (p_obj - p_tcp) */
+      double d[3], g_pos[3];
+      for (int i = 0; i < 3; ++i) d[i] = obj_in_block.pos_m[i] - tcp_p[i];
+      for (int i = 0; i < 3; ++i)
+        g_pos[i] = tcp_in_block.rot[0][i] * d[0] + tcp_in_block.rot[1][i] * d[1] +
+                   tcp_in_block.rot[2][i] * d[2];
+      /* finger opening: the object's extent along the closing axis, within the gripper */
+      const double cy = cos(2 * h), sy = sin(2 * h);
+      double width = fabs(cy) * (hi[0] - lo[0]) + fabs(sy) * (hi[1] - lo[1]);
+      const double wmax = l->plan_cfg.gripper_max_width_m - l->plan_cfg.release_opening_m;
+      if (width > wmax) width = wmax;
+      if (width < 0.005) width = 0.005;
+      placement_plan_request_t req;
+      memset(&req, 0, sizeof req);
+      req.mesh_link = m;
+      if (placement_pose_from_wxyz(g_pos, q_g, &req.object_in_tcp) != PLACEMENT_OK) continue;
+      req.object_in_block = obj_in_block;
+      req.grip_width_m = width;
+      memcpy(req.q_start_rad, l->st.q_measured_rad[arms[a]], sizeof req.q_start_rad);
+      last = placement_plan_build(&l->arm[arms[a]], &l->plan_cfg, &req, &tp->plan, &pe);
+      if (last == PLACEMENT_OK) {
+        tp->arm = arms[a];
+        tp->width = width;
+        /* The grasp actually sent: the link frame in the tcp frame that the PLACE joints put
+         * exactly at the requested pose, G = FK(q_place)^-1 * request (world). IK meets the pose
+         * within 1e-9 m / rad only; with G the controller's FK(q_place) * G lands on the request
+         * to rounding (~1e-16), so the released pose equals the request as in --direct (the
+         * policy observes the achieved x, and a 1e-10 m miss can flip its stopping test). G
+         * differs from the nominal grasp by the IK error (< 1e-8): the same hold. */
+        placement_pose_t tcp_place, want_w, tcp_inv, g;
+        if (placement_fk(&l->arm[arms[a]], tp->plan.waypoints[PLACEMENT_WAYPOINT_PLACE].q_rad,
+                         &tcp_place) != PLACEMENT_OK) {
+          snprintf(err, err_size, "FK of the place joints failed");
+          return -1;
+        }
+        placement_pose_mul(&l->plan_cfg.block_in_base, &obj_in_block, &want_w);
+        placement_pose_inverse(&tcp_place, &tcp_inv);
+        placement_pose_mul(&tcp_inv, &want_w, &g);
+        double qg2[4];
+        quat_from_rot(g.rot, qg2);
+        const double n2 = sqrt(qg2[0] * qg2[0] + qg2[1] * qg2[1] + qg2[2] * qg2[2] + qg2[3] * qg2[3]);
+        for (int i = 0; i < 4; ++i) qg2[i] /= n2;
+        memcpy(tp->g_pos, g.pos_m, sizeof tp->g_pos);
+        memcpy(tp->g_wxyz, qg2, sizeof qg2);
+        return 0;
+      }
+    }
+  }
+  snprintf(err, err_size, "no placement plan for the release pose (%.4f, %.4f, %.4f): %s %s",
+           rel->position_m[0], rel->position_m[1], rel->position_m[2],
+           placement_status_str(last), pe.msg);
+  return -1;
+}
+
+static int8_t outcome_to_msg(balance_outcome_t o) {
+  switch (o) {
+    case BALANCE_STAYS: return COMLEARN_COM_TRIAL_T_OUTCOME_STAYS;
+    case BALANCE_TIPS: return COMLEARN_COM_TRIAL_T_OUTCOME_TIPS;
+    case BALANCE_SLIDES: return COMLEARN_COM_TRIAL_T_OUTCOME_SLIDES;
+    case BALANCE_INVALID: return COMLEARN_COM_TRIAL_T_OUTCOME_INVALID;
+  }
+  return COMLEARN_COM_TRIAL_T_OUTCOME_INVALID;
+}
+
+static void publish_trial(estimate_lcm_t *l, const estimate_trial_request_t *req,
+                          const estimate_trial_reply_t *rep) {
+  comlearn_com_trial_t t;
+  memset(&t, 0, sizeof t);
+  t.utime = wall_us();
+  t.run_id = l->run_id;
+  t.object_id = l->object_id;
+  t.policy = l->policy;
+  t.trial_index = (int32_t)l->counters.trials;
+  t.kind = req->kind == ESTIMATE_TRIAL_EDGE ? COMLEARN_COM_TRIAL_T_KIND_EDGE
+                                            : COMLEARN_COM_TRIAL_T_KIND_REST;
+  t.base_top_z_m = l->plan_cfg.block_in_base.pos_m[2];
+  if (req->kind == ESTIMATE_TRIAL_EDGE) {
+    double n[3], d;
+    balance_edge_line(l->plan_cfg.block_size_m, req->edge, n, &d);
+    const placement_pose_t *b = &l->plan_cfg.block_in_base;
+    for (int i = 0; i < 3; ++i)
+      t.edge_normal_world[i] = b->rot[i][0] * n[0] + b->rot[i][1] * n[1] + b->rot[i][2] * n[2];
+    t.edge_offset_m = d + t.edge_normal_world[0] * b->pos_m[0] +
+                      t.edge_normal_world[1] * b->pos_m[1] + t.edge_normal_world[2] * b->pos_m[2];
+  }
+  block_to_world(l, &rep->released, t.released_position_m, t.released_orientation_wxyz);
+  block_to_world(l, &rep->settled, t.settled_position_m, t.settled_orientation_wxyz);
+  t.outcome = outcome_to_msg(rep->outcome);
+  double dd = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double e = rep->settled.position_m[i] - rep->released.position_m[i];
+    dd += e * e;
+  }
+  t.displacement_m = sqrt(dd);
+  t.rotation_rad = quat_angle(rep->released.orientation_wxyz, rep->settled.orientation_wxyz);
+  /* Estimator-side fields (component, direction, target point, regime, running estimate) are
+   * not known to a backend: left 0 here (docs/estimate.md). */
+  if (comlearn_com_trial_t_publish(l->lcm, MSG_CHANNEL_COM_TRIAL, &t) != 0)
+    logf_(l, "publish %s failed", MSG_CHANNEL_COM_TRIAL);
+}
+
+/* One attempt of a trial. 0 ok (reply filled), 1 retryable failure, -1 fatal (err filled). */
+static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
+                         estimate_trial_reply_t *reply, char *err, size_t err_size) {
+  trial_plan_t tp;
+  if (plan_trial(l, &req->release, &tp, err, err_size) != 0) return -1;
+  /* 1. the object into the gripper */
+  int r = sim_control(l, l->loaded ? SC(ACTION_RESET) : SC(ACTION_LOAD), tp.arm, tp.g_pos,
+                      tp.g_wxyz, tp.width, err, err_size);
+  if (r == OS(SIM_CONTROL_ERR_UNKNOWN_ID)) { /* the simulator restarted: load again */
+    logf_(l, "the simulator does not know %s (restarted?); loading it again", l->object_id);
+    l->loaded = 0;
+    r = sim_control(l, SC(ACTION_LOAD), tp.arm, tp.g_pos, tp.g_wxyz, tp.width, err,
+                    err_size);
+  }
+  if (r < 0) return 1;
+  if (r != OS(SIM_CONTROL_APPLIED)) {
+    snprintf(err, err_size, "SIM_CONTROL %s of %s refused: result %d", l->loaded ? "reset" : "load",
+             l->urdf, r);
+    return -1;
+  }
+  l->loaded = 1;
+  /* A fresh status after the reset, for the plan's start. The plan was made from the status
+   * before; the arm did not move in between (a reset does not move it). */
+  /* 2-3. pre-place, place, release */
+  for (int k = 0; k <= PLACEMENT_WAYPOINT_RELEASE; ++k) {
+    if (send_waypoint(l, tp.arm, &tp.plan.waypoints[k], err, err_size) != 0) return 1;
+    if (k == PLACEMENT_WAYPOINT_PLACE) {
+      /* the released pose: the held object as perceived at PLACE, before the fingers open */
+      const int64_t t = l->st.utime;
+      if (wait_for(l, os_after, &t, l->cfg.ack_timeout_s) != 1) {
+        snprintf(err, err_size, "no OBJECT_STATE at the place pose");
+        return 1;
+      }
+      if (!l->os.tracked || strcmp(l->os.object_id, l->object_id) != 0) {
+        snprintf(err, err_size, "OBJECT_STATE does not track %s at the place pose", l->object_id);
+        return 1;
+      }
+      world_to_block(l, l->os.position_measured_m, l->os.orientation_measured_wxyz,
+                     &reply->released);
+    }
+  }
+  if (l->st.error_code == ST(ERR_FAULT)) {
+    snprintf(err, err_size, "the controller refused the release (ERR_FAULT at utime %lld)",
+             (long long)l->st.utime);
+    return -1;
+  }
+  /* 4. the outcome, on the controller's clock */
+  balance_config_t bc;
+  balance_config_default(&bc);
+  outcome_arg_t oa = {.t_release_us = l->st.utime - (int64_t)llround(
+                          l->plan_cfg.release_opening_m / (l->plan_cfg.gripper_speed_m_s *
+                                                           l->plan_cfg.velocity_fraction) * 1e6),
+                      .horizon_us = (int64_t)llround(bc.horizon_s * 1e6) + 200000};
+  /* release happened when the opening started; the status at in_position is later */
+  const int64_t t_now = l->st.utime;
+  if (wait_for(l, os_after, &t_now, l->cfg.ack_timeout_s) != 1 ||
+      wait_for(l, outcome_ready, &oa, l->cfg.outcome_timeout_s) != 1) {
+    snprintf(err, err_size, "no trial outcome on %s within %.1f s", MSG_CHANNEL_OBJECT_STATE,
+             l->cfg.outcome_timeout_s);
+    return 1;
+  }
+  world_to_block(l, l->os.position_measured_m, l->os.orientation_measured_wxyz, &reply->settled);
+  if (l->os.at_rest && l->os.on_base) reply->outcome = BALANCE_STAYS;
+  else if (!l->os.on_base) {
+    /* off B: tipped, unless it clearly slid (lib/balance's test, on the link origin since the
+     * CoM is unknown: moved > slide_m horizontally while rotating < tip_angle_rad / 4). A tip is
+     * often called early, after little motion. */
+    const double dx = reply->settled.position_m[0] - reply->released.position_m[0];
+    const double dy = reply->settled.position_m[1] - reply->released.position_m[1];
+    const double rot = quat_angle(reply->released.orientation_wxyz,
+                                  reply->settled.orientation_wxyz);
+    reply->outcome = sqrt(dx * dx + dy * dy) > bc.slide_m && rot < 0.25 * bc.tip_angle_rad
+                         ? BALANCE_SLIDES
+                         : BALANCE_TIPS;
+  } else
+    reply->outcome = BALANCE_INVALID;
+  /* 5. retreat (the object is no longer held) */
+  if (send_waypoint(l, tp.arm, &tp.plan.waypoints[PLACEMENT_WAYPOINT_RETREAT], err, err_size) != 0)
+    return 1;
+  return 0;
+}
+
+static int lcm_run(void *ctx, const estimate_trial_request_t *req, estimate_trial_reply_t *reply,
+                   char *err, size_t err_size) {
+  estimate_lcm_t *l = ctx;
+  memset(reply, 0, sizeof *reply);
+  for (int a = 0; a < l->cfg.max_trial_attempts; ++a) {
+    if (a > 0) {
+      l->counters.trial_restarts++;
+      logf_(l, "trial %llu: %s; running it again (attempt %d of %d)",
+            (unsigned long long)l->counters.trials, err, a + 1, l->cfg.max_trial_attempts);
+      l->loaded = 0; /* whatever happened, start from a fresh load */
+    }
+    if (wait_for(l, have_both, NULL, l->cfg.ack_timeout_s) != 1) {
+      snprintf(err, err_size, "no YUMI_STATUS / OBJECT_STATE on %s", l->url);
+      continue;
+    }
+    const int r = trial_attempt(l, req, reply, err, err_size);
+    if (r == 0) {
+      if (l->cfg.publish_records) publish_trial(l, req, reply);
+      l->counters.trials++;
+      return 0;
+    }
+    if (r < 0) return -1;
+  }
+  return -1;
+}
+
+/* ---- open / close ---------------------------------------------------------------------------- */
+
+void estimate_lcm_config_default(estimate_lcm_config_t *cfg) {
+  memset(cfg, 0, sizeof *cfg);
+  cfg->ack_timeout_s = 0.5;
+  cfg->motion_timeout_s = 10.0;
+  cfg->outcome_timeout_s = 10.0;
+  cfg->startup_timeout_s = 3.0;
+  cfg->max_resends = 10;
+  cfg->max_trial_attempts = 3;
+  cfg->publish_records = 1;
+}
+
+int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
+                      estimate_backend_t *backend, char *err, size_t err_size) {
+  if (out) *out = NULL;
+  if (!cfg || !out || !backend || !cfg->urdf_path || !cfg->mesh_link || !cfg->yumi_urdf ||
+      cfg->mesh_link->vertex_count == 0 || !(cfg->ack_timeout_s > 0) ||
+      !(cfg->motion_timeout_s > 0) || !(cfg->outcome_timeout_s > 0) ||
+      !(cfg->startup_timeout_s > 0) || cfg->max_resends < 0 || cfg->max_trial_attempts < 1) {
+    snprintf(err, err_size, "estimate_lcm_open: bad argument");
+    return 2;
+  }
+  memset(backend, 0, sizeof *backend);
+  estimate_lcm_t *l = calloc(1, sizeof *l);
+  if (!l) {
+    snprintf(err, err_size, "out of memory");
+    return 1;
+  }
+  l->cfg = *cfg;
+  snprintf(l->url, sizeof l->url, "%s", cfg->lcm_url ? cfg->lcm_url : MSG_LCM_URL_DEFAULT);
+  char *abs = realpath(cfg->urdf_path, NULL);
+  snprintf(l->urdf, sizeof l->urdf, "%s", abs ? abs : cfg->urdf_path);
+  free(abs);
+  if (cfg->object_id && cfg->object_id[0]) {
+    snprintf(l->object_id, sizeof l->object_id, "%s", cfg->object_id);
+  } else {
+    const char *b = strrchr(cfg->urdf_path, '/');
+    snprintf(l->object_id, sizeof l->object_id, "%s", b ? b + 1 : cfg->urdf_path);
+    char *dot = strstr(l->object_id, ".urdf");
+    if (dot) *dot = '\0';
+    if (!l->object_id[0]) snprintf(l->object_id, sizeof l->object_id, "object");
+  }
+  snprintf(l->policy, sizeof l->policy, "%s", cfg->policy ? cfg->policy : "");
+  l->seq = 0;
+  l->sc_seq = 0;
+  l->run_id = wall_us();
+  placement_plan_config_default(&l->plan_cfg);
+  /* the estimator's trials are 1 um pre-penetrated; plan the same touching depth */
+  l->plan_cfg.touch_depth_m = 1e-6;
+  quat_from_rot(l->plan_cfg.block_in_base.rot, l->bib_wxyz);
+  placement_error_t pe = {{0}};
+  placement_status_t ps = placement_arm_load_yumi(&l->arm[0], cfg->yumi_urdf, PLACEMENT_ARM_LEFT, &pe);
+  if (ps == PLACEMENT_OK)
+    ps = placement_arm_load_yumi(&l->arm[1], cfg->yumi_urdf, PLACEMENT_ARM_RIGHT, &pe);
+  if (ps != PLACEMENT_OK) {
+    snprintf(err, err_size, "%s: %s %s", cfg->yumi_urdf, placement_status_str(ps), pe.msg);
+    free(l);
+    return 1;
+  }
+  l->lcm = lcm_create(l->url);
+  if (!l->lcm) {
+    snprintf(err, err_size, "lcm_create(%s) failed (udpm needs a multicast route: "
+             "`ip route add 224.0.0.0/4 dev lo` as root, see scripts/setup.sh)", l->url);
+    free(l);
+    return 1;
+  }
+  msg_sub_config_t c1 = {.type = comlearn_yumi_status_t_get_type_info(), .on_message = on_status,
+                         .user = l, .stats = &l->stats};
+  msg_sub_config_t c2 = {.type = comlearn_object_state_t_get_type_info(),
+                         .on_message = on_object, .user = l, .stats = &l->stats};
+  if (msg_subscribe(l->lcm, MSG_CHANNEL_YUMI_STATUS, &c1, &l->sub_st) != MSG_OK ||
+      msg_subscribe(l->lcm, MSG_CHANNEL_OBJECT_STATE, &c2, &l->sub_os) != MSG_OK) {
+    snprintf(err, err_size, "subscribing on %s failed", l->url);
+    estimate_lcm_close(l);
+    return 1;
+  }
+  if (wait_for(l, have_both, NULL, cfg->startup_timeout_s) != 1) {
+    snprintf(err, err_size, "no YUMI_STATUS / OBJECT_STATE on %s within %.1f s: is comlearn-sim "
+             "(or a YuMi driver) running there? (--spawn-sim starts one)", l->url,
+             cfg->startup_timeout_s);
+    estimate_lcm_close(l);
+    return 1;
+  }
+  l->seq = l->st.last_accepted_seq > 0 ? l->st.last_accepted_seq : 0;
+  l->sc_seq = l->os.sim_control_seq > 0 ? l->os.sim_control_seq : 0;
+  backend->ctx = l;
+  backend->name = "lcm";
+  balance_config_t bc;
+  balance_config_default(&bc);
+  memcpy(backend->base_size_m, bc.base_size_m, sizeof bc.base_size_m);
+  backend->run = lcm_run;
+  *out = l;
+  return 0;
+}
+
+int estimate_lcm_publish_estimate(estimate_lcm_t *l, const estimate_result_t *r,
+                                  double resolution_m, int done) {
+  if (!l || !r) return -1;
+  comlearn_com_estimate_t e;
+  memset(&e, 0, sizeof e);
+  e.utime = wall_us();
+  e.run_id = l->run_id;
+  e.object_id = l->object_id;
+  e.policy = l->policy;
+  e.resolution_m = resolution_m;
+  for (int k = 0; k < 3; ++k) {
+    e.com_estimated_m[k] = r->com_m[k];
+    e.halfwidth_m[k] = r->halfwidth_m[k];
+    e.found[k] = (int8_t)(r->found[k] != 0);
+  }
+  e.trials = r->trial_count > INT32_MAX ? INT32_MAX : (int32_t)r->trial_count;
+  e.done = (int8_t)(done != 0);
+  return comlearn_com_estimate_t_publish(l->lcm, MSG_CHANNEL_COM_ESTIMATE, &e) == 0 ? 0 : -1;
+}
+
+void estimate_lcm_stats(const estimate_lcm_t *l, estimate_lcm_stats_t *out) {
+  *out = l->counters;
+  out->statuses = l->n_st;
+  out->object_states = l->n_os;
+  out->undecodable = msg_stats_rejected(&l->stats);
+}
+
+void estimate_lcm_close(estimate_lcm_t *l) {
+  if (!l) return;
+  if (l->lcm) {
+    msg_unsubscribe(l->lcm, l->sub_st);
+    msg_unsubscribe(l->lcm, l->sub_os);
+    lcm_destroy(l->lcm);
+  }
+  free(l);
+}
+
+/* ---- --spawn-sim ------------------------------------------------------------------------------ */
+
+pid_t estimate_lcm_sim_spawn(const char *exe, const char *url, char *err, size_t err_size) {
+  if (!exe || !url) {
+    snprintf(err, err_size, "spawn: bad argument");
+    return -1;
+  }
+  if (access(exe, X_OK) != 0) {
+    snprintf(err, err_size, "spawn: %s: %s", exe, strerror(errno));
+    return -1;
+  }
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid < 0) {
+    snprintf(err, err_size, "fork: %s", strerror(errno));
+    return -1;
+  }
+  if (pid == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);
+    execl(exe, exe, "--lcm-url", url, "-q", (char *)NULL);
+    _exit(127);
+  }
+  return pid;
+}
+
+int estimate_lcm_sim_stop(pid_t pid, double timeout_s) {
+  if (pid <= 0) return -1;
+  kill(pid, SIGTERM);
+  const double end = now_s() + timeout_s;
+  int ws;
+  for (;;) {
+    const pid_t r = waitpid(pid, &ws, WNOHANG);
+    if (r == pid) return ws;
+    if (r < 0) return -1;
+    if (now_s() >= end) break;
+    struct timespec ts = {0, 5000000};
+    nanosleep(&ts, NULL);
+  }
+  kill(pid, SIGKILL);
+  return waitpid(pid, &ws, 0) == pid ? ws : -1;
+}

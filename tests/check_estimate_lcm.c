@@ -1,0 +1,230 @@
+#define _GNU_SOURCE
+/* check_estimate_lcm: whole estimates over LCM. Each test starts the real comlearn-sim on a udpm
+ * URL of its own (port from the pid and a counter), runs estimate_run through the LCM backend
+ * (YuMi placements planned with lib/placement, commands and states over LCM), and compares with
+ * the truth and with the same estimate through the direct backend, trial by trial. The CLI test
+ * runs `comlearn estimate --spawn-sim` against `--direct`. */
+#include <check.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "comlearn/model.h"
+#include "comlearn/model_inertial.h"
+#include "estimate.h"
+#include "estimate_direct.h"
+#include "estimate_test_util.h"
+#include "estimate_lcm.h"
+
+static char tmpdir[256];
+static unsigned url_counter;
+static pid_t sim_pid = -1;
+
+static void setup(void) {
+  snprintf(tmpdir, sizeof tmpdir, "/tmp/check_estimate_lcm.XXXXXX");
+  ck_assert_ptr_nonnull(mkdtemp(tmpdir));
+}
+
+static void teardown(void) {
+  if (sim_pid > 0) { /* a failed assertion left early (CK_FORK=no) */
+    estimate_lcm_sim_stop(sim_pid, 1.0);
+    sim_pid = -1;
+  }
+  char cmd[512];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+  ck_assert_int_eq(system(cmd), 0);
+}
+
+static void unique_url(char *url, size_t n) {
+  const unsigned port = 7700u + ((unsigned)getpid() * 7u + url_counter++) % 1000u;
+  snprintf(url, n, "udpm://239.255.76.67:%u?ttl=0", port);
+}
+
+static void estimate_direct_urdf(const char *urdf, const model_mesh_t *mesh, estimate_result_t *r) {
+  estimate_direct_t *d = NULL;
+  estimate_backend_t b;
+  char msg[512] = "";
+  ck_assert_msg(estimate_direct_open(urdf, NULL, NULL, &d, &b, msg, sizeof msg) == 0, "%s", msg);
+  estimate_config_t cfg;
+  estimate_config_default(&cfg);
+  estimate_status_t s = estimate_run(mesh, &b, &cfg, r);
+  ck_assert_msg(s == ESTIMATE_OK, "direct %s: %s: %s", urdf, estimate_status_str(s), r->msg);
+  estimate_direct_close(d);
+}
+
+static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estimate_result_t *r,
+                              estimate_lcm_stats_t *stats) {
+  char url[128], msg[512] = "";
+  unique_url(url, sizeof url);
+  sim_pid = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, msg, sizeof msg);
+  ck_assert_msg(sim_pid > 0, "%s", msg);
+  estimate_lcm_config_t lc;
+  estimate_lcm_config_default(&lc);
+  lc.lcm_url = url;
+  lc.urdf_path = urdf;
+  lc.mesh_link = mesh;
+  lc.yumi_urdf = COMLEARN_ASSETS_DIR "/yumi/yumi.urdf";
+  lc.policy = "bisect";
+  estimate_lcm_t *l = NULL;
+  estimate_backend_t b;
+  ck_assert_msg(estimate_lcm_open(&lc, &l, &b, msg, sizeof msg) == 0,
+                "%s (udpm needs a multicast route: `ip route add 224.0.0.0/4 dev lo` as root, "
+                "scripts/setup.sh)", msg);
+  ck_assert_str_eq(b.name, "lcm");
+  estimate_config_t cfg;
+  estimate_config_default(&cfg);
+  estimate_status_t s = estimate_run(mesh, &b, &cfg, r);
+  ck_assert_msg(s == ESTIMATE_OK, "lcm %s: %s: %s", urdf, estimate_status_str(s), r->msg);
+  ck_assert_int_eq(estimate_lcm_publish_estimate(l, r, cfg.resolution_m, 1), 0);
+  estimate_lcm_stats(l, stats);
+  estimate_lcm_close(l);
+  const int ws = estimate_lcm_sim_stop(sim_pid, 2.0);
+  sim_pid = -1;
+  ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 0, "comlearn-sim exit %d", ws);
+}
+
+/* Noiseless, the LCM backend releases exactly where --direct does (up to the rounding of
+ * FK(q) * grasp, ~1e-16 m), so every trial has the same outcome and the same achieved x, and the
+ * estimates agree to that rounding; asserted at 1e-12 m. */
+static void check_agree(const estimate_result_t *d, const estimate_result_t *l) {
+  ck_assert_uint_eq(l->trial_count, d->trial_count);
+  ck_assert_uint_eq(l->stable_trials, d->stable_trials);
+  ck_assert_uint_eq(l->search_count, d->search_count);
+  for (size_t i = 0; i < d->trial_count; ++i) {
+    const estimate_trial_t *a = &d->trial[i], *b = &l->trial[i];
+    ck_assert_int_eq(b->kind, a->kind);
+    ck_assert_int_eq(b->search, a->search);
+    ck_assert_msg(b->outcome == a->outcome, "trial %zu: lcm outcome %d, direct %d", i,
+                  (int)b->outcome, (int)a->outcome);
+    ck_assert_int_eq(b->flagged, a->flagged);
+    ck_assert_msg(fabs(b->x_m - a->x_m) <= 1e-12, "trial %zu: x %.17g vs %.17g", i, b->x_m, a->x_m);
+    for (int k = 0; k < 3; ++k) {
+      ck_assert_double_eq_tol(b->released.position_m[k], a->released.position_m[k], 1e-12);
+      /* the settled pose: same physics from the same release (played back by the simulator) */
+      ck_assert_double_eq_tol(b->settled.position_m[k], a->settled.position_m[k], 1e-9);
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    ck_assert_int_eq(l->found[k], d->found[k]);
+    ck_assert_msg(fabs(l->com_m[k] - d->com_m[k]) <= 1e-12, "component %d: lcm %.17g direct %.17g",
+                  k, l->com_m[k], d->com_m[k]);
+  }
+}
+
+static void run_both(const char *urdf, const double truth_m[3], double tol_m) {
+  model_object_t obj = {0};
+  model_error_t err = {{0}};
+  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  estimate_result_t *d = malloc(sizeof *d), *l = malloc(sizeof *l);
+  ck_assert_ptr_nonnull(d);
+  ck_assert_ptr_nonnull(l);
+  estimate_direct_urdf(urdf, &obj.mesh, d);
+  estimate_lcm_stats_t st;
+  estimate_lcm_urdf(urdf, &obj.mesh, l, &st);
+  for (int k = 0; k < 3; ++k) {
+    ck_assert_msg(l->found[k], "%s: component %d not found (%s)", urdf, k, l->msg);
+    ck_assert_msg(fabs(l->com_m[k] - truth_m[k]) <= tol_m, "%s: component %d %.4f mm off", urdf,
+                  k, 1e3 * (l->com_m[k] - truth_m[k]));
+  }
+  check_agree(d, l);
+  /* every trial answered once; four waypoints and one SIM_CONTROL per trial when nothing is lost */
+  ck_assert_uint_eq(st.trials, l->trial_count);
+  ck_assert_uint_eq(st.trial_restarts, 0);
+  ck_assert_uint_eq(st.commands_sent, 4 * st.trials);
+  ck_assert_uint_eq(st.controls_sent, st.trials);
+  ck_assert_uint_eq(st.undecodable, 0);
+  free(d);
+  free(l);
+  model_object_free(&obj);
+}
+
+START_TEST(box_offset_com_over_lcm) {
+  char urdf[512];
+  snprintf(urdf, sizeof urdf, "%s/box.urdf", tmpdir);
+  model_mass_t exact;
+  write_two_material_box(urdf, &exact);
+  run_both(urdf, exact.com_m, 1e-4);
+}
+END_TEST
+
+START_TEST(rock_over_lcm) {
+  char urdf[512];
+  snprintf(urdf, sizeof urdf, "%s/rocks/rock_1_uneven.urdf", COMLEARN_ASSETS_DIR);
+  model_mass_t truth;
+  model_error_t err = {{0}};
+  ck_assert_msg(model_inertial_load(urdf, NULL, &truth, &err) == MODEL_OK, "%s", err.msg);
+  run_both(urdf, truth.com_m, 2e-4);
+}
+END_TEST
+
+/* Run a command, capture stdout; returns the exit status (or -1). */
+static int run_capture(const char *cmd, char *out, size_t n) {
+  FILE *p = popen(cmd, "r");
+  ck_assert_ptr_nonnull(p);
+  size_t got = fread(out, 1, n - 1, p);
+  out[got] = '\0';
+  const int ws = pclose(p);
+  return WIFEXITED(ws) ? WEXITSTATUS(ws) : -1;
+}
+
+/* The "com_m": [...] of a JSON answer. */
+static void com_of(const char *json, char *com, size_t n) {
+  const char *a = strstr(json, "\"com_m\": [");
+  ck_assert_ptr_nonnull(a);
+  const char *b = strchr(a, ']');
+  ck_assert_ptr_nonnull(b);
+  snprintf(com, n, "%.*s", (int)(b - a + 1), a);
+}
+
+START_TEST(cli_spawn_sim_equals_direct) {
+  static char out_d[1 << 16], out_l[1 << 16];
+  char cmd[1024], url[128], com_d[256], com_l[256];
+  const char *rock = COMLEARN_ASSETS_DIR "/rocks/rock_2_even.urdf";
+  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct --json -q", COMLEARN_BIN, rock);
+  ck_assert_int_eq(run_capture(cmd, out_d, sizeof out_d), 0);
+  unique_url(url, sizeof url);
+  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --spawn-sim --lcm-url '%s' --json -q",
+           COMLEARN_BIN, rock, url);
+  ck_assert_int_eq(run_capture(cmd, out_l, sizeof out_l), 0);
+  ck_assert_ptr_nonnull(strstr(out_l, "\"backend\": \"lcm\""));
+  com_of(out_d, com_d, sizeof com_d);
+  com_of(out_l, com_l, sizeof com_l);
+  ck_assert_str_eq(com_l, com_d); /* %.9g: equal to the digit */
+}
+END_TEST
+
+START_TEST(cli_no_controller) {
+  /* nobody on the URL: exit 1 after the startup wait, with a message, never hanging */
+  char cmd[1024], url[128], out[4096];
+  unique_url(url, sizeof url);
+  snprintf(cmd, sizeof cmd, "'%s' estimate '%s/rocks/rock_1_even.urdf' --lcm-url '%s' -q 2>&1",
+           COMLEARN_BIN, COMLEARN_ASSETS_DIR, url);
+  ck_assert_int_eq(run_capture(cmd, out, sizeof out), 1);
+  ck_assert_ptr_nonnull(strstr(out, "no YUMI_STATUS"));
+  snprintf(cmd, sizeof cmd, "'%s' estimate '%s/rocks/rock_1_even.urdf' --direct --spawn-sim 2>&1",
+           COMLEARN_BIN, COMLEARN_ASSETS_DIR);
+  ck_assert_int_eq(run_capture(cmd, out, sizeof out), 2);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("estimate_lcm");
+  TCase *tc = tcase_create("lcm");
+  tcase_add_checked_fixture(tc, setup, teardown);
+  tcase_set_timeout(tc, 120);
+  tcase_add_test(tc, box_offset_com_over_lcm);
+  tcase_add_test(tc, rock_over_lcm);
+  tcase_add_test(tc, cli_spawn_sim_equals_direct);
+  tcase_add_test(tc, cli_no_controller);
+  suite_add_tcase(s, tc);
+  SRunner *sr = srunner_create(s);
+  srunner_run_all(sr, CK_NORMAL);
+  const int failed = srunner_ntests_failed(sr);
+  srunner_free(sr);
+  return failed == 0 ? EXIT_SUCCESS : EXIT_FAILURE;
+}

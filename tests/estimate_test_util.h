@@ -1,0 +1,37 @@
+/* estimate_test_util.h - fixtures shared by check_estimate and check_estimate_lcm. */
+#ifndef COMLEARN_TESTS_ESTIMATE_TEST_UTIL_H
+#define COMLEARN_TESTS_ESTIMATE_TEST_UTIL_H
+
+#include <check.h>
+#include <stdio.h>
+
+#include "comlearn/model.h"
+#include "comlearn/model_inertial.h"
+
+/* A two-material box 60 x 50 x 40 mm centred at (0.004, -0.003, 0.002): density 1000, and 4000
+ * where x > 0.014 and (second cut) nothing else; its exact inertial (model_mesh_mass_halfspace)
+ * goes into the URDF. */
+static inline void write_two_material_box(const char *path, model_mass_t *truth) {
+  const double lo[3] = {-0.026, -0.028, -0.018}, hi[3] = {0.034, 0.022, 0.022};
+  model_mesh_t box = {0};
+  ck_assert_int_eq(model_mesh_box(lo, hi, &box), MODEL_OK);
+  const model_halfspace_t region = {{1.0, 0.3, -0.2}, 0.012};
+  ck_assert_int_eq(model_mesh_mass_halfspace(&box, 1000.0, &region, 4000.0, truth), MODEL_OK);
+  model_mesh_free(&box);
+  const double(*I)[3] = (const double(*)[3])truth->inertia_kg_m2;
+  FILE *f = fopen(path, "w");
+  ck_assert_ptr_nonnull(f);
+  fprintf(f,
+          "<?xml version=\"1.0\"?>\n<robot name=\"two_material_box\">\n <link name=\"body\">\n"
+          "  <inertial><origin xyz=\"%.17g %.17g %.17g\"/><mass value=\"%.17g\"/>\n"
+          "   <inertia ixx=\"%.17g\" ixy=\"%.17g\" ixz=\"%.17g\" iyy=\"%.17g\" iyz=\"%.17g\" "
+          "izz=\"%.17g\"/></inertial>\n"
+          "  <collision><origin xyz=\"0.004 -0.003 0.002\"/>"
+          "<geometry><box size=\"0.06 0.05 0.04\"/></geometry></collision>\n"
+          " </link>\n</robot>\n",
+          truth->com_m[0], truth->com_m[1], truth->com_m[2], truth->mass_kg, I[0][0], I[0][1],
+          I[0][2], I[1][1], I[1][2], I[2][2]);
+  fclose(f);
+}
+
+#endif
