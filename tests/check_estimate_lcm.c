@@ -132,11 +132,14 @@ static void run_both(const char *urdf, const double truth_m[3], double tol_m) {
                   k, 1e3 * (l->com_m[k] - truth_m[k]));
   }
   check_agree(d, l);
-  /* every trial answered once; four waypoints and one SIM_CONTROL per trial when nothing is lost */
+  /* every trial answered once; four waypoints and one SIM_CONTROL per trial, plus the resends a
+   * loaded machine causes (a command not accepted within 0.5 s is sent again with a new seq; seen
+   * under parallel ctest in the sanitizer build) */
   ck_assert_uint_eq(st.trials, l->trial_count);
   ck_assert_uint_eq(st.trial_restarts, 0);
-  ck_assert_uint_eq(st.commands_sent, 4 * st.trials);
-  ck_assert_uint_eq(st.controls_sent, st.trials);
+  ck_assert_uint_eq(st.commands_sent, 4 * st.trials + st.commands_resent);
+  ck_assert_uint_le(st.commands_resent, st.trials);
+  ck_assert_uint_ge(st.controls_sent, st.trials);
   ck_assert_uint_eq(st.undecodable, 0);
   free(d);
   free(l);
