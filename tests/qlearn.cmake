@@ -8,16 +8,16 @@ comlearn_add_check(check_qlearn
 # defined). The same script must find malloc in a control archive that calls it (first test) and
 # must fail when pointed at that archive as the library (second test, WILL_FAIL): the scan can
 # fail.
-add_library(qlearn_alloc_control STATIC qlearn_alloc_control.c)
-comlearn_strict(qlearn_alloc_control)
+add_library(alloc_scan_control STATIC alloc_scan_control.c)
+comlearn_strict(alloc_scan_control)
 add_test(NAME qlearn_lib_has_no_allocator
   COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM}
           -DLIB=$<TARGET_FILE:comlearn_qlearn>
-          -DCONTROL=$<TARGET_FILE:qlearn_alloc_control>
+          -DCONTROL=$<TARGET_FILE:alloc_scan_control>
           -P ${CMAKE_CURRENT_SOURCE_DIR}/qlearn_alloc_symbols.cmake)
 add_test(NAME qlearn_alloc_scan_can_fail
   COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM}
-          -DLIB=$<TARGET_FILE:qlearn_alloc_control>
+          -DLIB=$<TARGET_FILE:alloc_scan_control>
           -P ${CMAKE_CURRENT_SOURCE_DIR}/qlearn_alloc_symbols.cmake)
 set_tests_properties(qlearn_lib_has_no_allocator qlearn_alloc_scan_can_fail
   PROPERTIES TIMEOUT 60)

@@ -2,8 +2,8 @@
  * scan must fail on it (proof that the scan can fail). Not part of any program. */
 #include <stdlib.h>
 
-void *qlearn_alloc_control_get(size_t n);
-void qlearn_alloc_control_put(void *p);
+void *alloc_scan_control_get(size_t n);
+void alloc_scan_control_put(void *p);
 
-void *qlearn_alloc_control_get(size_t n) { return malloc(n); }
-void qlearn_alloc_control_put(void *p) { free(p); }
+void *alloc_scan_control_get(size_t n) { return malloc(n); }
+void alloc_scan_control_put(void *p) { free(p); }
