@@ -7,45 +7,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli_test_util.h"
+
 #ifndef COMLEARN_BIN
 #error "COMLEARN_BIN must name the comlearn executable"
 #endif
 
 static char tmpdir[256];
-
-/* Run a shell command; capture stdout into out (NUL-terminated); return the exit status. */
-static int run(const char *cmd, char *out, size_t out_size) {
-  FILE *p = popen(cmd, "r");
-  ck_assert_ptr_nonnull(p);
-  size_t n = fread(out, 1, out_size - 1, p);
-  out[n] = '\0';
-  int st = pclose(p);
-  ck_assert(WIFEXITED(st));
-  return WEXITSTATUS(st);
-}
-
-/* The three numbers after "key": [ in a JSON text. */
-static void json_vec(const char *json, const char *key, double v[3]) {
-  char pat[128];
-  snprintf(pat, sizeof pat, "\"%s\": [", key);
-  const char *p = strstr(json, pat);
-  ck_assert_msg(p != NULL, "key %s missing in %s", key, json);
-  p += strlen(pat);
-  char *end;
-  for (int i = 0; i < 3; ++i) {
-    v[i] = strtod(p, &end);
-    ck_assert_msg(end != p, "bad number for %s", key);
-    p = end + 1;
-  }
-}
-
-static double json_num(const char *json, const char *key) {
-  char pat[128];
-  snprintf(pat, sizeof pat, "\"%s\": ", key);
-  const char *p = strstr(json, pat);
-  ck_assert_msg(p != NULL, "key %s missing", key);
-  return strtod(p + strlen(pat), NULL);
-}
 
 /* A 4 x 6 x 2 cm box whose geometry sits at (0.01, -0.02, 0.005) in the link frame, with a true
  * CoM elsewhere (an uneven body) so the truth cannot be confused with the geometry. */

@@ -14,6 +14,7 @@
 #include "estimate.h"
 #include "estimate_direct.h"
 #include "estimate_test_util.h"
+#include "cli_test_util.h"
 
 static char tmpdir[256];
 
@@ -160,41 +161,6 @@ START_TEST(cylinder_axis_not_found) {
 END_TEST
 
 /* ---- the program ---- */
-
-static int run(const char *cmd, char *out, size_t out_size) {
-  FILE *p = popen(cmd, "r");
-  ck_assert_ptr_nonnull(p);
-  size_t n = fread(out, 1, out_size - 1, p);
-  out[n] = '\0';
-  int st = pclose(p);
-  ck_assert(WIFEXITED(st));
-  return WEXITSTATUS(st);
-}
-
-static void json_vec(const char *json, const char *key, double v[3]) {
-  char pat[128];
-  snprintf(pat, sizeof pat, "\"%s\": [", key);
-  const char *p = strstr(json, pat);
-  ck_assert_msg(p != NULL, "key %s missing", key);
-  p += strlen(pat);
-  char *end;
-  for (int i = 0; i < 3; ++i) {
-    v[i] = strtod(p, &end);
-    ck_assert_msg(end != p, "bad number for %s", key);
-    p = end + 1;
-  }
-}
-
-static double json_num(const char *json, const char *key) {
-  char pat[128];
-  snprintf(pat, sizeof pat, "\"%s\": ", key);
-  const char *p = strstr(json, pat);
-  ck_assert_msg(p != NULL, "key %s missing", key);
-  char *end;
-  double v = strtod(p + strlen(pat), &end);
-  ck_assert_msg(end != p + strlen(pat), "bad number for %s", key);
-  return v;
-}
 
 START_TEST(cli_direct_json_truth) {
   static char out[1 << 17];
