@@ -183,22 +183,28 @@ static int drop(daemon_t *d) {
 
 /* Raw handlers: the drop dice first (a dropped message never arrived), then msg_decode's schema
  * check, which counts every buffer that does not decode. */
-static void on_command_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
-  daemon_t *d = user;
+/* One incoming buffer: 1 when it arrived (not dropped) and decoded into msg, else 0 (counted). */
+static int receive(daemon_t *d, const lcm_recv_buf_t *rbuf, const char *channel,
+                   const lcm_type_info_t *type, void *msg) {
   if (drop(d)) {
     d->dropped_in++;
-    return;
+    return 0;
   }
-  comlearn_yumi_command_t cmd;
-  msg_status_t st = msg_decode(comlearn_yumi_command_t_get_type_info(), rbuf->data,
-                               rbuf->data_size, &cmd, &d->stats);
+  msg_status_t st = msg_decode(type, rbuf->data, rbuf->data_size, msg, &d->stats);
   if (st != MSG_OK) {
     sim_undecodable(&d->sim, channel, msg_status_str(st));
     logf_(LOG_DEBUG, "undecodable buffer on %s (%u bytes): %s", channel, rbuf->data_size,
           msg_status_str(st));
-    return;
+    return 0;
   }
   sim_received(&d->sim);
+  return 1;
+}
+
+static void on_command_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
+  daemon_t *d = user;
+  comlearn_yumi_command_t cmd;
+  if (!receive(d, rbuf, channel, comlearn_yumi_command_t_get_type_info(), &cmd)) return;
   int32_t r = sim_command(&d->sim, &cmd);
   if (r != 0) logf_(LOG_DEBUG, "%s", d->sim.error_text);
   comlearn_yumi_command_t_decode_cleanup(&cmd);
@@ -207,20 +213,8 @@ static void on_command_raw(const lcm_recv_buf_t *rbuf, const char *channel, void
 
 static void on_control_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
   daemon_t *d = user;
-  if (drop(d)) {
-    d->dropped_in++;
-    return;
-  }
   comlearn_sim_control_t sc;
-  msg_status_t st = msg_decode(comlearn_sim_control_t_get_type_info(), rbuf->data,
-                               rbuf->data_size, &sc, &d->stats);
-  if (st != MSG_OK) {
-    sim_undecodable(&d->sim, channel, msg_status_str(st));
-    logf_(LOG_DEBUG, "undecodable buffer on %s (%u bytes): %s", channel, rbuf->data_size,
-          msg_status_str(st));
-    return;
-  }
-  sim_received(&d->sim);
+  if (!receive(d, rbuf, channel, comlearn_sim_control_t_get_type_info(), &sc)) return;
   int32_t r = sim_control(&d->sim, &sc);
   logf_(r == 0 ? LOG_INFO : LOG_WARN, "SIM_CONTROL seq %lld action %d object '%s': result %d",
         (long long)sc.seq, (int)sc.action, sc.object_id, (int)r);
