@@ -8,3 +8,14 @@ comlearn_add_check(check_estimate_lcm SOURCES check_estimate_lcm.c
 target_compile_definitions(check_estimate_lcm PRIVATE
   COMLEARN_SIM_EXE="$<TARGET_FILE:comlearn-sim>" COMLEARN_BIN="$<TARGET_FILE:comlearn>")
 add_dependencies(check_estimate_lcm comlearn comlearn-sim)
+
+# check_estimate_faults: the two-material box over LCM under faults (20 % drops both ways, the
+# daemon SIGKILLed and restarted mid-estimate, garbage on the subscribed channels), each equal to
+# --direct trial by trial (docs/estimate.md, "Faults").
+find_package(Threads REQUIRED)
+comlearn_add_check(check_estimate_faults SOURCES check_estimate_faults.c
+  LIBS comlearn_estimate_lcm comlearn_estimate_direct comlearn_estimate comlearn_balance
+       comlearn_model_sim comlearn_model Threads::Threads
+  TIMEOUT 300)
+target_compile_definitions(check_estimate_faults PRIVATE COMLEARN_SIM_EXE="$<TARGET_FILE:comlearn-sim>")
+add_dependencies(check_estimate_faults comlearn-sim)

@@ -232,8 +232,12 @@ static int seq_accepted(const estimate_lcm_t *l, const void *arg) {
   return l->n_st > 0 && l->st.last_accepted_seq >= *(const int64_t *)arg;
 }
 
+/* In position on seq *arg, or the command lost: the accepted seq went back below it (a restarted
+ * controller starts again at -1), so waiting for the motion timeout would be in vain. */
 static int seq_in_position(const estimate_lcm_t *l, const void *arg) {
-  return l->n_st > 0 && l->st.last_accepted_seq == *(const int64_t *)arg && l->st.in_position;
+  const int64_t seq = *(const int64_t *)arg;
+  return l->n_st > 0 && ((l->st.last_accepted_seq == seq && l->st.in_position) ||
+                         l->st.last_accepted_seq < seq);
 }
 
 /* An object state newer than utime *arg. */
@@ -247,7 +251,8 @@ typedef struct {
 
 static int outcome_ready(const estimate_lcm_t *l, const void *arg) {
   const outcome_arg_t *a = arg;
-  if (l->n_os == 0 || l->os.utime <= a->t_release_us || !l->os.tracked) return 0;
+  if (l->n_os == 0 || l->os.utime <= a->t_release_us) return 0;
+  if (!l->os.tracked) return 1; /* the object is gone (the simulator restarted): the caller */
   if (l->os.at_rest && l->os.on_base) return 1;
   if (!l->os.on_base) return 1;
   return l->os.utime > a->t_release_us + a->horizon_us;
@@ -319,9 +324,15 @@ static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t 
     l->counters.commands_sent++;
     if (k > 0) l->counters.commands_resent++;
     int w = wait_for(l, seq_accepted, &c.seq, l->cfg.ack_timeout_s);
-    if (w == 1 && l->st.last_accepted_seq == c.seq)
+    if (w == 1 && l->st.last_accepted_seq == c.seq) {
       w = wait_for(l, seq_in_position, &c.seq, l->cfg.motion_timeout_s);
-    else if (w == 1)
+      if (w == 1 && l->st.last_accepted_seq < c.seq) {
+        logf_(l, "%s waypoint seq %lld: the controller lost it (accepted seq now %lld: "
+              "restarted?)", placement_waypoint_kind_str(wp->kind), (long long)c.seq,
+              (long long)l->st.last_accepted_seq);
+        continue; /* resend at once */
+      }
+    } else if (w == 1)
       w = 0; /* something newer was accepted: not ours; resend */
     if (w < 0) {
       snprintf(err, err_size, "lcm_handle_timeout failed");
@@ -548,6 +559,11 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
       wait_for(l, outcome_ready, &oa, l->cfg.outcome_timeout_s) != 1) {
     snprintf(err, err_size, "no trial outcome on %s within %.1f s", MSG_CHANNEL_OBJECT_STATE,
              l->cfg.outcome_timeout_s);
+    return 1;
+  }
+  if (!l->os.tracked || strcmp(l->os.object_id, l->object_id) != 0) {
+    snprintf(err, err_size, "%s no longer tracked after the release (the simulator restarted?)",
+             l->object_id);
     return 1;
   }
   world_to_block(l, l->os.position_measured_m, l->os.orientation_measured_wxyz, &reply->settled);

@@ -7,6 +7,7 @@
  *   inspect OBJECT.urdf...   what perception knows of an object (geometry only); --truth adds the
  *                            URDF inertial for reporting, read after the geometry.
  *   estimate OBJECT.urdf     learn the CoM from edge placements (cmd_estimate.c).
+ *   watch                    live table of COM_TRIAL / COM_ESTIMATE traffic (cmd_watch.c).
  */
 #define _GNU_SOURCE
 #include <getopt.h>
@@ -18,6 +19,7 @@
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "cmd_estimate.h"
+#include "cmd_watch.h"
 #include "log.h"
 
 enum { EXIT_USAGE = 2 };
@@ -44,6 +46,8 @@ static void usage(FILE *out) {
           "  estimate OBJECT.urdf     learn the center of mass from placements on the edge\n"
           "                           of block B (over LCM with comlearn-sim / a YuMi, or\n"
           "                           --direct: in-process); see `comlearn estimate --help`\n"
+          "  watch                    live table of the trials and estimates on LCM (a run,\n"
+          "                           or an lcm-logplayer replay); see `comlearn watch --help`\n"
           "\n"
           "inspect options:\n"
           "  --link NAME      URDF link to read (default: the root link)\n"
@@ -241,6 +245,7 @@ int main(int argc, char **argv) {
   }
   if (strcmp(cmd, "inspect") == 0) return cmd_inspect(argc - 1, argv + 1);
   if (strcmp(cmd, "estimate") == 0) return cmd_estimate(argc - 1, argv + 1);
+  if (strcmp(cmd, "watch") == 0) return cmd_watch(argc - 1, argv + 1);
   LOG_E("unknown command '%s'", cmd);
   usage(stderr);
   return EXIT_USAGE;
