@@ -167,33 +167,6 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
                 estimate_status_str(s), r->msg, log_buf);
 }
 
-/* As check_estimate_lcm's: outcomes equal trial by trial, x, released poses and the estimate
- * within 1e-12 m, settled poses within 1e-9 m. */
-static void check_agree(const estimate_result_t *d, const estimate_result_t *l) {
-  ck_assert_uint_eq(l->trial_count, d->trial_count);
-  ck_assert_uint_eq(l->stable_trials, d->stable_trials);
-  ck_assert_uint_eq(l->search_count, d->search_count);
-  for (size_t i = 0; i < d->trial_count; ++i) {
-    const estimate_trial_t *a = &d->trial[i], *b = &l->trial[i];
-    ck_assert_int_eq(b->kind, a->kind);
-    ck_assert_int_eq(b->search, a->search);
-    ck_assert_msg(b->outcome == a->outcome, "trial %zu: lcm outcome %d, direct %d", i,
-                  (int)b->outcome, (int)a->outcome);
-    ck_assert_int_eq(b->flagged, a->flagged);
-    ck_assert_msg(fabs(b->x_m - a->x_m) <= 1e-12, "trial %zu: x %.17g vs %.17g", i, b->x_m, a->x_m);
-    for (int k = 0; k < 3; ++k) {
-      ck_assert_double_eq_tol(b->released.position_m[k], a->released.position_m[k], 1e-12);
-      ck_assert_double_eq_tol(b->settled.position_m[k], a->settled.position_m[k], 1e-9);
-    }
-  }
-  for (int k = 0; k < 3; ++k) {
-    ck_assert_int_eq(l->found[k], d->found[k]);
-    ck_assert_msg(l->found[k], "component %d not found", k);
-    ck_assert_msg(fabs(l->com_m[k] - d->com_m[k]) <= 1e-12, "component %d: lcm %.17g direct %.17g",
-                  k, l->com_m[k], d->com_m[k]);
-  }
-}
-
 typedef struct {
   model_object_t obj;
   model_mass_t truth;

@@ -88,34 +88,6 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
   ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 0, "comlearn-sim exit %d", ws);
 }
 
-/* Noiseless, the LCM backend releases exactly where --direct does (up to the rounding of
- * FK(q) * grasp, ~1e-16 m), so every trial has the same outcome and the same achieved x, and the
- * estimates agree to that rounding; asserted at 1e-12 m. */
-static void check_agree(const estimate_result_t *d, const estimate_result_t *l) {
-  ck_assert_uint_eq(l->trial_count, d->trial_count);
-  ck_assert_uint_eq(l->stable_trials, d->stable_trials);
-  ck_assert_uint_eq(l->search_count, d->search_count);
-  for (size_t i = 0; i < d->trial_count; ++i) {
-    const estimate_trial_t *a = &d->trial[i], *b = &l->trial[i];
-    ck_assert_int_eq(b->kind, a->kind);
-    ck_assert_int_eq(b->search, a->search);
-    ck_assert_msg(b->outcome == a->outcome, "trial %zu: lcm outcome %d, direct %d", i,
-                  (int)b->outcome, (int)a->outcome);
-    ck_assert_int_eq(b->flagged, a->flagged);
-    ck_assert_msg(fabs(b->x_m - a->x_m) <= 1e-12, "trial %zu: x %.17g vs %.17g", i, b->x_m, a->x_m);
-    for (int k = 0; k < 3; ++k) {
-      ck_assert_double_eq_tol(b->released.position_m[k], a->released.position_m[k], 1e-12);
-      /* the settled pose: same physics from the same release (played back by the simulator) */
-      ck_assert_double_eq_tol(b->settled.position_m[k], a->settled.position_m[k], 1e-9);
-    }
-  }
-  for (int k = 0; k < 3; ++k) {
-    ck_assert_int_eq(l->found[k], d->found[k]);
-    ck_assert_msg(fabs(l->com_m[k] - d->com_m[k]) <= 1e-12, "component %d: lcm %.17g direct %.17g",
-                  k, l->com_m[k], d->com_m[k]);
-  }
-}
-
 static void run_both(const char *urdf, const double truth_m[3], double tol_m) {
   model_object_t obj = {0};
   model_error_t err = {{0}};

@@ -1,12 +1,15 @@
-/* estimate_test_util.h - fixtures shared by check_estimate and check_estimate_lcm. */
+/* estimate_test_util.h - fixtures shared by check_estimate, check_estimate_lcm and
+ * check_estimate_faults. */
 #ifndef COMLEARN_TESTS_ESTIMATE_TEST_UTIL_H
 #define COMLEARN_TESTS_ESTIMATE_TEST_UTIL_H
 
 #include <check.h>
+#include <math.h>
 #include <stdio.h>
 
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "estimate.h"
 
 /* A two-material box 60 x 50 x 40 mm centred at (0.004, -0.003, 0.002): density 1000, and 4000
  * where x > 0.014 and (second cut) nothing else; its exact inertial (model_mesh_mass_halfspace)
@@ -32,6 +35,34 @@ static inline void write_two_material_box(const char *path, model_mass_t *truth)
           truth->com_m[0], truth->com_m[1], truth->com_m[2], truth->mass_kg, I[0][0], I[0][1],
           I[0][2], I[1][1], I[1][2], I[2][2]);
   fclose(f);
+}
+
+/* Noiseless, the LCM backend releases exactly where --direct does (up to the rounding of
+ * FK(q) * grasp, ~1e-16 m), so every trial has the same outcome and the same achieved x, and the
+ * estimates agree to that rounding; asserted at 1e-12 m. */
+static inline void check_agree(const estimate_result_t *d, const estimate_result_t *l) {
+  ck_assert_uint_eq(l->trial_count, d->trial_count);
+  ck_assert_uint_eq(l->stable_trials, d->stable_trials);
+  ck_assert_uint_eq(l->search_count, d->search_count);
+  for (size_t i = 0; i < d->trial_count; ++i) {
+    const estimate_trial_t *a = &d->trial[i], *b = &l->trial[i];
+    ck_assert_int_eq(b->kind, a->kind);
+    ck_assert_int_eq(b->search, a->search);
+    ck_assert_msg(b->outcome == a->outcome, "trial %zu: lcm outcome %d, direct %d", i,
+                  (int)b->outcome, (int)a->outcome);
+    ck_assert_int_eq(b->flagged, a->flagged);
+    ck_assert_msg(fabs(b->x_m - a->x_m) <= 1e-12, "trial %zu: x %.17g vs %.17g", i, b->x_m, a->x_m);
+    for (int k = 0; k < 3; ++k) {
+      ck_assert_double_eq_tol(b->released.position_m[k], a->released.position_m[k], 1e-12);
+      /* the settled pose: same physics from the same release (played back by the simulator) */
+      ck_assert_double_eq_tol(b->settled.position_m[k], a->settled.position_m[k], 1e-9);
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    ck_assert_int_eq(l->found[k], d->found[k]);
+    ck_assert_msg(fabs(l->com_m[k] - d->com_m[k]) <= 1e-12, "component %d: lcm %.17g direct %.17g",
+                  k, l->com_m[k], d->com_m[k]);
+  }
 }
 
 #endif
