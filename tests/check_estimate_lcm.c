@@ -2,7 +2,8 @@
 /* check_estimate_lcm: whole estimates over LCM. Each test starts the real comlearn-sim on a udpm
  * URL of its own (port from the pid and a counter), runs estimate_run through the LCM backend
  * (YuMi placements planned with lib/placement, commands and states over LCM), and compares with
- * the truth and with the same estimate through the direct backend, trial by trial. The CLI test
+ * the truth and with the same estimate through the direct backend, trial by trial: the
+ * two-material box and every bundled rock (a loop test over assets/rocks). The CLI test
  * runs `comlearn estimate --spawn-sim` against `--direct`. */
 #include <check.h>
 #include <math.h>
@@ -127,9 +128,14 @@ START_TEST(box_offset_com_over_lcm) {
 }
 END_TEST
 
+/* every bundled rock (assets/rocks), one loop iteration each */
+static const char *const rocks[] = {"rock_1_even", "rock_1_uneven", "rock_2_even",
+                                    "rock_2_uneven", "rock_3_even", "rock_3_uneven"};
+#define N_ROCKS ((int)(sizeof rocks / sizeof rocks[0]))
+
 START_TEST(rock_over_lcm) {
   char urdf[512];
-  snprintf(urdf, sizeof urdf, "%s/rocks/rock_1_uneven.urdf", COMLEARN_ASSETS_DIR);
+  snprintf(urdf, sizeof urdf, "%s/rocks/%s.urdf", COMLEARN_ASSETS_DIR, rocks[_i]);
   model_mass_t truth;
   model_error_t err = {{0}};
   ck_assert_msg(model_inertial_load(urdf, NULL, &truth, &err) == MODEL_OK, "%s", err.msg);
@@ -193,7 +199,7 @@ int main(void) {
   tcase_add_checked_fixture(tc, setup, teardown);
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, box_offset_com_over_lcm);
-  tcase_add_test(tc, rock_over_lcm);
+  tcase_add_loop_test(tc, rock_over_lcm, 0, N_ROCKS);
   tcase_add_test(tc, cli_spawn_sim_equals_direct);
   tcase_add_test(tc, cli_no_controller);
   suite_add_tcase(s, tc);

@@ -195,6 +195,8 @@ typedef struct {
   size_t n, next;
   int8_t kind[MAX_TRIALS];
   estimate_trial_reply_t reply[MAX_TRIALS];
+  comlearn_com_trial_t rec[MAX_TRIALS];       /* the logged records (strings cleared) */
+  estimate_trial_request_t req[MAX_TRIALS];   /* what the recomputation asked for */
 } log_backend_t;
 
 static balance_outcome_t outcome_from_msg(int8_t o) {
@@ -219,6 +221,7 @@ static int log_run(void *ctx, const estimate_trial_request_t *req, estimate_tria
     snprintf(err, err_size, "trial %zu: the log has another kind", b->next);
     return -1;
   }
+  b->req[b->next] = *req;
   *reply = b->reply[b->next++];
   return 0;
 }
@@ -233,9 +236,67 @@ static void world_to_block(const placement_pose_t *bib, const double p_w[3], con
   memcpy(out->orientation_wxyz, q_w, sizeof out->orientation_wxyz);
 }
 
+static int same_bits(const double *a, const double *b, size_t n) {
+  return memcmp(a, b, n * sizeof *a) == 0;
+}
+
+/* The estimator-side fields of each logged COM_TRIAL against the recomputation's own request
+ * and trial record for it (the recomputation replays the run exactly, so bit for bit). Returns
+ * how many edge trials were planned outside the flat-patch regime. */
+static int check_estimator_fields(const log_backend_t *lb, const estimate_result_t *res,
+                                  const int *live_flagged) {
+  int planned_off = 0;
+  for (size_t i = 0; i < lb->n; ++i) {
+    const comlearn_com_trial_t *t = &lb->rec[i];
+    const estimate_trial_request_t *q = &lb->req[i];
+    const estimate_trial_t *tr = &res->trial[i];
+    ck_assert_int_eq(t->component, q->component);
+    ck_assert_int_eq(t->direction, q->direction);
+    ck_assert_msg(same_bits(t->target_point_link_m, q->target_link_m, 3) &&
+                      same_bits(t->target_point_link_m, tr->target_link_m, 3),
+                  "trial %zu: target point differs from the estimator's", i);
+    ck_assert(same_bits(t->com_estimated_m, q->com_before_m, 3));
+    ck_assert(same_bits(t->halfwidth_m, q->halfwidth_before_m, 3));
+    ck_assert_int_eq(t->flat_patch != 0, q->flat_patch != 0);
+    ck_assert(same_bits(&t->sideways_margin_m, &q->sideways_margin_m, 1));
+    if (t->kind == COMLEARN_COM_TRIAL_T_KIND_EDGE) {
+      ck_assert_int_ge(tr->search, 0);
+      ck_assert_int_eq(q->search, tr->search);
+      ck_assert_msg(t->component >= 0 && t->component <= 2, "trial %zu: component %d", i,
+                    t->component);
+      ck_assert_msg(t->direction == 1 || t->direction == -1, "trial %zu: direction %d", i,
+                    t->direction);
+      /* the component and sign of the search's test direction */
+      const double *u = res->search[tr->search].dir_link;
+      for (int k = 0; k < 3; ++k) ck_assert(fabs(u[k]) <= fabs(u[t->component]));
+      ck_assert_int_eq(t->direction, u[t->component] >= 0 ? 1 : -1);
+      /* the target point lies on the search's line, at x_m (placement noise aside) */
+      double x = 0.0;
+      for (int k = 0; k < 3; ++k) x += u[k] * t->target_point_link_m[k];
+      ck_assert_msg(fabs(x - tr->x_m) < 1e-3, "trial %zu: target at %.6f, x_m %.6f", i, x,
+                    tr->x_m);
+      /* placement noise: the target point within a millimetre of the edge line at release */
+      ck_assert_msg(fabs(t->target_offset_m) < 1e-3, "trial %zu: target_offset_m %g", i,
+                    t->target_offset_m);
+      /* a trial the live run fed (not flagged) was planned in the flat-patch regime */
+      if (!t->flat_patch) ++planned_off;
+      if (live_flagged && !live_flagged[i])
+        ck_assert_msg(t->flat_patch, "trial %zu: fed, but flat_patch false (margin %g)", i,
+                      t->sideways_margin_m);
+    } else {
+      ck_assert_int_eq(t->component, -1);
+      ck_assert_int_eq(t->direction, 0);
+      ck_assert(!t->flat_patch);
+      ck_assert_int_eq(q->search, -1);
+    }
+  }
+  return planned_off;
+}
+
 /* Reads COM_TRIAL / COM_ESTIMATE of the log (counted decoding) and reruns the estimate from the
  * trials; returns how many bits-equal components there are (0..3) after asserting 1e-12. */
-static int recompute_from_log(const char *log_path, const char *urdf, size_t live_trials) {
+static int recompute_from_log(const char *log_path, const char *urdf, size_t live_trials,
+                              const int *live_flagged) {
   placement_plan_config_t pc;
   placement_plan_config_default(&pc);
   for (int i = 0; i < 3; ++i)
@@ -260,6 +321,8 @@ static int recompute_from_log(const char *log_path, const char *urdf, size_t liv
       ck_assert_uint_lt(lb->n, MAX_TRIALS);
       ck_assert_int_eq(t.trial_index, (int)lb->n); /* none lost, none twice */
       lb->kind[lb->n] = t.kind;
+      lb->rec[lb->n] = t;
+      lb->rec[lb->n].object_id = lb->rec[lb->n].policy = NULL;
       estimate_trial_reply_t *r = &lb->reply[lb->n++];
       r->outcome = outcome_from_msg(t.outcome);
       world_to_block(&pc.block_in_base, t.released_position_m, t.released_orientation_wxyz,
@@ -308,6 +371,10 @@ static int recompute_from_log(const char *log_path, const char *urdf, size_t liv
                   final_e.com_estimated_m[k]);
     bits_equal += memcmp(&res->com_m[k], &final_e.com_estimated_m[k], sizeof(double)) == 0;
   }
+  const int planned_off = check_estimator_fields(lb, res, live_flagged);
+  fprintf(stderr, "check_replay: %s: estimator-side fields of %zu COM_TRIALs equal the "
+          "estimator's; %d edge trials planned outside the flat-patch regime\n", urdf, lb->n,
+          planned_off);
   free(res);
   free(lb);
   model_object_free(&obj);
@@ -397,17 +464,39 @@ static void record_replay(const char *urdf) {
   ck_assert_ptr_nonnull(lp);
   const char *rp = rep;
   long i = 0;
-  char lk[32], lo[32], rk[32], ro[32];
+  char lk[32], lo[32], rk[32], ro[32], rc[32];
+  int *flagged = calloc((size_t)n, sizeof *flagged);
+  ck_assert_ptr_nonnull(flagged);
   for (; json_next_str(&lp, "kind", lk, sizeof lk); ++i) {
     ck_assert(json_next_str(&lp, "outcome", lo, sizeof lo));
+    ck_assert_int_lt(i, n);
+    const char *fl = strstr(lp, "\"flagged\": ");
+    ck_assert_ptr_nonnull(fl);
+    flagged[i] = strncmp(fl + strlen("\"flagged\": "), "true", 4) == 0;
     const char *line = strstr(rp, "{\"type\": \"trial\"");
     ck_assert_msg(line != NULL, "replay has %ld trials, live %ld", i, n);
     ck_assert_int_eq(json_int(line, "trial_index"), i);
     rp = line + 1;
     ck_assert(json_next_str(&rp, "kind", rk, sizeof rk));
+    ck_assert(json_next_str(&rp, "component", rc, sizeof rc));
+    const long dir = json_int(rp, "direction");
     ck_assert(json_next_str(&rp, "outcome", ro, sizeof ro));
     ck_assert_msg(strcmp(ro, lo) == 0, "trial %ld: replayed %s, live %s", i, ro, lo);
     ck_assert_str_eq(rk, strcmp(lk, "stable") == 0 ? "rest" : "edge");
+    /* the estimator-side fields, as watch prints them */
+    const char *fp = strstr(rp, "\"flat_patch\": ");
+    ck_assert_ptr_nonnull(fp);
+    const int flat = strncmp(fp + strlen("\"flat_patch\": "), "true", 4) == 0;
+    if (strcmp(rk, "edge") == 0) {
+      ck_assert_msg(strcmp(rc, "x") == 0 || strcmp(rc, "y") == 0 || strcmp(rc, "z") == 0,
+                    "trial %ld: component %s", i, rc);
+      ck_assert_msg(dir == 1 || dir == -1, "trial %ld: direction %ld", i, dir);
+      if (!flagged[i]) ck_assert_msg(flat, "trial %ld: fed but not flat_patch", i);
+    } else {
+      ck_assert_str_eq(rc, "-");
+      ck_assert_int_eq(dir, 0);
+      ck_assert(!flat);
+    }
   }
   ck_assert_int_eq(i, n);
   ck_assert_ptr_null(strstr(rp, "{\"type\": \"trial\"")); /* none extra */
@@ -415,7 +504,8 @@ static void record_replay(const char *urdf) {
   free(rep);
 
   /* 4. the estimate recomputed from the logged outcomes and poses */
-  const int bits = recompute_from_log(log_path, urdf, (size_t)n);
+  const int bits = recompute_from_log(log_path, urdf, (size_t)n, flagged);
+  free(flagged);
   fprintf(stderr, "check_replay: %s: %ld trials replayed equal; recomputed estimate: %d of 3 "
           "components bit-identical to the logged COM_ESTIMATE\n", urdf, n, bits);
   ck_assert_int_eq(bits, 3);

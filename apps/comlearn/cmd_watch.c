@@ -154,13 +154,19 @@ static void on_trial(const lcm_recv_buf_t *rbuf, const char *channel, const void
   watch_t *w = user;
   const comlearn_com_trial_t *t = msg;
   ++w->trials;
+  /* The estimator-side fields (component, direction, regime) are known iff direction is +-1
+   * (records of an older publisher leave them 0): axis and flat-patch then show "?". A rest check
+   * has neither: "-". */
+  const int edge = t->kind == COMLEARN_COM_TRIAL_T_KIND_EDGE;
+  const int known = t->direction != 0;
+  const char *comp = !edge ? "-" : known ? component_name(t->component) : "?";
   if (w->json) {
     printf("{\"type\": \"trial\", \"run_id\": %" PRId64 ", ", t->run_id);
     json_str("object", t->object_id);
     json_str("policy", t->policy);
     printf("\"trial_index\": %" PRId32 ", \"kind\": \"%s\", \"component\": \"%s\", "
            "\"direction\": %d, \"outcome\": \"%s\", ",
-           t->trial_index, kind_name(t->kind), component_name(t->component), (int)t->direction,
+           t->trial_index, kind_name(t->kind), comp, (int)t->direction,
            outcome_name(t->outcome));
     json_vec("edge_normal_world", t->edge_normal_world, 3);
     printf("\"edge_offset_m\": ");
@@ -190,16 +196,12 @@ static void on_trial(const lcm_recv_buf_t *rbuf, const char *channel, const void
     printf("]}\n");
   } else {
     table_header(w, t->run_id, t->object_id, t->policy);
-    /* flat: the edge trial was in the flat-patch regime; "no" = flagged (approximate). The
-     * estimator-side fields (component, direction, regime) are filled iff direction is +-1; the
-     * LCM backend leaves them 0 for now (docs/estimate.md): shown as "?". */
-    const int edge = t->kind == COMLEARN_COM_TRIAL_T_KIND_EDGE;
-    const int known = t->direction != 0;
+    /* flat: the planned edge trial was in the flat-patch regime; "no": approximate. */
     printf("%06" PRId64 " %-14.14s %5" PRId32 " %4s %4s %-7s %10.4f %8.2f %8.2f %8.2f %8.2f "
            "%8.2f %4s\n",
            (t->run_id % 1000000 + 1000000) % 1000000, t->object_id, t->trial_index,
            kind_name(t->kind),
-           !edge ? "-" : known ? component_name(t->component) : "?",
+           comp,
            outcome_name(t->outcome), 1e3 * t->target_offset_m, 1e3 * t->released_position_m[0],
            1e3 * t->released_position_m[1], 1e3 * t->released_position_m[2],
            quat_angle(t->released_orientation_wxyz) * 180.0 / M_PI,

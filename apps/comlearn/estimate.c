@@ -50,6 +50,7 @@ typedef struct {
   balance_world_t *plan_world;  /* geometry only: B's size and the object's shape for planning */
   balance_object_t *plan_obj;   /* carries uniform-density mass properties, never the truth */
   double guess_m[3];            /* current CoM estimate, link frame */
+  double halfwidth_m[3];        /* its half widths (INFINITY until a solve finds the component) */
   balance_face_t faces[FACE_CAP];
   size_t nfaces;
   balance_regime_t regime;      /* scratch (~4 KiB) */
@@ -88,6 +89,12 @@ static estimate_status_t fail(run_t *run, estimate_status_t s, const char *what)
   return s;
 }
 
+/* The request fields every trial carries for records: the running estimate before it. */
+static void request_common(const run_t *run, estimate_trial_request_t *req) {
+  memcpy(req->com_before_m, run->guess_m, sizeof req->com_before_m);
+  memcpy(req->halfwidth_before_m, run->halfwidth_m, sizeof req->halfwidth_before_m);
+}
+
 /* Run one trial through the backend and log it. */
 static estimate_status_t do_trial(run_t *run, const estimate_trial_request_t *req, int face,
                                   int search, double x_m, estimate_trial_t **logged) {
@@ -105,6 +112,7 @@ static estimate_status_t do_trial(run_t *run, const estimate_trial_request_t *re
   estimate_trial_t *t = &out->trial[out->trial_count++];
   memset(t, 0, sizeof *t);
   t->kind = req->kind;
+  memcpy(t->target_link_m, req->target_link_m, sizeof t->target_link_m);
   t->face = face;
   t->search = search;
   t->x_m = x_m;
@@ -152,6 +160,11 @@ static estimate_status_t stable_check(run_t *run, int face_index, int log_face, 
   memset(&req, 0, sizeof req);
   req.kind = ESTIMATE_TRIAL_STABLE;
   req.edge = BALANCE_EDGE_PX;
+  req.search = -1;
+  req.component = -1;
+  req.direction = 0;
+  memcpy(req.target_link_m, run->guess_m, sizeof req.target_link_m);
+  request_common(run, &req);
   double r[3][3];
   memcpy(req.release.orientation_wxyz, f->orientation_wxyz, sizeof f->orientation_wxyz);
   model_quat_to_rot(f->orientation_wxyz, r);
@@ -203,6 +216,9 @@ static estimate_status_t search_run(run_t *run, int face_index, int log_face, do
   balance_orientation_yawed(run->faces[face_index].orientation_wxyz, yaw_rad, q);
   dir_of(q, u);
   memcpy(sr->dir_link, u, sizeof u);
+  int comp = 0; /* the link axis this search determines most */
+  for (int k = 1; k < 3; ++k)
+    if (fabs(u[k]) > fabs(u[comp])) comp = k;
   /* Range: the object's extent along u (its bounding box in that direction), 1 mm inside at
    * each end: a CoM cannot lie on the hull surface, and a point at the very extreme over the edge
    * leaves nothing of the object over B to set it down on. */
@@ -267,6 +283,19 @@ static estimate_status_t search_run(run_t *run, int face_index, int log_face, do
         snprintf(out->msg, sizeof out->msg, "planning a placement at x = %.6f m: %s", xa,
                  balance_status_str(bs));
         return ESTIMATE_E_GEOMETRY;
+      }
+      req.search = si;
+      req.component = comp;
+      req.direction = u[comp] >= 0.0 ? 1 : -1;
+      memcpy(req.target_link_m, p_link, sizeof p_link);
+      request_common(run, &req);
+      /* the planned pose's regime, as do_trial classifies the released one */
+      req.flat_patch = 0;
+      req.sideways_margin_m = -HUGE_VAL;
+      if (balance_regime_classify(run->mesh, &req.release, run->backend->base_size_m, req.edge,
+                                  run->guess_m, NULL, &run->regime) == BALANCE_OK) {
+        req.flat_patch = run->regime.flat_patch_regime != 0;
+        req.sideways_margin_m = run->regime.chord_margin_m;
       }
       estimate_status_t s = do_trial(run, &req, log_face, si, xa, &t);
       if (s != ESTIMATE_OK) return s;
@@ -407,6 +436,8 @@ static void bound_halfwidths(const run_t *run, qlearn_solve_result_t *res) {
 static void update_guess(run_t *run) {
   qlearn_solve_result_t res;
   if (solve_all(run, &res) != ESTIMATE_OK || res.rank == 0) return;
+  bound_halfwidths(run, &res);
+  for (int k = 0; k < 3; ++k) run->halfwidth_m[k] = res.found[k] ? res.halfwidth_m[k] : INFINITY;
   /* Project: guess += V_r V_r^T (com - guess) over the non-null eigenvectors. */
   double delta[3];
   for (int k = 0; k < 3; ++k) delta[k] = res.com_m[k] - run->guess_m[k];
@@ -502,6 +533,7 @@ static estimate_status_t estimate_body(run_t *run) {
     return fail(run, ESTIMATE_E_GEOMETRY, "mass properties of the mesh");
   memcpy(out->uniform_com_m, uni.com_m, sizeof uni.com_m);
   memcpy(run->guess_m, uni.com_m, sizeof uni.com_m);
+  for (int k = 0; k < 3; ++k) run->halfwidth_m[k] = INFINITY;
 
   balance_config_t bc;
   balance_config_default(&bc);

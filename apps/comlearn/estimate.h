@@ -57,6 +57,21 @@ typedef struct {
   estimate_trial_kind_t kind;
   balance_edge_t edge;       /* ESTIMATE_TRIAL_EDGE only */
   balance_pose_t release;    /* requested release pose, world */
+  /* What the estimator knows of the trial, for records (the LCM backend's COM_TRIAL); a backend
+   * that only runs trials (estimate_direct.c) ignores it. */
+  int search;                /* search index (estimate_result_t.search), -1 for a stable check */
+  int component;             /* link axis (0 x, 1 y, 2 z) the search's direction (dir_link)
+                                determines most: its largest |component|; -1 for a stable check */
+  int direction;             /* sign of dir_link[component] (+1: that link axis points along the
+                                edge's outward normal), 0 for a stable check */
+  double target_link_m[3];   /* link point placed over the edge (stable check: over B's centre) */
+  int flat_patch;            /* the requested pose is in the flat-patch regime (balance_regime_
+                                classify with the running estimate, default thresholds); 0 for a
+                                stable check */
+  double sideways_margin_m;  /* its chord margin [m] (-HUGE_VAL without a chord); 0 for a stable
+                                check */
+  double com_before_m[3];    /* the running CoM estimate before this trial, link frame */
+  double halfwidth_before_m[3]; /* its half widths before this trial (INFINITY: not found yet) */
 } estimate_trial_request_t;
 
 typedef struct {
@@ -108,6 +123,8 @@ typedef struct {
   int face;                 /* index into the face list of estimate_result_t */
   int search;               /* search index for edge tests, -1 for stable checks */
   double x_m;               /* edge tests: the 1-D coordinate placed over the edge */
+  double target_link_m[3];  /* the link point the request placed over the edge (stable checks:
+                               over B's centre); = the request's target_link_m */
   balance_outcome_t outcome;
   int regime;               /* balance_regime_kind_t of the released pose (edge tests), -1 */
   double chord_margin_m;    /* of the released pose (edge tests) */

@@ -494,8 +494,25 @@ static void publish_trial(estimate_lcm_t *l, const estimate_trial_request_t *req
   }
   t.displacement_m = sqrt(dd);
   t.rotation_rad = quat_angle(rep->released.orientation_wxyz, rep->settled.orientation_wxyz);
-  /* Estimator-side fields (component, direction, target point, regime, running estimate) are
-   * not known to a backend: left 0 here (docs/estimate.md). */
+  /* Estimator-side fields, from the request (estimate.h): component (-1 for a rest check),
+   * direction, target point, the planned pose's regime, the running estimate before the trial. */
+  t.component = (int8_t)req->component;
+  t.direction = (int8_t)req->direction;
+  memcpy(t.target_point_link_m, req->target_link_m, sizeof t.target_point_link_m);
+  t.flat_patch = req->kind == ESTIMATE_TRIAL_EDGE && req->flat_patch;
+  t.sideways_margin_m = req->sideways_margin_m;
+  memcpy(t.com_estimated_m, req->com_before_m, sizeof t.com_estimated_m);
+  memcpy(t.halfwidth_m, req->halfwidth_before_m, sizeof t.halfwidth_m);
+  if (req->kind == ESTIMATE_TRIAL_EDGE) {
+    /* the target point at release, beyond the edge line (B's frame: the same distance) */
+    double n[3], d, r[3][3], p = 0.0;
+    balance_edge_line(l->plan_cfg.block_size_m, req->edge, n, &d);
+    model_quat_to_rot(rep->released.orientation_wxyz, r);
+    for (int i = 0; i < 3; ++i)
+      p += n[i] * (rep->released.position_m[i] + r[i][0] * req->target_link_m[0] +
+                   r[i][1] * req->target_link_m[1] + r[i][2] * req->target_link_m[2]);
+    t.target_offset_m = p - d;
+  }
   if (comlearn_com_trial_t_publish(l->lcm, MSG_CHANNEL_COM_TRIAL, &t) != 0)
     logf_(l, "publish %s failed", MSG_CHANNEL_COM_TRIAL);
 }
