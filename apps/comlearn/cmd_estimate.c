@@ -23,6 +23,7 @@
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
 #include "log.h"
+#include "out.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -105,45 +106,19 @@ static void lcm_log(void *ctx, const char *msg) {
   LOG_D("lcm: %s", msg);
 }
 
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static void json_str(const char *v) {
-  putchar('"');
-  for (const char *p = v; *p; ++p) {
-    unsigned char c = (unsigned char)*p;
-    if (c == '"' || c == '\\') printf("\\%c", c);
-    else if (c < 0x20) printf("\\u%04x", c);
-    else putchar(c);
-  }
-  putchar('"');
-}
-
-static void json_num(double v) {
-  if (isfinite(v)) printf("%.9g", v);
-  else printf("null");
-}
-
 static void json_vec(const char *key, const double *v, int n) {
-  printf("\"%s\": [", key);
-  for (int i = 0; i < n; ++i) {
-    if (i) printf(", ");
-    json_num(v[i]);
-  }
-  printf("]");
+  printf("\"%s\": ", key);
+  out_json_array(v, n);
 }
 
 static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res_m,
                        const char *backend, const estimate_result_t *r, double wall_s,
                        const model_mass_t *truth) {
   printf("{\"object\": ");
-  json_str(urdf);
+  out_json_string(urdf, 0);
   printf(", \"policy\": \"%s\", \"backend\": \"%s\", \"resolution_m\": ", policy_name(policy),
          backend);
-  json_num(res_m);
+  out_json_number(res_m);
   printf(", ");
   json_vec("com_m", r->com_m, 3);
   printf(", ");
@@ -154,7 +129,7 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
          r->trial_count, r->stable_trials, r->trial_count - r->stable_trials, r->flagged_trials);
   json_vec("uniform_com_m", r->uniform_com_m, 3);
   printf(", \"rank\": %d, \"chi2\": ", r->rank);
-  json_num(r->chi2);
+  out_json_number(r->chi2);
   printf(", \"wall_s\": %.6f", wall_s);
   if (truth) {
     double e[3];
@@ -165,37 +140,37 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
     json_vec("error_m", e, 3);
   }
   printf(", \"note\": ");
-  json_str(r->msg);
+  out_json_string(r->msg, 0);
   printf(", \"faces\": [");
   for (size_t i = 0; i < r->face_count; ++i) {
     const estimate_face_t *f = &r->face[i];
     printf("%s{", i ? ", " : "");
     json_vec("normal_link", f->normal_link, 3);
     printf(", \"area_m2\": ");
-    json_num(f->area_m2);
+    out_json_number(f->area_m2);
     printf(", \"com_margin_m\": ");
-    json_num(f->com_margin_m);
+    out_json_number(f->com_margin_m);
     printf(", \"stable\": %s}", f->confirmed ? "true" : "false");
   }
   printf("], \"searches\": [");
   for (size_t i = 0; i < r->search_count; ++i) {
     const estimate_search_t *s = &r->search[i];
     printf("%s{\"face\": %d, \"yaw_rad\": ", i ? ", " : "", s->face);
-    json_num(s->yaw_rad);
+    out_json_number(s->yaw_rad);
     printf(", ");
     json_vec("dir_link", s->dir_link, 3);
     printf(", \"chord_margin_m\": ");
-    json_num(s->chord_margin_m);
+    out_json_number(s->chord_margin_m);
     printf(", \"prior_m\": ");
-    json_num(s->prior_m);
+    out_json_number(s->prior_m);
     printf(", \"range_m\": [");
-    json_num(s->range_lo_m);
+    out_json_number(s->range_lo_m);
     printf(", ");
-    json_num(s->range_hi_m);
+    out_json_number(s->range_hi_m);
     printf("], \"c_m\": ");
-    json_num(s->c_m);
+    out_json_number(s->c_m);
     printf(", \"halfwidth_m\": ");
-    json_num(s->halfwidth_m);
+    out_json_number(s->halfwidth_m);
     printf(", \"trials\": %u, \"fed\": %s}", s->trials, s->fed ? "true" : "false");
   }
   printf("], \"trial_log\": [");
@@ -203,7 +178,7 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
     const estimate_trial_t *t = &r->trial[i];
     printf("%s{\"kind\": \"%s\", \"face\": %d, \"search\": %d, \"x_m\": ", i ? ", " : "",
            t->kind == ESTIMATE_TRIAL_STABLE ? "stable" : "edge", t->face, t->search);
-    json_num(t->x_m);
+    out_json_number(t->x_m);
     printf(", \"outcome\": \"%s\", \"regime\": \"%s\", \"flagged\": %s}", outcome_name(t->outcome),
            regime_name(t->regime), t->flagged ? "true" : "false");
   }
@@ -355,9 +330,9 @@ int cmd_estimate(int argc, char **argv) {
     model_object_free(&obj);
     return EXIT_FAILURE;
   }
-  double t0 = now_s();
+  double t0 = out_now_s();
   estimate_status_t es = estimate_run(&obj.mesh, &backend, &cfg, res);
-  double wall = now_s() - t0;
+  double wall = out_now_s() - t0;
   if (cfg.progress) fprintf(stderr, "\n");
   if (lcmb) {
     if (es == ESTIMATE_OK && estimate_lcm_publish_estimate(lcmb, res, cfg.resolution_m, 1) != 0)

@@ -23,6 +23,7 @@
 #include "comlearn/comlearn_com_trial_t.h"
 #include "comlearn/msg.h"
 #include "log.h"
+#include "out.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -68,12 +69,6 @@ typedef struct {
   uint64_t trials, estimates;
 } watch_t;
 
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static const char *kind_name(int8_t k) {
   switch (k) {
     case COMLEARN_COM_TRIAL_T_KIND_EDGE: return "edge";
@@ -103,27 +98,15 @@ static const char *component_name(int8_t c) {
 }
 
 static void json_str(const char *key, const char *v) {
-  printf("\"%s\": \"", key);
-  for (const unsigned char *p = (const unsigned char *)(v ? v : ""); *p; ++p) {
-    if (*p == '"' || *p == '\\') printf("\\%c", *p);
-    else if (*p < 0x20 || *p >= 0x7f) printf("\\u%04x", *p); /* bytes as Latin-1, like lcm-spy */
-    else putchar(*p);
-  }
-  printf("\", ");
-}
-
-static void json_num(double v) {
-  if (isfinite(v)) printf("%.9g", v);
-  else printf("null");
+  printf("\"%s\": ", key);
+  out_json_string(v, 1); /* bytes as Latin-1, like lcm-spy */
+  printf(", ");
 }
 
 static void json_vec(const char *key, const double *v, int n) {
-  printf("\"%s\": [", key);
-  for (int i = 0; i < n; ++i) {
-    if (i) printf(", ");
-    json_num(v[i]);
-  }
-  printf("], ");
+  printf("\"%s\": ", key);
+  out_json_array(v, n);
+  printf(", ");
 }
 
 static void json_bools(const char *key, const int8_t *v, int n) {
@@ -170,28 +153,28 @@ static void on_trial(const lcm_recv_buf_t *rbuf, const char *channel, const void
            outcome_name(t->outcome));
     json_vec("edge_normal_world", t->edge_normal_world, 3);
     printf("\"edge_offset_m\": ");
-    json_num(t->edge_offset_m);
+    out_json_number(t->edge_offset_m);
     printf(", ");
     json_vec("target_point_link_m", t->target_point_link_m, 3);
     printf("\"target_offset_m\": ");
-    json_num(t->target_offset_m);
+    out_json_number(t->target_offset_m);
     printf(", ");
     json_vec("released_position_m", t->released_position_m, 3);
     json_vec("released_orientation_wxyz", t->released_orientation_wxyz, 4);
     json_vec("settled_position_m", t->settled_position_m, 3);
     json_vec("settled_orientation_wxyz", t->settled_orientation_wxyz, 4);
     printf("\"displacement_m\": ");
-    json_num(t->displacement_m);
+    out_json_number(t->displacement_m);
     printf(", \"rotation_rad\": ");
-    json_num(t->rotation_rad);
+    out_json_number(t->rotation_rad);
     printf(", \"flat_patch\": %s, \"sideways_margin_m\": ", t->flat_patch ? "true" : "false");
-    json_num(t->sideways_margin_m);
+    out_json_number(t->sideways_margin_m);
     printf(", ");
     json_vec("com_estimated_m", t->com_estimated_m, 3);
     printf("\"halfwidth_m\": [");
     for (int k = 0; k < 3; ++k) {
       if (k) printf(", ");
-      json_num(t->halfwidth_m[k]);
+      out_json_number(t->halfwidth_m[k]);
     }
     printf("]}\n");
   } else {
@@ -222,7 +205,7 @@ static void on_estimate(const lcm_recv_buf_t *rbuf, const char *channel, const v
     json_str("object", e->object_id);
     json_str("policy", e->policy);
     printf("\"resolution_m\": ");
-    json_num(e->resolution_m);
+    out_json_number(e->resolution_m);
     printf(", ");
     json_vec("com_m", e->com_estimated_m, 3);
     json_vec("halfwidth_m", e->halfwidth_m, 3);
@@ -336,11 +319,11 @@ int cmd_watch(int argc, char **argv) {
 
   /* Tests and scripts wait for this line before they start publishing. */
   LOG_I("listening on %s for %s and %s", url, MSG_CHANNEL_COM_TRIAL, MSG_CHANNEL_COM_ESTIMATE);
-  const double t0 = now_s();
+  const double t0 = out_now_s();
   int rc = EXIT_SUCCESS;
   while (!g_stop && !(w.once && w.done_seen)) {
     if (timeout_s > 0) {
-      const double left = timeout_s - (now_s() - t0);
+      const double left = timeout_s - (out_now_s() - t0);
       if (left <= 0) {
         if (w.once) {
           LOG_E("no final COM_ESTIMATE on %s within %g s", url, timeout_s);

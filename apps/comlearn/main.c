@@ -21,6 +21,7 @@
 #include "cmd_estimate.h"
 #include "cmd_watch.h"
 #include "log.h"
+#include "out.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -111,19 +112,15 @@ fail:
 }
 
 static void json_vec(const char *key, const double v[3], int comma) {
-  printf("\"%s\": [%.9g, %.9g, %.9g]%s", key, v[0], v[1], v[2], comma ? ", " : "");
+  printf("\"%s\": ", key);
+  out_json_array(v, 3);
+  printf("%s", comma ? ", " : "");
 }
 
-/* JSON string with the characters that need it escaped. */
 static void json_str(const char *key, const char *v, int comma) {
-  printf("\"%s\": \"", key);
-  for (const char *p = v; *p; ++p) {
-    unsigned char c = (unsigned char)*p;
-    if (c == '"' || c == '\\') printf("\\%c", c);
-    else if (c < 0x20) printf("\\u%04x", c);
-    else putchar(c);
-  }
-  printf("\"%s", comma ? ", " : "");
+  printf("\"%s\": ", key);
+  out_json_string(v, 0);
+  printf("%s", comma ? ", " : "");
 }
 
 static void print_json(const inspect_result_t *results, size_t n) {
