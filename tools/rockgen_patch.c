@@ -27,21 +27,6 @@ static double polygon_diameter(const double (*h)[2], size_t n) {
   return dia;
 }
 
-static void plane_basis(const double n[3], double u[3], double v[3]) {
-  /* u: the axis least aligned with n, made orthogonal to it. */
-  int m = 0;
-  for (int k = 1; k < 3; ++k) {
-    if (fabs(n[k]) < fabs(n[m])) m = k;
-  }
-  double e[3] = {0, 0, 0};
-  e[m] = 1.0;
-  const double en = dot3(e, n);
-  for (int k = 0; k < 3; ++k) u[k] = e[k] - en * n[k];
-  const double un = sqrt(dot3(u, u));
-  for (int k = 0; k < 3; ++k) u[k] /= un;
-  cross3(n, u, v);
-}
-
 static int cmp_patch(const void *pa, const void *pb) {
   const rockgen_patch_t *a = pa, *b = pb;
   if (a->area_m2 != b->area_m2) return a->area_m2 > b->area_m2 ? -1 : 1;
@@ -150,7 +135,7 @@ model_status_t rockgen_patches_find(const model_mesh_t *mesh, double min_area_m2
     for (int k = 0; k < 3; ++k) p->normal[k] = nsum[k] / nl;
     p->area_m2 = area;
     p->triangle_count = tail;
-    plane_basis(p->normal, p->basis[0], p->basis[1]);
+    model_plane_basis(p->normal, p->basis[0], p->basis[1]);
     /* The patch's own vertices: plane offset, width, diameter. */
     size_t np = 0;
     double hsum = 0.0;

@@ -18,21 +18,6 @@ static void cross3(const double a[3], const double b[3], double c[3]) {
   c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/* In-plane axes u, v with u x v = n: u from the axis least aligned with n. */
-static void plane_basis(const double n[3], double u[3], double v[3]) {
-  int m = 0;
-  for (int k = 1; k < 3; ++k) {
-    if (fabs(n[k]) < fabs(n[m])) m = k;
-  }
-  double e[3] = {0.0, 0.0, 0.0};
-  e[m] = 1.0;
-  const double en = dot3(e, n);
-  for (int k = 0; k < 3; ++k) u[k] = e[k] - en * n[k];
-  const double ul = sqrt(dot3(u, u));
-  for (int k = 0; k < 3; ++k) u[k] /= ul;
-  cross3(n, u, v);
-}
-
 typedef struct {
   double n[3];
   double area;
@@ -70,7 +55,7 @@ static balance_status_t face_analyse(const model_mesh_t *mesh, const double n[3]
   }
   f->offset_m = h;
   double u[3], w[3];
-  plane_basis(n, u, w);
+  model_plane_basis(n, u, w);
   size_t np = 0;
   for (size_t v = 0; v < nv; ++v) {
     if (h - dot3(n, mesh->vertices_m[v]) > cfg->plane_tol_m) continue;

@@ -91,3 +91,20 @@ double model_polygon_margin(const double (*poly)[2], size_t n, const double p[2]
   }
   return -outside;
 }
+
+void model_plane_basis(const double n[3], double u[3], double v[3]) {
+  /* u: the axis least aligned with n, made orthogonal to it; v = n x u. */
+  int m = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (fabs(n[k]) < fabs(n[m])) m = k;
+  }
+  double e[3] = {0.0, 0.0, 0.0};
+  e[m] = 1.0;
+  const double en = e[0] * n[0] + e[1] * n[1] + e[2] * n[2];
+  for (int k = 0; k < 3; ++k) u[k] = e[k] - en * n[k];
+  const double ul = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  for (int k = 0; k < 3; ++k) u[k] /= ul;
+  v[0] = n[1] * u[2] - n[2] * u[1];
+  v[1] = n[2] * u[0] - n[0] * u[2];
+  v[2] = n[0] * u[1] - n[1] * u[0];
+}

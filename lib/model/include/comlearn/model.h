@@ -192,6 +192,10 @@ double model_polygon_width(const double (*poly)[2], size_t count);
  * -HUGE_VAL for fewer than 3 vertices. */
 double model_polygon_margin(const double (*poly)[2], size_t count, const double p[2]);
 
+/* Unit in-plane axes u, v of the plane with unit normal n, u x v = n: u from the coordinate axis
+ * least aligned with n, made orthogonal to it. For projecting points onto a plane (u, v). */
+void model_plane_basis(const double n[3], double u[3], double v[3]);
+
 /* The rotation matrix of a unit quaternion (w, x, y, z): rot * v rotates v. The quaternion is
  * not normalised here. */
 void model_quat_to_rot(const double q_wxyz[4], double rot[3][3]);
