@@ -8,6 +8,8 @@
  *                            URDF inertial for reporting, read after the geometry.
  *   estimate OBJECT.urdf     learn the CoM from edge placements (cmd_estimate.c).
  *   watch                    live table of COM_TRIAL / COM_ESTIMATE traffic (cmd_watch.c).
+ *   stack OBJECT.urdf...     plan and simulate a stack on the objects' CoMs (cmd_stack.c).
+ *   experiments OBJECT.urdf... the paper's Table I and Fig. 2 (cmd_experiments.c).
  */
 #define _GNU_SOURCE
 #include <getopt.h>
@@ -19,6 +21,8 @@
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "cmd_estimate.h"
+#include "cmd_experiments.h"
+#include "cmd_stack.h"
 #include "cmd_watch.h"
 #include "log.h"
 #include "out.h"
@@ -49,6 +53,11 @@ static void usage(FILE *out) {
           "                           --direct: in-process); see `comlearn estimate --help`\n"
           "  watch                    live table of the trials and estimates on LCM (a run,\n"
           "                           or an lcm-logplayer replay); see `comlearn watch --help`\n"
+          "  stack OBJECT.urdf...     plan a stack on the objects' CoMs (learned, bounding-box\n"
+          "                           center or true) and simulate it for 5 s; see\n"
+          "                           `comlearn stack --help`\n"
+          "  experiments              the paper's Table I and Fig. 2 for every rock and policy,\n"
+          "                           noiseless and noisy; see `comlearn experiments --help`\n"
           "\n"
           "inspect options:\n"
           "  --link NAME      URDF link to read (default: the root link)\n"
@@ -243,6 +252,8 @@ int main(int argc, char **argv) {
   if (strcmp(cmd, "inspect") == 0) return cmd_inspect(argc - 1, argv + 1);
   if (strcmp(cmd, "estimate") == 0) return cmd_estimate(argc - 1, argv + 1);
   if (strcmp(cmd, "watch") == 0) return cmd_watch(argc - 1, argv + 1);
+  if (strcmp(cmd, "stack") == 0) return cmd_stack(argc - 1, argv + 1);
+  if (strcmp(cmd, "experiments") == 0) return cmd_experiments(argc - 1, argv + 1);
   LOG_E("unknown command '%s'", cmd);
   usage(stderr);
   return EXIT_USAGE;

@@ -1,0 +1,1 @@
+# `comlearn experiments`: the paper tables and figures (tests added with the implementation).

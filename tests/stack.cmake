@@ -1,0 +1,1 @@
+# `comlearn stack`: planner, simulation, CLI (tests added with the implementation).
