@@ -1,11 +1,945 @@
-/* PLACEHOLDER: replaced by the implementation. */
+/*
+ * cmd_experiments.c - `comlearn experiments OBJECT.urdf...`: the paper's Table I and Fig. 2 for
+ * every rock and policy, noiseless and with placement / pose noise (docs/experiments.md).
+ *
+ * Each run is one `comlearn estimate`: geometry in, trials through a backend (noiseless: --direct
+ * or LCM to a running comlearn-sim; noisy: always the direct backend with comlearn-sim's noise
+ * and seeding), estimate out. A small decorator backend records the running estimate the
+ * estimator reports before every trial (estimate_trial_request_t.com_before_m) for Fig. 2. The
+ * URDF <inertial> is read only after a rock's runs, for the report (as `estimate --truth`).
+ */
+#define _GNU_SOURCE
 #include "cmd_experiments.h"
 
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <unistd.h>
+
+#include "comlearn/model.h"
+#include "comlearn/model_inertial.h"
+#include "estimate.h"
+#include "estimate_direct.h"
+#include "estimate_lcm.h"
+#include "experiments_svg.h"
 #include "log.h"
+#include "out.h"
+
+enum { EXIT_USAGE = 2, MAX_POLICIES = 4, MAX_SEEDS = 1000 };
+
+/* The paper's result as DESIGN.md states it (McGovern, Mao & Xiao, IROS 2019, Table I: three
+ * even rocks, Gazebo + ODE + YuMi). Only the summary is given there: no per-cell numbers. */
+#define PAPER_ROCKS 3
+#define PAPER_COMPONENTS 9
+#define PAPER_NA 2
+#define PAPER_ERR_MIN_MM 0.1
+#define PAPER_ERR_MAX_MM 4.4
+#define PAPER_ERR_MEAN_MM 1.5
+
+static const qlearn_policy_kind_t all_policies[MAX_POLICIES] = {
+    QLEARN_POLICY_PAPER_QTABLE, QLEARN_POLICY_PAPER_MLP, QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA};
+
+static const char *policy_name(qlearn_policy_kind_t k) {
+  switch (k) {
+    case QLEARN_POLICY_BISECT: return "bisect";
+    case QLEARN_POLICY_PBA: return "pba";
+    case QLEARN_POLICY_PAPER_QTABLE: return "paper-qtable";
+    case QLEARN_POLICY_PAPER_MLP: return "paper-mlp";
+  }
+  return "?";
+}
+
+/* One trial as the estimator asked for it: the running estimate before it, and what came of it. */
+typedef struct {
+  int kind;      /* estimate_trial_kind_t */
+  int component; /* -1 for a stable check */
+  int outcome;   /* balance_outcome_t; -1 when the backend failed */
+  double com_before_m[3];
+  double halfwidth_before_m[3];
+} exp_step_t;
+
+/* The decorator backend: records each request, forwards it to the inner backend. */
+typedef struct {
+  const estimate_backend_t *inner;
+  exp_step_t step[ESTIMATE_MAX_TRIALS];
+  size_t n;
+} recorder_t;
+
+static int recorder_run(void *ctx, const estimate_trial_request_t *req,
+                        estimate_trial_reply_t *reply, char *err, size_t err_size) {
+  recorder_t *r = ctx;
+  exp_step_t *s = r->n < ESTIMATE_MAX_TRIALS ? &r->step[r->n++] : NULL;
+  int rc = r->inner->run(r->inner->ctx, req, reply, err, err_size);
+  if (s) {
+    s->kind = (int)req->kind;
+    s->component = req->component;
+    s->outcome = rc == 0 ? (int)reply->outcome : -1;
+    memcpy(s->com_before_m, req->com_before_m, sizeof s->com_before_m);
+    memcpy(s->halfwidth_before_m, req->halfwidth_before_m, sizeof s->halfwidth_before_m);
+  }
+  return rc;
+}
+
+typedef struct {
+  size_t rock;
+  qlearn_policy_kind_t policy;
+  int noisy;
+  uint64_t seed;               /* noisy runs: the noise seed (and the MLP's) */
+  const char *backend;         /* "direct" / "lcm" */
+  double resolution_m;         /* what the estimator ran with */
+  double noise_sigma_m;        /* estimate_config_t.noise_sigma_m */
+  estimate_status_t status;
+  char note[512];
+  size_t trials, stable_trials, flagged_trials;
+  size_t nsearch;
+  uint32_t search_trials[ESTIMATE_MAX_SEARCHES]; /* edge trials of each search */
+  double com_m[3], halfwidth_m[3];
+  int found[3];
+  double error_m[3];           /* com - truth; NAN when not found or no truth */
+  double wall_s;
+  exp_step_t *steps;           /* nsteps, heap */
+  size_t nsteps;
+} exp_run_t;
+
+typedef struct {
+  const char *path;
+  char stem[128];
+  double bbox_center_m[3];
+  double uniform_com_m[3];
+  int have_truth;
+  double truth_m[3];
+  int uniform_density;         /* truth within 1 um of the uniform-density CoM (like the paper's) */
+} exp_rock_t;
+
+typedef struct {
+  const char *policies_arg;
+  qlearn_policy_kind_t policy[MAX_POLICIES];
+  int npolicies;
+  int seeds;
+  double placement_noise_m, pose_noise_m, resolution_m;
+  const char *lcm_url, *out_dir;
+  int json, quiet;
+} exp_opts_t;
+
+static void usage(FILE *out) {
+  fprintf(out,
+          "usage: comlearn experiments OBJECT.urdf... [options]\n"
+          "\n"
+          "Reproduces the paper's Table I and Fig. 2: estimates every object's CoM with every\n"
+          "policy, noiseless and with placement / pose noise, and compares with the URDF\n"
+          "<inertial> (read after each estimate, for the report only). docs/experiments.md.\n"
+          "\n"
+          "options:\n"
+          "  --policies LIST          comma list of paper-qtable, paper-mlp, bisect, pba\n"
+          "                           (default: paper-qtable,paper-mlp,bisect,pba)\n"
+          "  --seeds N                noisy runs per object and policy, seeds 1..N, 0..%d;\n"
+          "                           0: noiseless only (default: 5)\n"
+          "  --placement-noise-mm S   std. dev. of the horizontal release offset of noisy runs,\n"
+          "                           0..100 (default: 0.5)\n"
+          "  --pose-noise-mm S        std. dev. of the perceived settled position of noisy runs,\n"
+          "                           0..100 (default: 0.2)\n"
+          "  --resolution-mm R        search resolution in mm, 0.001..10 (default: 0.1); noisy\n"
+          "                           PBA runs use max(R, placement noise)\n"
+          "  --lcm-url URL            run the noiseless estimates over LCM with YuMi placement\n"
+          "                           against a comlearn-sim already running there (default:\n"
+          "                           in-process, as `estimate --direct`); noisy runs are\n"
+          "                           always in-process\n"
+          "  --out DIR                write DIR/table.md, DIR/experiments.json and\n"
+          "                           DIR/fig2_<object>.svg (default: no files)\n"
+          "  --json                   print the JSON on stdout instead of the table (default: off)\n"
+          "  -v, --verbose            log debug messages on stderr (default: info)\n"
+          "  -q, --quiet              log errors only; no progress (default: one line per run)\n"
+          "  -h, --help               show this help\n"
+          "\n"
+          "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n",
+          MAX_SEEDS);
+}
+
+/* A number in [lo, hi] or -1 with a message naming the option. */
+static int parse_mm(const char *opt, const char *arg, double lo, double hi, double *out_mm) {
+  char *end;
+  errno = 0;
+  double v = strtod(arg, &end);
+  if (end == arg || *end != '\0' || errno != 0 || !isfinite(v) || v < lo || v > hi) {
+    LOG_E("%s: '%s' is not a number in [%g, %g]", opt, arg, lo, hi);
+    return -1;
+  }
+  *out_mm = v;
+  return 0;
+}
+
+static int parse_policies(const char *arg, exp_opts_t *o) {
+  char buf[256];
+  if (strlen(arg) >= sizeof buf) {
+    LOG_E("--policies: list too long");
+    return -1;
+  }
+  snprintf(buf, sizeof buf, "%s", arg);
+  o->npolicies = 0;
+  char *save = NULL;
+  for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+    int hit = -1;
+    for (int i = 0; i < MAX_POLICIES; ++i)
+      if (strcmp(tok, policy_name(all_policies[i])) == 0) hit = i;
+    if (hit < 0) {
+      LOG_E("--policies: '%s' is not one of paper-qtable, paper-mlp, bisect, pba", tok);
+      return -1;
+    }
+    for (int i = 0; i < o->npolicies; ++i)
+      if (o->policy[i] == all_policies[hit]) {
+        LOG_E("--policies: '%s' is listed twice", tok);
+        return -1;
+      }
+    o->policy[o->npolicies++] = all_policies[hit];
+  }
+  if (o->npolicies == 0) {
+    LOG_E("--policies: empty list");
+    return -1;
+  }
+  return 0;
+}
+
+static void lcm_log(void *ctx, const char *msg) {
+  (void)ctx;
+  LOG_D("lcm: %s", msg);
+}
+
+static void stem_of(const char *path, char *out, size_t size) {
+  const char *b = strrchr(path, '/');
+  b = b ? b + 1 : path;
+  size_t n = strlen(b);
+  if (n > 5 && strcmp(b + n - 5, ".urdf") == 0) n -= 5;
+  if (n >= size) n = size - 1;
+  memcpy(out, b, n);
+  out[n] = '\0';
+  for (char *p = out; *p; ++p) /* safe in a file name */
+    if (!((*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || (*p >= '0' && *p <= '9') ||
+          *p == '_' || *p == '-' || *p == '.'))
+      *p = '_';
+}
+
+/* ---- one run -------------------------------------------------------------------------------- */
+
+/* Run one estimate. Returns 0 (the run is recorded, even when the estimator gave up: status),
+ * 1 runtime failure of the machinery (backend could not open, out of memory), 2 bad input. */
+static int run_one(const exp_opts_t *o, const exp_rock_t *rock, const model_object_t *obj,
+                   recorder_t *rec, estimate_result_t *res, exp_run_t *run) {
+  estimate_config_t cfg;
+  estimate_config_default(&cfg);
+  cfg.policy = run->policy;
+  cfg.resolution_m = o->resolution_m;
+  if (run->noisy) {
+    cfg.seed = run->seed;
+    if (run->policy == QLEARN_POLICY_PBA && o->placement_noise_m > 0.0) {
+      /* outcomes are probit in the placement error along the edge normal (docs/experiments.md) */
+      cfg.noise_sigma_m = o->placement_noise_m;
+      cfg.resolution_m = fmax(o->resolution_m, o->placement_noise_m);
+    }
+  }
+  run->resolution_m = cfg.resolution_m;
+  run->noise_sigma_m = cfg.noise_sigma_m;
+
+  char err[512] = "";
+  estimate_direct_t *sim = NULL;
+  estimate_lcm_t *lcmb = NULL;
+  estimate_backend_t inner;
+  int rc;
+  if (!run->noisy && o->lcm_url) {
+    estimate_lcm_config_t lc;
+    estimate_lcm_config_default(&lc);
+    lc.lcm_url = o->lcm_url;
+    lc.urdf_path = rock->path;
+    lc.mesh_link = &obj->mesh;
+    lc.yumi_urdf = COMLEARN_YUMI_URDF;
+    lc.policy = policy_name(run->policy);
+    lc.log = lcm_log;
+    rc = estimate_lcm_open(&lc, &lcmb, &inner, err, sizeof err);
+  } else {
+    rc = estimate_direct_open(rock->path, NULL, NULL, &sim, &inner, err, sizeof err);
+    if (rc == 0 && run->noisy &&
+        estimate_direct_set_noise(sim, run->seed, o->placement_noise_m, o->pose_noise_m) != 0) {
+      snprintf(err, sizeof err, "noise out of range");
+      rc = 2;
+    }
+  }
+  if (rc != 0) {
+    LOG_E("%s: %s", rock->path, err);
+    estimate_direct_close(sim);
+    estimate_lcm_close(lcmb);
+    return rc;
+  }
+  run->backend = inner.name;
+  rec->inner = &inner;
+  rec->n = 0;
+  estimate_backend_t deco = inner;
+  deco.ctx = rec;
+  deco.run = recorder_run;
+
+  double t0 = out_now_s();
+  run->status = estimate_run(&obj->mesh, &deco, &cfg, res);
+  run->wall_s = out_now_s() - t0;
+  if (lcmb && run->status == ESTIMATE_OK &&
+      estimate_lcm_publish_estimate(lcmb, res, cfg.resolution_m, 1) != 0)
+    LOG_W("publishing COM_ESTIMATE failed");
+  estimate_direct_close(sim);
+  estimate_lcm_close(lcmb);
+
+  snprintf(run->note, sizeof run->note, "%s", res->msg);
+  run->trials = res->trial_count;
+  run->stable_trials = res->stable_trials;
+  run->flagged_trials = res->flagged_trials;
+  run->nsearch = res->search_count;
+  for (size_t i = 0; i < res->search_count; ++i) run->search_trials[i] = res->search[i].trials;
+  for (int k = 0; k < 3; ++k) {
+    run->found[k] = run->status == ESTIMATE_OK && res->found[k];
+    run->com_m[k] = res->com_m[k];
+    run->halfwidth_m[k] = run->found[k] ? res->halfwidth_m[k] : INFINITY;
+    run->error_m[k] = NAN;
+  }
+  run->nsteps = rec->n;
+  run->steps = malloc((rec->n ? rec->n : 1) * sizeof *run->steps);
+  if (!run->steps) {
+    LOG_E("out of memory");
+    return 1;
+  }
+  memcpy(run->steps, rec->step, rec->n * sizeof *run->steps);
+  if (run->status == ESTIMATE_E_BACKEND || run->status == ESTIMATE_E_NOMEM) {
+    LOG_E("%s: %s: %s", rock->path, estimate_status_str(run->status), res->msg);
+    return 1;
+  }
+  return 0;
+}
+
+/* ---- statistics ----------------------------------------------------------------------------- */
+
+typedef struct {
+  size_t runs, failed;
+  size_t comps, found, errs; /* components asked, found, found with a truth to compare */
+  double err_sum, err_sq, err_max;
+  double *err;               /* |error| of each found component (for the 95th percentile) */
+  size_t covered;            /* found components whose |error| <= reported half width */
+  double hw_sum;
+  double trials_sum, trials_sq;
+  double wall_sum;
+} exp_stats_t;
+
+static int dbl_cmp(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return x < y ? -1 : x > y ? 1 : 0;
+}
+
+/* Stats of the runs of one policy; noisy selects the noisy or the noiseless runs; only_uniform:
+ * only rocks with uniform density. err must hold 3 * nruns values. */
+static void stats_of(const exp_run_t *runs, size_t nruns, const exp_rock_t *rocks,
+                     qlearn_policy_kind_t policy, int noisy, int only_uniform, double *err,
+                     exp_stats_t *st) {
+  memset(st, 0, sizeof *st);
+  st->err = err;
+  for (size_t i = 0; i < nruns; ++i) {
+    const exp_run_t *r = &runs[i];
+    if (r->policy != policy || r->noisy != noisy) continue;
+    if (only_uniform && !rocks[r->rock].uniform_density) continue;
+    ++st->runs;
+    if (r->status != ESTIMATE_OK) ++st->failed;
+    st->trials_sum += (double)r->trials;
+    st->trials_sq += (double)r->trials * (double)r->trials;
+    st->wall_sum += r->wall_s;
+    for (int k = 0; k < 3; ++k) {
+      ++st->comps;
+      if (!r->found[k]) continue;
+      ++st->found;
+      if (!isfinite(r->error_m[k])) continue;
+      double e = fabs(r->error_m[k]);
+      st->err[st->errs++] = e;
+      st->err_sum += e;
+      st->err_sq += e * e;
+      if (e > st->err_max) st->err_max = e;
+      st->hw_sum += r->halfwidth_m[k];
+      if (e <= r->halfwidth_m[k]) ++st->covered;
+    }
+  }
+  qsort(st->err, st->errs, sizeof *st->err, dbl_cmp);
+}
+
+static double mean_of(double sum, size_t n) { return n ? sum / (double)n : NAN; }
+static double sd_of(double sum, double sq, size_t n) {
+  if (n < 2) return n ? 0.0 : NAN;
+  double m = sum / (double)n, v = (sq - (double)n * m * m) / (double)(n - 1);
+  return v > 0.0 ? sqrt(v) : 0.0;
+}
+/* Nearest-rank percentile of sorted values. */
+static double pct_of(const double *v, size_t n, double p) {
+  if (!n) return NAN;
+  size_t r = (size_t)ceil(p * (double)n);
+  if (r < 1) r = 1;
+  if (r > n) r = n;
+  return v[r - 1];
+}
+
+/* ---- the table (markdown) --------------------------------------------------------------------- */
+
+static void md_mm(FILE *f, double v_m, int digits) {
+  if (isfinite(v_m)) fprintf(f, " %.*f |", digits, 1e3 * v_m);
+  else fprintf(f, " N/A |");
+}
+
+static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
+                        const exp_run_t *runs, size_t nruns, double *scratch, double wall_s) {
+  const char *backend = o->lcm_url ? "LCM (YuMi placement, comlearn-sim)" : "direct (in-process)";
+  fprintf(f, "# comlearn experiments\n\n");
+  fprintf(f, "%zu objects, policies:", nrocks);
+  for (int p = 0; p < o->npolicies; ++p) fprintf(f, "%s %s", p ? "," : "", policy_name(o->policy[p]));
+  fprintf(f, "; resolution %.3g mm; %.1f s wall.\n\n", 1e3 * o->resolution_m, wall_s);
+
+  fprintf(f, "## Table I: noiseless, %s\n\n", backend);
+  fprintf(f, "CoM in mm relative to the bounding-box center (the paper's reference); learned value, "
+             "|error| against the URDF <inertial>. N/A: the component was not found. `trials`: "
+             "every placement of the run (edge trials of each search + stable-pose checks); the "
+             "searches run along oblique directions of the object, so a component's trials are "
+             "not separable.\n\n");
+  fprintf(f, "| object | axis | true |");
+  for (int p = 0; p < o->npolicies; ++p) fprintf(f, " %s | \\|err\\| |", policy_name(o->policy[p]));
+  fprintf(f, "\n|---|---|---:|");
+  for (int p = 0; p < o->npolicies; ++p) fprintf(f, "---:|---:|");
+  fprintf(f, "\n");
+  for (size_t ri = 0; ri < nrocks; ++ri) {
+    const exp_rock_t *rk = &rocks[ri];
+    for (int k = 0; k <= 3; ++k) {
+      if (k < 3) {
+        fprintf(f, "| %s | %c |", rk->stem, "xyz"[k]);
+        md_mm(f, rk->have_truth ? rk->truth_m[k] - rk->bbox_center_m[k] : NAN, 2);
+      } else {
+        fprintf(f, "| %s | trials | |", rk->stem);
+      }
+      for (int p = 0; p < o->npolicies; ++p) {
+        const exp_run_t *r = NULL;
+        for (size_t i = 0; i < nruns && !r; ++i)
+          if (runs[i].rock == ri && runs[i].policy == o->policy[p] && !runs[i].noisy) r = &runs[i];
+        if (!r) {
+          fprintf(f, " | |");
+        } else if (k == 3) {
+          fprintf(f, " %zu (", r->trials);
+          for (size_t i = 0; i < r->nsearch; ++i)
+            fprintf(f, "%s%u", i ? "+" : "", r->search_trials[i]);
+          fprintf(f, " + %zu) | %s |", r->stable_trials,
+                  r->status == ESTIMATE_OK ? "" : estimate_status_str(r->status));
+        } else {
+          md_mm(f, r->found[k] ? r->com_m[k] - rk->bbox_center_m[k] : NAN, 2);
+          md_mm(f, r->found[k] ? fabs(r->error_m[k]) : NAN, 3);
+        }
+      }
+      fprintf(f, "\n");
+    }
+  }
+
+  fprintf(f, "\n### Summary, noiseless\n\n");
+  fprintf(f, "| policy | objects | mean \\|err\\| (mm) | max \\|err\\| (mm) | found | "
+             "trials per object (mean) | wall per object (s) |\n|---|---|---:|---:|---:|---:|---:|\n");
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int p = 0; p < o->npolicies; ++p) {
+      exp_stats_t st;
+      stats_of(runs, nruns, rocks, o->policy[p], 0, pass, scratch, &st);
+      if (!st.runs) continue;
+      fprintf(f, "| %s | %s%zu | %.3f | %.3f | %zu of %zu | %.1f | %.3f |\n",
+              policy_name(o->policy[p]), pass ? "uniform-density: " : "all: ", st.runs,
+              1e3 * mean_of(st.err_sum, st.errs), 1e3 * st.err_max, st.found, st.comps,
+              mean_of(st.trials_sum, st.runs), mean_of(st.wall_sum, st.runs));
+    }
+  }
+  fprintf(f, "| paper (McGovern et al., Table I; Gazebo + ODE + YuMi) | even: %d | %.1f | %.1f "
+             "(min %.1f) | %d of %d (%d N/A) | not given | not given |\n",
+          PAPER_ROCKS, PAPER_ERR_MEAN_MM, PAPER_ERR_MAX_MM, PAPER_ERR_MIN_MM,
+          PAPER_COMPONENTS - PAPER_NA, PAPER_COMPONENTS, PAPER_NA);
+  fprintf(f, "\nThe paper's numbers are its summary as DESIGN.md states it (per-cell values are not "
+             "given there). `uniform-density`: objects whose true CoM is within 1 um of the "
+             "mesh's uniform-density CoM, like the paper's even rocks.\n");
+
+  if (o->seeds <= 0) return;
+  fprintf(f, "\n## With noise: placement %.3g mm, pose %.3g mm (std. dev.), seeds 1..%d, in-process\n\n",
+          1e3 * o->placement_noise_m, 1e3 * o->pose_noise_m, o->seeds);
+  fprintf(f, "Over objects x seeds per policy. |err| statistics over the found components; "
+             "coverage: fraction of found components whose |error| is within the reported half "
+             "width. Noisy PBA assumes probit outcomes with sigma = the placement noise and runs "
+             "at resolution max(R, sigma).\n\n");
+  fprintf(f, "| policy | runs | resolution (mm) | mean \\|err\\| +- sd (mm) | p95 \\|err\\| (mm) | "
+             "worst (mm) | found | mean half width (mm) | coverage | trials per object | "
+             "failed runs |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (int p = 0; p < o->npolicies; ++p) {
+    exp_stats_t st;
+    stats_of(runs, nruns, rocks, o->policy[p], 1, 0, scratch, &st);
+    if (!st.runs) continue;
+    double res = o->resolution_m;
+    if (o->policy[p] == QLEARN_POLICY_PBA && o->placement_noise_m > res) res = o->placement_noise_m;
+    fprintf(f, "| %s | %zu | %.3g | %.3f +- %.3f | %.3f | %.3f | %.0f %% (%zu of %zu) | %.3f | "
+               "%.0f %% (%zu of %zu) | %.1f +- %.1f | %zu |\n",
+            policy_name(o->policy[p]), st.runs, 1e3 * res, 1e3 * mean_of(st.err_sum, st.errs),
+            1e3 * sd_of(st.err_sum, st.err_sq, st.errs), 1e3 * pct_of(st.err, st.errs, 0.95),
+            1e3 * st.err_max, st.comps ? 100.0 * (double)st.found / (double)st.comps : 0.0,
+            st.found, st.comps, 1e3 * mean_of(st.hw_sum, st.errs),
+            st.errs ? 100.0 * (double)st.covered / (double)st.errs : 0.0, st.covered, st.errs,
+            mean_of(st.trials_sum, st.runs), sd_of(st.trials_sum, st.trials_sq, st.runs),
+            st.failed);
+  }
+  fprintf(f, "\nTarget (DESIGN.md): 95 %% of errors <= 1 mm and the reported intervals contain the "
+             "truth >= 90 %% of the time.\n");
+}
+
+/* ---- JSON --------------------------------------------------------------------------------------- */
+
+static void js_str(FILE *f, const char *v) {
+  fputc('"', f);
+  for (const unsigned char *p = (const unsigned char *)(v ? v : ""); *p; ++p) {
+    if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p);
+    else if (*p < 0x20) fprintf(f, "\\u%04x", *p);
+    else fputc(*p, f);
+  }
+  fputc('"', f);
+}
+
+static void js_num(FILE *f, double v) {
+  if (isfinite(v)) fprintf(f, "%.9g", v);
+  else fputs("null", f);
+}
+
+static void js_vec(FILE *f, const char *key, const double v[3]) {
+  fprintf(f, "\"%s\": [", key);
+  for (int k = 0; k < 3; ++k) {
+    if (k) fputs(", ", f);
+    js_num(f, v[k]);
+  }
+  fputc(']', f);
+}
+
+static void js_stats(FILE *f, const exp_stats_t *st) {
+  fprintf(f, "{\"runs\": %zu, \"failed_runs\": %zu, \"components\": %zu, \"found\": %zu, "
+             "\"mean_abs_error_m\": ",
+          st->runs, st->failed, st->comps, st->found);
+  js_num(f, mean_of(st->err_sum, st->errs));
+  fputs(", \"sd_abs_error_m\": ", f);
+  js_num(f, sd_of(st->err_sum, st->err_sq, st->errs));
+  fputs(", \"p95_abs_error_m\": ", f);
+  js_num(f, pct_of(st->err, st->errs, 0.95));
+  fputs(", \"max_abs_error_m\": ", f);
+  js_num(f, st->errs ? st->err_max : NAN);
+  fputs(", \"mean_halfwidth_m\": ", f);
+  js_num(f, mean_of(st->hw_sum, st->errs));
+  fputs(", \"coverage\": ", f);
+  js_num(f, st->errs ? (double)st->covered / (double)st->errs : NAN);
+  fputs(", \"mean_trials\": ", f);
+  js_num(f, mean_of(st->trials_sum, st->runs));
+  fputs(", \"sd_trials\": ", f);
+  js_num(f, sd_of(st->trials_sum, st->trials_sq, st->runs));
+  fputs(", \"mean_wall_s\": ", f);
+  js_num(f, mean_of(st->wall_sum, st->runs));
+  fputc('}', f);
+}
+
+static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
+                       const exp_run_t *runs, size_t nruns, double *scratch, double wall_s) {
+  fprintf(f, "{\"settings\": {\"policies\": [");
+  for (int p = 0; p < o->npolicies; ++p) {
+    if (p) fputs(", ", f);
+    js_str(f, policy_name(o->policy[p]));
+  }
+  fprintf(f, "], \"seeds\": %d, \"placement_noise_m\": ", o->seeds);
+  js_num(f, o->placement_noise_m);
+  fputs(", \"pose_noise_m\": ", f);
+  js_num(f, o->pose_noise_m);
+  fputs(", \"resolution_m\": ", f);
+  js_num(f, o->resolution_m);
+  fputs(", \"noiseless_backend\": ", f);
+  js_str(f, o->lcm_url ? "lcm" : "direct");
+  fputs(", \"lcm_url\": ", f);
+  if (o->lcm_url) js_str(f, o->lcm_url);
+  else fputs("null", f);
+  fprintf(f, "}, \"wall_s\": %.3f, \"paper\": {\"rocks\": %d, \"components\": %d, \"not_found\": %d, "
+             "\"min_abs_error_m\": %.4g, \"max_abs_error_m\": %.4g, \"mean_abs_error_m\": %.4g, "
+             "\"source\": \"McGovern, Mao & Xiao, IROS 2019, Table I (summary in DESIGN.md)\"}",
+          wall_s, PAPER_ROCKS, PAPER_COMPONENTS, PAPER_NA, 1e-3 * PAPER_ERR_MIN_MM,
+          1e-3 * PAPER_ERR_MAX_MM, 1e-3 * PAPER_ERR_MEAN_MM);
+  fputs(", \"objects\": [", f);
+  for (size_t i = 0; i < nrocks; ++i) {
+    const exp_rock_t *r = &rocks[i];
+    fprintf(f, "%s{\"name\": ", i ? ", " : "");
+    js_str(f, r->stem);
+    fputs(", \"urdf\": ", f);
+    js_str(f, r->path);
+    fputs(", ", f);
+    js_vec(f, "bbox_center_m", r->bbox_center_m);
+    fputs(", ", f);
+    js_vec(f, "uniform_com_m", r->uniform_com_m);
+    fputs(", ", f);
+    const double none[3] = {NAN, NAN, NAN};
+    js_vec(f, "truth_m", r->have_truth ? r->truth_m : none);
+    fprintf(f, ", \"uniform_density\": %s}", r->uniform_density ? "true" : "false");
+  }
+  fputs("], \"summary\": [", f);
+  int first = 1;
+  for (int noisy = 0; noisy < 2; ++noisy)
+    for (int p = 0; p < o->npolicies; ++p) {
+      exp_stats_t st;
+      stats_of(runs, nruns, rocks, o->policy[p], noisy, 0, scratch, &st);
+      if (!st.runs) continue;
+      fprintf(f, "%s{\"policy\": \"%s\", \"noisy\": %s, \"stats\": ", first ? "" : ", ",
+              policy_name(o->policy[p]), noisy ? "true" : "false");
+      js_stats(f, &st);
+      fputc('}', f);
+      first = 0;
+    }
+  fputs("], \"runs\": [", f);
+  for (size_t i = 0; i < nruns; ++i) {
+    const exp_run_t *r = &runs[i];
+    fprintf(f, "%s\n{\"object\": ", i ? "," : "");
+    js_str(f, rocks[r->rock].stem);
+    fprintf(f, ", \"policy\": \"%s\", \"noisy\": %s, \"seed\": ", policy_name(r->policy),
+            r->noisy ? "true" : "false");
+    if (r->noisy) fprintf(f, "%llu", (unsigned long long)r->seed);
+    else fputs("null", f);
+    fputs(", \"placement_noise_m\": ", f);
+    js_num(f, r->noisy ? o->placement_noise_m : 0.0);
+    fputs(", \"pose_noise_m\": ", f);
+    js_num(f, r->noisy ? o->pose_noise_m : 0.0);
+    fputs(", \"backend\": ", f);
+    js_str(f, r->backend);
+    fputs(", \"resolution_m\": ", f);
+    js_num(f, r->resolution_m);
+    fputs(", \"noise_sigma_m\": ", f);
+    js_num(f, r->noise_sigma_m);
+    fputs(", \"status\": ", f);
+    js_str(f, estimate_status_str(r->status));
+    fputs(", \"note\": ", f);
+    js_str(f, r->note);
+    fprintf(f, ", \"trials\": %zu, \"stable_trials\": %zu, \"flagged_trials\": %zu, "
+               "\"search_trials\": [",
+            r->trials, r->stable_trials, r->flagged_trials);
+    for (size_t t = 0; t < r->nsearch; ++t) fprintf(f, "%s%u", t ? ", " : "", r->search_trials[t]);
+    fputs("], ", f);
+    js_vec(f, "com_m", r->com_m);
+    fputs(", ", f);
+    js_vec(f, "halfwidth_m", r->halfwidth_m);
+    fprintf(f, ", \"found\": [%s, %s, %s], ", r->found[0] ? "true" : "false",
+            r->found[1] ? "true" : "false", r->found[2] ? "true" : "false");
+    const double none[3] = {NAN, NAN, NAN};
+    js_vec(f, "truth_m", rocks[r->rock].have_truth ? rocks[r->rock].truth_m : none);
+    fputs(", ", f);
+    js_vec(f, "error_m", r->error_m);
+    fprintf(f, ", \"wall_s\": %.6f, \"trace\": {\"kind\": [", r->wall_s);
+    for (size_t t = 0; t < r->nsteps; ++t)
+      fprintf(f, "%s%s", t ? ", " : "",
+              r->steps[t].kind == ESTIMATE_TRIAL_STABLE ? "\"stable\"" : "\"edge\"");
+    fputs("], \"component\": [", f);
+    for (size_t t = 0; t < r->nsteps; ++t) fprintf(f, "%s%d", t ? ", " : "", r->steps[t].component);
+    fputs("], \"outcome\": [", f);
+    for (size_t t = 0; t < r->nsteps; ++t) {
+      int oc = r->steps[t].outcome;
+      fprintf(f, "%s\"%s\"", t ? ", " : "",
+              oc == BALANCE_STAYS ? "stays" : oc == BALANCE_TIPS ? "tips"
+                                            : oc == BALANCE_SLIDES ? "slides"
+                                            : oc == BALANCE_INVALID ? "invalid" : "failed");
+    }
+    fputs("], \"com_before_m\": [", f);
+    for (size_t t = 0; t < r->nsteps; ++t) {
+      fputs(t ? ", [" : "[", f);
+      for (int k = 0; k < 3; ++k) {
+        if (k) fputs(", ", f);
+        js_num(f, r->steps[t].com_before_m[k]);
+      }
+      fputc(']', f);
+    }
+    fputs("], \"halfwidth_before_m\": [", f);
+    for (size_t t = 0; t < r->nsteps; ++t) {
+      fputs(t ? ", [" : "[", f);
+      for (int k = 0; k < 3; ++k) {
+        if (k) fputs(", ", f);
+        js_num(f, r->steps[t].halfwidth_before_m[k]);
+      }
+      fputc(']', f);
+    }
+    fputs("]}}", f);
+  }
+  fputs("\n]}\n", f);
+}
+
+/* ---- Fig. 2 ------------------------------------------------------------------------------------ */
+
+static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *rock, size_t ri,
+                      const exp_run_t *runs, size_t nruns) {
+  experiments_svg_series_t ser[MAX_POLICIES];
+  double *vals[MAX_POLICIES][3] = {{NULL}};
+  char labels[MAX_POLICIES][96];
+  size_t ns = 0;
+  int rc = 0;
+  for (int p = 0; p < o->npolicies && rc == 0; ++p) {
+    const exp_run_t *r = NULL;
+    for (size_t i = 0; i < nruns && !r; ++i)
+      if (runs[i].rock == ri && runs[i].policy == o->policy[p] && !runs[i].noisy) r = &runs[i];
+    if (!r) continue;
+    size_t n = r->nsteps + 1;
+    for (int k = 0; k < 3; ++k) {
+      vals[ns][k] = malloc(n * sizeof(double));
+      if (!vals[ns][k]) rc = -1;
+    }
+    if (rc) {
+      ++ns;
+      break;
+    }
+    for (int k = 0; k < 3; ++k) {
+      for (size_t t = 0; t < r->nsteps; ++t)
+        vals[ns][k][t] = 1e3 * (r->steps[t].com_before_m[k] - rock->bbox_center_m[k]);
+      /* the final estimate; a component not found is drawn as what the estimator reports */
+      vals[ns][k][r->nsteps] =
+          r->status == ESTIMATE_OK ? 1e3 * (r->com_m[k] - rock->bbox_center_m[k]) : NAN;
+      ser[ns].value_mm[k] = vals[ns][k];
+    }
+    snprintf(labels[ns], sizeof labels[ns], "%s (%zu trials)", policy_name(r->policy), r->trials);
+    ser[ns].label = labels[ns];
+    ser[ns].n = n;
+    ++ns;
+  }
+  if (rc == 0) {
+    double truth_mm[3];
+    for (int k = 0; k < 3; ++k)
+      truth_mm[k] = rock->have_truth ? 1e3 * (rock->truth_m[k] - rock->bbox_center_m[k]) : NAN;
+    char title[256];
+    snprintf(title, sizeof title,
+             "%s: running CoM estimate (mm, from the bounding-box center), noiseless", rock->stem);
+    FILE *f = fopen(path, "w");
+    if (!f) {
+      LOG_E("%s: %s", path, strerror(errno));
+      rc = -1;
+    } else {
+      rc = experiments_svg_fig2(f, title, truth_mm, ns, ser);
+      if (fclose(f) != 0) rc = -1;
+      if (rc) LOG_E("%s: write failed", path);
+    }
+  } else {
+    LOG_E("out of memory");
+  }
+  for (size_t s = 0; s < ns; ++s)
+    for (int k = 0; k < 3; ++k) free(vals[s][k]);
+  return rc;
+}
+
+/* ---- the command ------------------------------------------------------------------------------- */
+
+static int write_file(const char *dir, const char *name, int json, const exp_opts_t *o,
+                      const exp_rock_t *rocks, size_t nrocks, const exp_run_t *runs, size_t nruns,
+                      double *scratch, double wall_s) {
+  char path[4096];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "w");
+  if (!f) {
+    LOG_E("%s: %s", path, strerror(errno));
+    return -1;
+  }
+  if (json) write_json(f, o, rocks, nrocks, runs, nruns, scratch, wall_s);
+  else write_table(f, o, rocks, nrocks, runs, nruns, scratch, wall_s);
+  int bad = ferror(f);
+  if (fclose(f) != 0 || bad) {
+    LOG_E("%s: write failed", path);
+    return -1;
+  }
+  return 0;
+}
 
 int cmd_experiments(int argc, char **argv) {
-  (void)argc;
-  (void)argv;
-  LOG_E("experiments: not implemented yet");
-  return 1;
+  static const struct option opts[] = {
+      {"policies", required_argument, NULL, 'P'},
+      {"seeds", required_argument, NULL, 'S'},
+      {"placement-noise-mm", required_argument, NULL, 'n'},
+      {"pose-noise-mm", required_argument, NULL, 'N'},
+      {"resolution-mm", required_argument, NULL, 'r'},
+      {"lcm-url", required_argument, NULL, 'u'},
+      {"out", required_argument, NULL, 'o'},
+      {"json", no_argument, NULL, 'j'},
+      {"verbose", no_argument, NULL, 'v'},
+      {"quiet", no_argument, NULL, 'q'},
+      {"help", no_argument, NULL, 'h'},
+      {NULL, 0, NULL, 0}};
+  exp_opts_t o;
+  memset(&o, 0, sizeof o);
+  o.npolicies = MAX_POLICIES;
+  memcpy(o.policy, all_policies, sizeof all_policies);
+  o.seeds = 5;
+  o.placement_noise_m = 0.5e-3;
+  o.pose_noise_m = 0.2e-3;
+  o.resolution_m = 1e-4;
+  int c;
+  double mm;
+  optind = 1;
+  while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
+    switch (c) {
+      case 'P':
+        if (parse_policies(optarg, &o) != 0) return EXIT_USAGE;
+        break;
+      case 'S': {
+        char *end;
+        errno = 0;
+        long v = strtol(optarg, &end, 10);
+        if (end == optarg || *end != '\0' || errno != 0 || v < 0 || v > MAX_SEEDS) {
+          LOG_E("--seeds: '%s' is not an integer in [0, %d]", optarg, MAX_SEEDS);
+          return EXIT_USAGE;
+        }
+        o.seeds = (int)v;
+        break;
+      }
+      case 'n':
+        if (parse_mm("--placement-noise-mm", optarg, 0.0, 100.0, &mm) != 0) return EXIT_USAGE;
+        o.placement_noise_m = 1e-3 * mm;
+        break;
+      case 'N':
+        if (parse_mm("--pose-noise-mm", optarg, 0.0, 100.0, &mm) != 0) return EXIT_USAGE;
+        o.pose_noise_m = 1e-3 * mm;
+        break;
+      case 'r':
+        if (parse_mm("--resolution-mm", optarg, 0.001, 10.0, &mm) != 0) return EXIT_USAGE;
+        o.resolution_m = 1e-3 * mm;
+        break;
+      case 'u':
+        if (!optarg[0]) {
+          LOG_E("--lcm-url: empty URL");
+          return EXIT_USAGE;
+        }
+        o.lcm_url = optarg;
+        break;
+      case 'o':
+        if (!optarg[0]) {
+          LOG_E("--out: empty directory name");
+          return EXIT_USAGE;
+        }
+        o.out_dir = optarg;
+        break;
+      case 'j': o.json = 1; break;
+      case 'v': log_set_level(LOG_DEBUG); break;
+      case 'q': o.quiet = 1; log_set_level(LOG_ERROR); break;
+      case 'h': usage(stdout); return EXIT_SUCCESS;
+      default: usage(stderr); return EXIT_USAGE;
+    }
+  }
+  if (optind >= argc) {
+    LOG_E("experiments needs at least one OBJECT.urdf");
+    usage(stderr);
+    return EXIT_USAGE;
+  }
+  size_t nrocks = (size_t)(argc - optind);
+  /* Every file first: a typo fails at once, not after minutes of runs. Geometry only. */
+  for (size_t i = 0; i < nrocks; ++i) {
+    const char *path = argv[optind + (int)i];
+    model_error_t merr = {{0}};
+    model_object_t obj = {0};
+    model_status_t ms = model_object_load(path, NULL, &obj, &merr);
+    model_object_free(&obj);
+    if (ms != MODEL_OK) {
+      LOG_E("%s (%s)", merr.msg[0] ? merr.msg : path, model_status_str(ms));
+      return ms == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
+    }
+  }
+  if (o.out_dir && mkdir(o.out_dir, 0777) != 0 && errno != EEXIST) {
+    LOG_E("--out: cannot create '%s': %s", o.out_dir, strerror(errno));
+    return EXIT_FAILURE;
+  }
+
+  size_t per_rock = (size_t)o.npolicies * (1 + (size_t)o.seeds);
+  size_t cap = nrocks * per_rock;
+  exp_rock_t *rocks = calloc(nrocks, sizeof *rocks);
+  exp_run_t *runs = calloc(cap, sizeof *runs);
+  double *scratch = malloc(3 * cap * sizeof *scratch);
+  recorder_t *rec = malloc(sizeof *rec);
+  estimate_result_t *res = malloc(sizeof *res);
+  int rc = EXIT_SUCCESS;
+  size_t nruns = 0;
+  double t_all = out_now_s();
+  if (!rocks || !runs || !scratch || !rec || !res) {
+    LOG_E("out of memory");
+    rc = EXIT_FAILURE;
+    goto done;
+  }
+  for (size_t ri = 0; ri < nrocks && rc == EXIT_SUCCESS; ++ri) {
+    exp_rock_t *rk = &rocks[ri];
+    rk->path = argv[optind + (int)ri];
+    stem_of(rk->path, rk->stem, sizeof rk->stem);
+    model_error_t merr = {{0}};
+    model_object_t obj = {0};
+    model_status_t ms = model_object_load(rk->path, NULL, &obj, &merr);
+    if (ms != MODEL_OK) {
+      LOG_E("%s (%s)", merr.msg[0] ? merr.msg : rk->path, model_status_str(ms));
+      rc = ms == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
+      break;
+    }
+    model_aabb_center(&obj.aabb, rk->bbox_center_m);
+    size_t first_run = nruns;
+    for (int p = 0; p < o.npolicies && rc == EXIT_SUCCESS; ++p) {
+      for (int s = 0; s <= o.seeds && rc == EXIT_SUCCESS; ++s) {
+        exp_run_t *run = &runs[nruns++];
+        run->rock = ri;
+        run->policy = o.policy[p];
+        run->noisy = s > 0;
+        run->seed = (uint64_t)s;
+        int r1 = run_one(&o, rk, &obj, rec, res, run);
+        if (r1 != 0) {
+          rc = r1;
+          break;
+        }
+        if (s == 0) memcpy(rk->uniform_com_m, res->uniform_com_m, sizeof rk->uniform_com_m);
+        if (!o.quiet) {
+          char what[32];
+          if (run->noisy) snprintf(what, sizeof what, "seed %d", s);
+          else snprintf(what, sizeof what, "noiseless");
+          int all = run->found[0] && run->found[1] && run->found[2];
+          fprintf(stderr, "comlearn experiments: %-16s %-12s %-9s %3zu trials  %.3f s  %s%s\n",
+                  rk->stem, policy_name(run->policy), what, run->trials, run->wall_s,
+                  estimate_status_str(run->status), all ? "" : " (not all found)");
+        }
+      }
+    }
+    model_object_free(&obj);
+    /* The truth, read after this object's estimates are final, for the report only. */
+    model_mass_t tm;
+    ms = model_inertial_load(rk->path, NULL, &tm, &merr);
+    if (ms == MODEL_OK) {
+      rk->have_truth = 1;
+      memcpy(rk->truth_m, tm.com_m, sizeof rk->truth_m);
+      double d = 0.0;
+      for (int k = 0; k < 3; ++k) d = fmax(d, fabs(tm.com_m[k] - rk->uniform_com_m[k]));
+      rk->uniform_density = d <= 1e-6;
+      for (size_t i = first_run; i < nruns; ++i)
+        for (int k = 0; k < 3; ++k)
+          runs[i].error_m[k] = runs[i].found[k] ? runs[i].com_m[k] - tm.com_m[k] : NAN;
+    } else {
+      LOG_W("%s: no truth to compare with: %s (%s)", rk->path, merr.msg, model_status_str(ms));
+    }
+  }
+  double wall = out_now_s() - t_all;
+  if (rc != EXIT_SUCCESS) goto done;
+  size_t done_rocks = nrocks;
+  if (o.json) write_json(stdout, &o, rocks, done_rocks, runs, nruns, scratch, wall);
+  else write_table(stdout, &o, rocks, done_rocks, runs, nruns, scratch, wall);
+  fflush(stdout);
+  if (o.out_dir) {
+    if (write_file(o.out_dir, "table.md", 0, &o, rocks, done_rocks, runs, nruns, scratch, wall) ||
+        write_file(o.out_dir, "experiments.json", 1, &o, rocks, done_rocks, runs, nruns, scratch,
+                   wall))
+      rc = EXIT_FAILURE;
+    for (size_t ri = 0; ri < done_rocks && rc == EXIT_SUCCESS; ++ri) {
+      char path[4096];
+      snprintf(path, sizeof path, "%s/fig2_%s.svg", o.out_dir, rocks[ri].stem);
+      if (write_fig2(path, &o, &rocks[ri], ri, runs, nruns) != 0) rc = EXIT_FAILURE;
+    }
+  }
+  LOG_I("%zu runs in %.1f s", nruns, wall);
+
+done:
+  if (runs)
+    for (size_t i = 0; i < nruns; ++i) free(runs[i].steps);
+  free(runs);
+  free(rocks);
+  free(scratch);
+  free(rec);
+  free(res);
+  return rc;
 }

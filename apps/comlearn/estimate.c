@@ -244,6 +244,10 @@ static estimate_status_t search_run(run_t *run, int face_index, int log_face, do
   pc.prior_m = prior;
   pc.resolution_m = run->cfg->resolution_m;
   pc.seed = run->cfg->seed;
+  if (run->cfg->policy == QLEARN_POLICY_PBA && run->cfg->noise_sigma_m > 0.0) {
+    pc.noise = QLEARN_NOISE_PROBIT;
+    pc.sigma_m = run->cfg->noise_sigma_m;
+  }
   qlearn_policy_t *pol = &run->policy;
   qlearn_status_t qs = qlearn_policy_init(pol, &pc);
   if (qs != QLEARN_OK) {
@@ -645,7 +649,8 @@ estimate_status_t estimate_run(const model_mesh_t *mesh_link, const estimate_bac
       !(cfg->z > 0 && isfinite(cfg->z)) || !(cfg->min_chord_margin_m > 0) ||
       !isfinite(cfg->min_chord_margin_m) || !(cfg->min_dir_angle_rad > 0) ||
       !(cfg->min_dir_angle_rad <= PI / 2) || !(cfg->min_face_angle_rad > 0) ||
-      !(cfg->min_face_angle_rad <= PI / 2)) {
+      !(cfg->min_face_angle_rad <= PI / 2) ||
+      !(cfg->noise_sigma_m >= 0.0 && cfg->noise_sigma_m <= 0.1)) {
     snprintf(out->msg, sizeof out->msg, "bad estimator setting");
     return ESTIMATE_E_ARG;
   }

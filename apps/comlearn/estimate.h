@@ -108,6 +108,16 @@ typedef struct {
   /* Faces whose normals are within this angle of the first face's do not count as "a second
    * face"; default 30 deg. */
   double min_face_angle_rad;
+  /* Outcome noise the PBA policy assumes: 0 (default) keeps lib/qlearn's default PBA model
+   * (probit, sigma 0.1 mm: the noiseless simulation's threshold scatter); > 0 selects
+   * QLEARN_NOISE_PROBIT with this sigma [m], in the search coordinate, i.e. the std. dev. of the
+   * placement error along the edge normal (comlearn-sim --placement-noise-mm). In [0, 0.1].
+   * A credible interval can shrink only as fast as the outcomes inform it, about
+   * 2 * 1.96 * sigma / sqrt(0.64 n) after n trials near the threshold: pick resolution_m near
+   * sigma (0.5 mm at sigma 0.5 mm: ~30 trials a search), not far below it (0.1 mm would need
+   * ~600 and stops at QLEARN_MAX_TRIALS). The other policies assume noiseless outcomes and
+   * ignore it. */
+  double noise_sigma_m;
   /* Called after every trial (may be NULL). */
   void (*progress)(void *ctx, size_t trial_index, const char *what);
   void *progress_ctx;

@@ -3,6 +3,7 @@
  */
 #include "estimate_direct.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,19 +14,32 @@
 struct estimate_direct {
   balance_world_t *world;
   balance_object_t *obj;
+  int noisy;            /* estimate_direct_set_noise with a non-zero value */
+  balance_noise_t noise; /* its seed and std. devs. */
+  uint64_t trial_count; /* trials since open / set_noise: seeds the per-trial draws */
 };
+
+/* comlearn-sim's per-trial seed (daemon/sim.c, object_release): the Weyl increment of splitmix64
+ * times the 1-based trial number, xor the run's seed. */
+#define DIRECT_SEED_MUL 0x9E3779B97F4A7C15ull
 
 static int direct_run(void *ctx, const estimate_trial_request_t *req, estimate_trial_reply_t *reply,
                       char *err, size_t err_size) {
   estimate_direct_t *d = ctx;
   balance_trial_result_t r;
-  balance_status_t s = balance_trial_run(d->world, d->obj, &req->release, NULL, &r);
+  balance_noise_t noise = d->noise;
+  noise.seed = d->noise.seed ^ (DIRECT_SEED_MUL * (d->trial_count + 1));
+  ++d->trial_count;
+  balance_status_t s =
+      balance_trial_run(d->world, d->obj, &req->release, d->noisy ? &noise : NULL, &r);
   if (s != BALANCE_OK) {
     snprintf(err, err_size, "balance_trial_run: %s", balance_status_str(s));
     return -1;
   }
   reply->outcome = r.outcome;
-  reply->released = r.released;
+  /* Held, the object's pose is known exactly; where the fingers actually let go (r.released,
+   * with the placement offset) is not observable, as in comlearn-sim. */
+  reply->released = d->noisy ? req->release : r.released;
   reply->settled = r.settled;
   return 0;
 }
@@ -69,6 +83,22 @@ int estimate_direct_open(const char *urdf_path, const char *link_name, const bal
   *out = d;
   return 0;
 }
+
+int estimate_direct_set_noise(estimate_direct_t *d, uint64_t seed, double placement_noise_m,
+                              double pose_noise_m) {
+  if (!d || !isfinite(placement_noise_m) || !isfinite(pose_noise_m) ||
+      !(placement_noise_m >= 0.0 && placement_noise_m <= 0.1) ||
+      !(pose_noise_m >= 0.0 && pose_noise_m <= 0.1))
+    return -1;
+  d->noise.seed = seed;
+  d->noise.placement_noise_m = placement_noise_m;
+  d->noise.pose_noise_m = pose_noise_m;
+  d->noisy = placement_noise_m > 0.0 || pose_noise_m > 0.0;
+  d->trial_count = 0;
+  return 0;
+}
+
+uint64_t estimate_direct_trial_count(const estimate_direct_t *d) { return d ? d->trial_count : 0; }
 
 void estimate_direct_close(estimate_direct_t *direct) {
   if (!direct) return;

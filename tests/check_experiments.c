@@ -1,0 +1,461 @@
+#define _POSIX_C_SOURCE 200809L
+/* check_experiments: the noisy direct backend (comlearn-sim's seeding, the held pose reported as
+ * released, zero noise = the old backend), PBA's noise model in the estimator, and
+ * `comlearn experiments` as a user runs it: JSON, table, SVG and exit codes. */
+#include <check.h>
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "comlearn/balance.h"
+#include "comlearn/model.h"
+#include "comlearn/model_inertial.h"
+#include "estimate.h"
+#include "estimate_direct.h"
+#include "cli_test_util.h"
+
+static char tmpdir[256];
+
+static void setup(void) {
+  snprintf(tmpdir, sizeof tmpdir, "/tmp/check_experiments.XXXXXX");
+  ck_assert_ptr_nonnull(mkdtemp(tmpdir));
+}
+
+static void teardown(void) {
+  char cmd[512];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+  ck_assert_int_eq(system(cmd), 0);
+}
+
+static void rock_path(const char *name, char *out, size_t size) {
+  snprintf(out, size, "%s/rocks/%s.urdf", COMLEARN_ASSETS_DIR, name);
+}
+
+/* ---- a recording backend: every request and reply of a run ---- */
+
+typedef struct {
+  estimate_backend_t inner;
+  size_t n;
+  estimate_trial_request_t req[ESTIMATE_MAX_TRIALS];
+  estimate_trial_reply_t rep[ESTIMATE_MAX_TRIALS];
+} tape_t;
+
+static int tape_run(void *ctx, const estimate_trial_request_t *req, estimate_trial_reply_t *reply,
+                    char *err, size_t err_size) {
+  tape_t *t = ctx;
+  int rc = t->inner.run(t->inner.ctx, req, reply, err, err_size);
+  if (rc == 0 && t->n < ESTIMATE_MAX_TRIALS) {
+    t->req[t->n] = *req;
+    t->rep[t->n] = *reply;
+    ++t->n;
+  }
+  return rc;
+}
+
+/* Estimate urdf on a direct backend (noise set when placement or pose > 0, or force_set), every
+ * trial taped. */
+static void run_direct(const char *urdf, qlearn_policy_kind_t policy, double res_m,
+                       double sigma_m, int force_set, uint64_t seed, double placement_m,
+                       double pose_m, tape_t *tape, estimate_result_t *res) {
+  model_object_t obj = {0};
+  model_error_t err = {{0}};
+  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  estimate_direct_t *sim = NULL;
+  char msg[512] = "";
+  ck_assert_msg(estimate_direct_open(urdf, NULL, NULL, &sim, &tape->inner, msg, sizeof msg) == 0,
+                "%s", msg);
+  if (force_set || placement_m > 0 || pose_m > 0)
+    ck_assert_int_eq(estimate_direct_set_noise(sim, seed, placement_m, pose_m), 0);
+  tape->n = 0;
+  estimate_backend_t b = tape->inner;
+  b.ctx = tape;
+  b.run = tape_run;
+  estimate_config_t cfg;
+  estimate_config_default(&cfg);
+  cfg.policy = policy;
+  cfg.resolution_m = res_m;
+  cfg.noise_sigma_m = sigma_m;
+  estimate_status_t s = estimate_run(&obj.mesh, &b, &cfg, res);
+  ck_assert_msg(s == ESTIMATE_OK, "%s: %s: %s", urdf, estimate_status_str(s), res->msg);
+  ck_assert_uint_eq(tape->n, res->trial_count);
+  ck_assert_uint_eq(estimate_direct_trial_count(sim), res->trial_count);
+  estimate_direct_close(sim);
+  model_object_free(&obj);
+}
+
+static int pose_eq(const balance_pose_t *a, const balance_pose_t *b) {
+  return memcmp(a, b, sizeof *a) == 0;
+}
+
+/* Same seed, same requests: the same replies, bit for bit; the released pose is the requested
+ * (held) one; outcome and settled pose are lib/balance's with comlearn-sim's per-trial seed. */
+START_TEST(noise_seeding_and_held_pose) {
+  char urdf[512];
+  rock_path("rock_1_uneven", urdf, sizeof urdf);
+  tape_t *a = malloc(sizeof *a), *b = malloc(sizeof *b);
+  estimate_result_t *ra = malloc(sizeof *ra), *rb = malloc(sizeof *rb);
+  ck_assert(a && b && ra && rb);
+  const uint64_t seed = 7;
+  const double pn = 0.5e-3, qn = 0.2e-3;
+  run_direct(urdf, QLEARN_POLICY_BISECT, 1e-4, 0.0, 0, seed, pn, qn, a, ra);
+  run_direct(urdf, QLEARN_POLICY_BISECT, 1e-4, 0.0, 0, seed, pn, qn, b, rb);
+  ck_assert_uint_eq(a->n, b->n);
+  for (size_t i = 0; i < a->n; ++i) {
+    ck_assert(pose_eq(&a->req[i].release, &b->req[i].release));
+    ck_assert_int_eq(a->rep[i].outcome, b->rep[i].outcome);
+    ck_assert(pose_eq(&a->rep[i].settled, &b->rep[i].settled));
+    /* held: the reported release is exactly the request */
+    ck_assert(pose_eq(&a->rep[i].released, &a->req[i].release));
+  }
+
+  /* Replay the taped requests on lib/balance with seed ^ (K * (i + 1)) (daemon/sim.c). */
+  model_object_t obj = {0};
+  model_mass_t truth;
+  ck_assert_int_eq(model_object_load(urdf, NULL, &obj, NULL), MODEL_OK);
+  ck_assert_int_eq(model_inertial_load(urdf, NULL, &truth, NULL), MODEL_OK);
+  balance_config_t bc;
+  balance_config_default(&bc);
+  balance_world_t *w = NULL;
+  balance_object_t *o = NULL;
+  ck_assert_int_eq(balance_world_create(&bc, &w), BALANCE_OK);
+  ck_assert_int_eq(balance_object_create(w, &obj.mesh, &truth, &o), BALANCE_OK);
+  size_t offset_seen = 0;
+  for (size_t i = 0; i < a->n; ++i) {
+    balance_noise_t nz = {seed ^ (0x9E3779B97F4A7C15ull * (uint64_t)(i + 1)), pn, qn};
+    balance_trial_result_t r;
+    ck_assert_int_eq(balance_trial_run(w, o, &a->req[i].release, &nz, &r), BALANCE_OK);
+    ck_assert_msg(r.outcome == a->rep[i].outcome, "trial %zu: outcome %d vs %d", i,
+                  (int)r.outcome, (int)a->rep[i].outcome);
+    ck_assert(pose_eq(&r.settled, &a->rep[i].settled));
+    /* the offset the backend hides: horizontal, of the order of the placement noise */
+    double dx = r.released.position_m[0] - a->req[i].release.position_m[0];
+    double dy = r.released.position_m[1] - a->req[i].release.position_m[1];
+    ck_assert_double_eq(r.released.position_m[2], a->req[i].release.position_m[2]);
+    ck_assert(hypot(dx, dy) < 8.0 * pn);
+    if (hypot(dx, dy) > 1e-6) ++offset_seen;
+  }
+  ck_assert_uint_ge(offset_seen, a->n - 1);
+  balance_world_destroy(w);
+  model_object_free(&obj);
+
+  /* another seed: other draws, so somewhere another settled pose */
+  run_direct(urdf, QLEARN_POLICY_BISECT, 1e-4, 0.0, 0, seed + 1, pn, qn, b, rb);
+  int differ = b->n != a->n;
+  for (size_t i = 0; i < a->n && i < b->n && !differ; ++i)
+    differ = !pose_eq(&a->rep[i].settled, &b->rep[i].settled);
+  ck_assert(differ);
+  free(a);
+  free(b);
+  free(ra);
+  free(rb);
+}
+END_TEST
+
+/* Zero noise set explicitly is the old noiseless backend, trial by trial. */
+START_TEST(zero_noise_is_noiseless) {
+  char urdf[512];
+  rock_path("rock_2_even", urdf, sizeof urdf);
+  tape_t *a = malloc(sizeof *a), *b = malloc(sizeof *b);
+  estimate_result_t *ra = malloc(sizeof *ra), *rb = malloc(sizeof *rb);
+  ck_assert(a && b && ra && rb);
+  run_direct(urdf, QLEARN_POLICY_BISECT, 1e-4, 0.0, 0, 0, 0.0, 0.0, a, ra);
+  run_direct(urdf, QLEARN_POLICY_BISECT, 1e-4, 0.0, 1, 12345, 0.0, 0.0, b, rb);
+  ck_assert_uint_eq(a->n, b->n);
+  for (size_t i = 0; i < a->n; ++i) {
+    ck_assert(pose_eq(&a->req[i].release, &b->req[i].release));
+    ck_assert_int_eq(a->rep[i].outcome, b->rep[i].outcome);
+    ck_assert(pose_eq(&a->rep[i].released, &b->rep[i].released));
+    ck_assert(pose_eq(&a->rep[i].settled, &b->rep[i].settled));
+  }
+  ck_assert(memcmp(ra->com_m, rb->com_m, sizeof ra->com_m) == 0);
+  free(a);
+  free(b);
+  free(ra);
+  free(rb);
+}
+END_TEST
+
+START_TEST(noise_arguments_checked) {
+  char urdf[512];
+  rock_path("rock_1_even", urdf, sizeof urdf);
+  estimate_direct_t *sim = NULL;
+  estimate_backend_t be;
+  char msg[256];
+  ck_assert_int_eq(estimate_direct_open(urdf, NULL, NULL, &sim, &be, msg, sizeof msg), 0);
+  ck_assert_int_eq(estimate_direct_set_noise(NULL, 1, 0.0, 0.0), -1);
+  ck_assert_int_eq(estimate_direct_set_noise(sim, 1, NAN, 0.0), -1);
+  ck_assert_int_eq(estimate_direct_set_noise(sim, 1, 0.0, INFINITY), -1);
+  ck_assert_int_eq(estimate_direct_set_noise(sim, 1, -1e-4, 0.0), -1);
+  ck_assert_int_eq(estimate_direct_set_noise(sim, 1, 0.0, 0.2), -1);
+  ck_assert_int_eq(estimate_direct_set_noise(sim, 1, 0.1, 0.1), 0);
+  estimate_direct_close(sim);
+
+  /* the estimator refuses a bad noise sigma before any trial */
+  model_object_t obj = {0};
+  ck_assert_int_eq(model_object_load(urdf, NULL, &obj, NULL), MODEL_OK);
+  ck_assert_int_eq(estimate_direct_open(urdf, NULL, NULL, &sim, &be, msg, sizeof msg), 0);
+  estimate_result_t *r = malloc(sizeof *r);
+  ck_assert_ptr_nonnull(r);
+  estimate_config_t cfg;
+  estimate_config_default(&cfg);
+  ck_assert_double_eq(cfg.noise_sigma_m, 0.0);
+  const double bad[] = {-1e-4, NAN, 0.2};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+    cfg.noise_sigma_m = bad[i];
+    ck_assert_int_eq(estimate_run(&obj.mesh, &be, &cfg, r), ESTIMATE_E_ARG);
+    ck_assert_uint_eq(r->trial_count, 0);
+  }
+  free(r);
+  estimate_direct_close(sim);
+  model_object_free(&obj);
+}
+END_TEST
+
+/* PBA told the noise (probit, sigma = placement noise) at resolution = sigma: every component
+ * found, within 1 mm, and the reported half widths are honest (the truth inside). */
+START_TEST(pba_under_noise) {
+  char urdf[512];
+  rock_path("rock_1_uneven", urdf, sizeof urdf);
+  tape_t *a = malloc(sizeof *a);
+  estimate_result_t *r = malloc(sizeof *r);
+  ck_assert(a && r);
+  run_direct(urdf, QLEARN_POLICY_PBA, 0.5e-3, 0.5e-3, 0, 3, 0.5e-3, 0.2e-3, a, r);
+  model_mass_t truth;
+  ck_assert_int_eq(model_inertial_load(urdf, NULL, &truth, NULL), MODEL_OK);
+  for (int k = 0; k < 3; ++k) {
+    ck_assert_msg(r->found[k], "component %d not found (%s)", k, r->msg);
+    double e = fabs(r->com_m[k] - truth.com_m[k]);
+    ck_assert_msg(e <= 1e-3, "component %d: %.3f mm off", k, 1e3 * e);
+    ck_assert_msg(e <= r->halfwidth_m[k], "component %d: %.3f mm off, +-%.3f mm reported", k,
+                  1e3 * e, 1e3 * r->halfwidth_m[k]);
+  }
+  /* the running estimate before each trial is recorded in the request */
+  ck_assert(isinf(a->req[0].halfwidth_before_m[0]));
+  ck_assert_double_eq(a->req[0].com_before_m[0], r->uniform_com_m[0]);
+  ck_assert_uint_lt(r->trial_count, 3 * 256);
+  free(a);
+  free(r);
+}
+END_TEST
+
+/* ---- a minimal JSON syntax check (the tests must not trust a hand-written writer) ---- */
+
+static const char *js_ws(const char *p) {
+  while (*p == ' ' || *p == '\n' || *p == '\t' || *p == '\r') ++p;
+  return p;
+}
+
+static const char *js_value(const char *p, int depth);
+
+static const char *js_string(const char *p) {
+  if (*p != '"') return NULL;
+  for (++p; *p && *p != '"'; ++p) {
+    if ((unsigned char)*p < 0x20) return NULL;
+    if (*p == '\\') {
+      ++p;
+      if (*p == 'u') {
+        for (int i = 1; i <= 4; ++i)
+          if (!isxdigit((unsigned char)p[i])) return NULL;
+        p += 4;
+      } else if (!strchr("\"\\/bfnrt", *p) || !*p) {
+        return NULL;
+      }
+    }
+  }
+  return *p == '"' ? p + 1 : NULL;
+}
+
+static const char *js_value(const char *p, int depth) {
+  if (depth > 64) return NULL;
+  p = js_ws(p);
+  if (*p == '{' || *p == '[') {
+    char close = *p == '{' ? '}' : ']';
+    int obj = *p == '{';
+    p = js_ws(p + 1);
+    if (*p == close) return p + 1;
+    for (;;) {
+      if (obj) {
+        p = js_string(js_ws(p));
+        if (!p) return NULL;
+        p = js_ws(p);
+        if (*p++ != ':') return NULL;
+      }
+      p = js_value(p, depth + 1);
+      if (!p) return NULL;
+      p = js_ws(p);
+      if (*p == ',') {
+        ++p;
+        continue;
+      }
+      return *p == close ? p + 1 : NULL;
+    }
+  }
+  if (*p == '"') return js_string(p);
+  if (strncmp(p, "true", 4) == 0) return p + 4;
+  if (strncmp(p, "false", 5) == 0) return p + 5;
+  if (strncmp(p, "null", 4) == 0) return p + 4;
+  char *end;
+  strtod(p, &end);
+  return end == p ? NULL : end;
+}
+
+static char *slurp(const char *path, size_t *size) {
+  FILE *f = fopen(path, "rb");
+  ck_assert_msg(f != NULL, "%s missing", path);
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fseek(f, 0, SEEK_SET);
+  char *buf = malloc((size_t)n + 1);
+  ck_assert_ptr_nonnull(buf);
+  ck_assert_uint_eq(fread(buf, 1, (size_t)n, f), (size_t)n);
+  buf[n] = '\0';
+  fclose(f);
+  if (size) *size = (size_t)n;
+  return buf;
+}
+
+static size_t count_of(const char *hay, const char *needle) {
+  size_t n = 0;
+  for (const char *p = strstr(hay, needle); p; p = strstr(p + 1, needle)) ++n;
+  return n;
+}
+
+/* Two rocks, bisect and paper-qtable, one noisy seed each: 2 x 2 x 2 runs. */
+START_TEST(cli_experiments_outputs) {
+  static char out[1 << 16];
+  char cmd[2048], dir[512], r1[512], r2[512];
+  snprintf(dir, sizeof dir, "%s/out", tmpdir);
+  rock_path("rock_1_uneven", r1, sizeof r1);
+  rock_path("rock_3_even", r2, sizeof r2);
+  snprintf(cmd, sizeof cmd,
+           "'%s' experiments '%s' '%s' --seeds 1 --policies bisect,paper-qtable --out '%s' -q",
+           COMLEARN_BIN, r1, r2, dir);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  /* stdout: the table with the paper's row */
+  ck_assert_ptr_nonnull(strstr(out, "## Table I: noiseless"));
+  ck_assert_ptr_nonnull(strstr(out, "| paper (McGovern et al., Table I"));
+  ck_assert_ptr_nonnull(strstr(out, "| 1.5 | 4.4 (min 0.1) | 7 of 9 (2 N/A) |"));
+  ck_assert_ptr_nonnull(strstr(out, "## With noise: placement 0.5 mm, pose 0.2 mm"));
+  ck_assert_ptr_nonnull(strstr(out, "| rock_1_uneven | x |"));
+
+  char path[1024];
+  snprintf(path, sizeof path, "%s/table.md", dir);
+  char *table = slurp(path, NULL);
+  ck_assert_ptr_nonnull(strstr(table, "| paper (McGovern et al., Table I"));
+  free(table);
+
+  snprintf(path, sizeof path, "%s/experiments.json", dir);
+  char *js = slurp(path, NULL);
+  const char *end = js_value(js, 0);
+  ck_assert_msg(end != NULL, "experiments.json does not parse");
+  ck_assert_msg(*js_ws(end) == '\0', "trailing bytes after the JSON");
+  ck_assert_uint_eq(count_of(js, "{\"object\": "), 8);
+  ck_assert_uint_eq(count_of(js, "\"noisy\": false, \"seed\": null"), 4);
+  ck_assert_uint_eq(count_of(js, "\"noisy\": true, \"seed\": 1"), 4);
+  ck_assert_uint_eq(count_of(js, "\"com_before_m\": [["), 8);
+  /* bisect, noiseless: <= 0.2 mm against the URDF truth, which the JSON reports correctly */
+  const char *const names[2] = {"rock_1_uneven", "rock_3_even"};
+  const char *const paths[2] = {r1, r2};
+  for (int i = 0; i < 2; ++i) {
+    char pat[256];
+    snprintf(pat, sizeof pat, "{\"object\": \"%s\", \"policy\": \"bisect\", \"noisy\": false",
+             names[i]);
+    const char *p = strstr(js, pat);
+    ck_assert_msg(p != NULL, "no noiseless bisect run of %s", names[i]);
+    double truth[3], err[3], com[3];
+    json_vec(p, "truth_m", truth);
+    json_vec(p, "error_m", err);
+    json_vec(p, "com_m", com);
+    model_mass_t t;
+    ck_assert_int_eq(model_inertial_load(paths[i], NULL, &t, NULL), MODEL_OK);
+    for (int k = 0; k < 3; ++k) {
+      ck_assert_double_eq_tol(truth[k], t.com_m[k], 1e-9);
+      ck_assert_double_eq_tol(err[k], com[k] - t.com_m[k], 1e-9);
+      ck_assert_msg(fabs(err[k]) <= 2e-4, "%s %c: %.4f mm", names[i], "xyz"[k], 1e3 * err[k]);
+    }
+    ck_assert_ptr_nonnull(strstr(p, "\"found\": [true, true, true]"));
+    ck_assert_ptr_nonnull(strstr(p, "\"backend\": \"direct\""));
+  }
+  free(js);
+
+  for (int i = 0; i < 2; ++i) {
+    size_t n = 0;
+    snprintf(path, sizeof path, "%s/fig2_%s.svg", dir, names[i]);
+    char *svg = slurp(path, &n);
+    ck_assert_uint_lt(n, 100 * 1024);
+    ck_assert_ptr_nonnull(strstr(svg, "<svg xmlns=\"http://www.w3.org/2000/svg\""));
+    ck_assert_ptr_nonnull(strstr(svg, "</svg>"));
+    /* a line per policy per panel, and the dashed truth in each panel */
+    ck_assert_uint_eq(count_of(svg, "<polyline"), 2 * 3);
+    ck_assert_uint_eq(count_of(svg, "stroke-dasharray=\"6 4\"/>\n"), 3);
+    ck_assert_ptr_nonnull(strstr(svg, "bisect ("));
+    ck_assert_ptr_nonnull(strstr(svg, "paper-qtable ("));
+    free(svg);
+  }
+}
+END_TEST
+
+START_TEST(cli_bad_input) {
+  char cmd[2048], out[8192], urdf[512];
+  rock_path("rock_1_even", urdf, sizeof urdf);
+  const struct {
+    const char *args, *expect;
+  } cases[] = {
+      {"--policies bisect,foo", "--policies: 'foo' is not one of"},
+      {"--policies bisect,bisect", "'bisect' is listed twice"},
+      {"--seeds -1", "--seeds: '-1' is not an integer"},
+      {"--seeds 2x", "--seeds: '2x'"},
+      {"--placement-noise-mm nan", "--placement-noise-mm: 'nan' is not a number"},
+      {"--pose-noise-mm inf", "--pose-noise-mm: 'inf' is not a number"},
+      {"--placement-noise-mm -0.5", "--placement-noise-mm: '-0.5'"},
+      {"--resolution-mm 0", "--resolution-mm: '0'"},
+      {"--bogus", "unrecognized option"},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+    snprintf(cmd, sizeof cmd, "'%s' experiments '%s' %s 2>&1", COMLEARN_BIN, urdf, cases[i].args);
+    ck_assert_msg(run(cmd, out, sizeof out) == 2, "%s: not exit 2", cases[i].args);
+    ck_assert_msg(strstr(out, cases[i].expect) != NULL, "%s: message '%s' missing in: %s",
+                  cases[i].args, cases[i].expect, out);
+  }
+  snprintf(cmd, sizeof cmd, "'%s' experiments '%s/missing.urdf' 2>&1", COMLEARN_BIN, tmpdir);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "missing.urdf"));
+  snprintf(cmd, sizeof cmd, "'%s' experiments 2>&1", COMLEARN_BIN);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "at least one OBJECT.urdf"));
+  snprintf(cmd, sizeof cmd, "'%s' experiments --help", COMLEARN_BIN);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "--placement-noise-mm S"));
+  ck_assert_ptr_nonnull(strstr(out, "(default: 5)"));
+}
+END_TEST
+
+static Suite *suite(void) {
+  Suite *s = suite_create("experiments");
+  TCase *tc = tcase_create("direct_noise");
+  tcase_set_timeout(tc, 300);
+  tcase_add_test(tc, noise_seeding_and_held_pose);
+  tcase_add_test(tc, zero_noise_is_noiseless);
+  tcase_add_test(tc, noise_arguments_checked);
+  tcase_add_test(tc, pba_under_noise);
+  suite_add_tcase(s, tc);
+  tc = tcase_create("cli");
+  tcase_add_checked_fixture(tc, setup, teardown);
+  tcase_set_timeout(tc, 300);
+  tcase_add_test(tc, cli_experiments_outputs);
+  tcase_add_test(tc, cli_bad_input);
+  suite_add_tcase(s, tc);
+  return s;
+}
+
+int main(void) {
+  SRunner *sr = srunner_create(suite());
+  srunner_run_all(sr, CK_NORMAL);
+  int failed = srunner_ntests_failed(sr);
+  srunner_free(sr);
+  return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
