@@ -61,6 +61,9 @@ typedef struct {
   int outcome;   /* balance_outcome_t; -1 when the backend failed */
   double com_before_m[3];
   double halfwidth_before_m[3];
+  /* the link point set over the edge (stable checks: over B's centre). For every policy this is
+   * its current estimate along the search direction, so Fig. 2 draws it: the paper's walk. */
+  double target_link_m[3];
 } exp_step_t;
 
 /* The decorator backend: records each request, forwards it to the inner backend. */
@@ -81,6 +84,7 @@ static int recorder_run(void *ctx, const estimate_trial_request_t *req,
     s->outcome = rc == 0 ? (int)reply->outcome : -1;
     memcpy(s->com_before_m, req->com_before_m, sizeof s->com_before_m);
     memcpy(s->halfwidth_before_m, req->halfwidth_before_m, sizeof s->halfwidth_before_m);
+    memcpy(s->target_link_m, req->target_link_m, sizeof s->target_link_m);
   }
   return rc;
 }
@@ -651,6 +655,15 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
       }
       fputc(']', f);
     }
+    fputs("], \"target_link_m\": [", f);
+    for (size_t t = 0; t < r->nsteps; ++t) {
+      fputs(t ? ", [" : "[", f);
+      for (int k = 0; k < 3; ++k) {
+        if (k) fputs(", ", f);
+        js_num(f, r->steps[t].target_link_m[k]);
+      }
+      fputc(']', f);
+    }
     fputs("], \"halfwidth_before_m\": [", f);
     for (size_t t = 0; t < r->nsteps; ++t) {
       fputs(t ? ", [" : "[", f);
@@ -689,8 +702,11 @@ static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *r
       break;
     }
     for (int k = 0; k < 3; ++k) {
-      for (size_t t = 0; t < r->nsteps; ++t)
-        vals[ns][k][t] = 1e3 * (r->steps[t].com_before_m[k] - rock->bbox_center_m[k]);
+      for (size_t t = 0; t < r->nsteps; ++t) {
+        const exp_step_t *st = &r->steps[t];
+        const double *v = st->kind == ESTIMATE_TRIAL_EDGE ? st->target_link_m : st->com_before_m;
+        vals[ns][k][t] = 1e3 * (v[k] - rock->bbox_center_m[k]);
+      }
       /* the final estimate; a component not found is drawn as what the estimator reports */
       vals[ns][k][r->nsteps] =
           r->status == ESTIMATE_OK ? 1e3 * (r->com_m[k] - rock->bbox_center_m[k]) : NAN;
@@ -707,7 +723,7 @@ static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *r
       truth_mm[k] = rock->have_truth ? 1e3 * (rock->truth_m[k] - rock->bbox_center_m[k]) : NAN;
     char title[256];
     snprintf(title, sizeof title,
-             "%s: running CoM estimate (mm, from the bounding-box center), noiseless", rock->stem);
+             "%s: CoM estimate per trial (point placed over the edge; mm from the bbox center), noiseless", rock->stem);
     FILE *f = fopen(path, "w");
     if (!f) {
       LOG_E("%s: %s", path, strerror(errno));
