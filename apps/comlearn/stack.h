@@ -50,7 +50,7 @@ typedef struct {
 } stack_object_t;
 
 typedef struct {
-  double max_tilt_rad;            /* steepest contact plane used; default 20 deg (friction 0.8) */
+  double max_tilt_rad;            /* steepest contact plane used; default 15 deg (docs/stack.md) */
   double mass_rel_uncertainty;    /* default for objects that give 0: 0.3 */
   unsigned yaw_steps;             /* yaws tried per contact; default 24 */
 } stack_plan_config_t;

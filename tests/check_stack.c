@@ -1,0 +1,392 @@
+#define _POSIX_C_SOURCE 200809L
+/* check_stack: `comlearn stack` - the planner's margins against hand-computed values, the
+ * simulation deciding (a plan stands with the believed CoMs as truth and falls when the truth is
+ * elsewhere), the bundled rocks through the CLI, bad input. */
+#include <check.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "cli_test_util.h"
+#include "comlearn/model.h"
+#include "stack.h"
+
+#ifndef COMLEARN_BIN
+#error "COMLEARN_BIN must name the comlearn executable"
+#endif
+#ifndef STACK_TEST_ROCK_SECONDS
+#define STACK_TEST_ROCK_SECONDS "5"
+#endif
+
+static char tmpdir[256];
+
+static void setup(void) {
+  snprintf(tmpdir, sizeof tmpdir, "/tmp/check_stack.XXXXXX");
+  ck_assert_ptr_nonnull(mkdtemp(tmpdir));
+}
+
+static void teardown(void) {
+  char cmd[512];
+  snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+  ck_assert_int_eq(system(cmd), 0);
+}
+
+/* A box of size s (m) centered at the link origin, its true CoM at com, mass m. */
+static void write_box_urdf(const char *path, const double s[3], const double com[3], double m) {
+  FILE *f = fopen(path, "w");
+  ck_assert_ptr_nonnull(f);
+  const double ixx = m * (s[1] * s[1] + s[2] * s[2]) / 12.0;
+  const double iyy = m * (s[0] * s[0] + s[2] * s[2]) / 12.0;
+  const double izz = m * (s[0] * s[0] + s[1] * s[1]) / 12.0;
+  fprintf(f,
+          "<?xml version=\"1.0\"?>\n<robot name=\"stack_box\">\n <link name=\"body\">\n"
+          "  <inertial><origin xyz=\"%.17g %.17g %.17g\"/><mass value=\"%.17g\"/>\n"
+          "   <inertia ixx=\"%.17g\" iyy=\"%.17g\" izz=\"%.17g\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/>"
+          "</inertial>\n"
+          "  <collision><geometry><box size=\"%.17g %.17g %.17g\"/></geometry></collision>\n"
+          " </link>\n</robot>\n",
+          com[0], com[1], com[2], m, ixx, iyy, izz, s[0], s[1], s[2]);
+  fclose(f);
+}
+
+/* Small box S (40 x 40 x 20 mm, believed CoM 5 mm off center in x) and plate P (100 x 100 x
+ * 20 mm, CoM at its center), 0.2 kg each. */
+static const double kSmall[3] = {0.04, 0.04, 0.02}, kPlate[3] = {0.10, 0.10, 0.02};
+static const double kSmallCom[3] = {0.005, 0.0, 0.0}, kPlateCom[3] = {0.0, 0.0, 0.0};
+
+typedef struct {
+  model_mesh_t small, plate;
+  stack_object_t obj[2];
+} boxes_t;
+
+static void boxes(boxes_t *b, double plate_halfwidth_m) {
+  memset(b, 0, sizeof *b);
+  const double slo[3] = {-0.02, -0.02, -0.01}, shi[3] = {0.02, 0.02, 0.01};
+  const double plo[3] = {-0.05, -0.05, -0.01}, phi[3] = {0.05, 0.05, 0.01};
+  ck_assert_int_eq(model_mesh_box(slo, shi, &b->small), MODEL_OK);
+  ck_assert_int_eq(model_mesh_box(plo, phi, &b->plate), MODEL_OK);
+  b->obj[0].mesh_link = &b->small;
+  memcpy(b->obj[0].com_m, kSmallCom, sizeof kSmallCom);
+  b->obj[0].mass_kg = 0.2;
+  b->obj[1].mesh_link = &b->plate;
+  memcpy(b->obj[1].com_m, kPlateCom, sizeof kPlateCom);
+  b->obj[1].com_halfwidth_m[0] = b->obj[1].com_halfwidth_m[1] = plate_halfwidth_m;
+  b->obj[1].mass_kg = 0.2;
+}
+
+static void boxes_free(boxes_t *b) {
+  model_mesh_free(&b->small);
+  model_mesh_free(&b->plate);
+}
+
+static void rotate(const double q[4], const double v[3], double out[3]) {
+  double r[3][3];
+  model_quat_to_rot(q, r);
+  for (int i = 0; i < 3; ++i) out[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2];
+}
+
+static void world_com(const balance_pose_t *p, const double com[3], double out[3]) {
+  rotate(p->orientation_wxyz, com, out);
+  for (int i = 0; i < 3; ++i) out[i] += p->position_m[i];
+}
+
+/* The plan with exact masses and CoMs: the plate goes on the small box (its 40 x 40 mm top is the
+ * support of both contacts: 20 mm half width), the plate's CoM x_b off the small box's center
+ * and the pair's CoM (5 + x_b) / 2. Both margins equal at x_b = -5/3 mm: 20 - 5/3 = 18.333 mm
+ * (small box on the plate would give 20 - 5 = 15 mm). */
+START_TEST(plan_box_on_box_margins) {
+  boxes_t b;
+  boxes(&b, 0.0);
+  stack_plan_config_t cfg;
+  stack_plan_config_default(&cfg);
+  cfg.mass_rel_uncertainty = 0.0;
+  stack_plan_t plan;
+  ck_assert_int_eq(stack_plan(b.obj, 2, &cfg, &plan), STACK_OK);
+  ck_assert_uint_eq(plan.count, 2);
+  ck_assert_uint_eq(plan.order[0], 0);
+  ck_assert_uint_eq(plan.order[1], 1);
+  const double expect = 0.02 - 0.005 / 3.0;
+  ck_assert_msg(fabs(plan.margin_m[0] - expect) < 5e-5 && fabs(plan.margin_m[1] - expect) < 5e-5,
+                "margins %.6f %.6f mm, expected %.6f", 1e3 * plan.margin_m[0],
+                1e3 * plan.margin_m[1], 1e3 * expect);
+  ck_assert_double_eq_tol(plan.tilt_rad[0], 0.0, 1e-12);
+  ck_assert_double_eq_tol(plan.tilt_rad[1], 0.0, 1e-9);
+  /* The same margins from the poses alone: the small box's square (link x, y axes map to world
+   * +-x, +-y: it rests on a 40 x 40 face) and the CoMs. */
+  double cs[3], cp[3], center[3];
+  world_com(&plan.pose[0], kSmallCom, cs);
+  world_com(&plan.pose[1], kPlateCom, cp);
+  world_com(&plan.pose[0], (const double[3]){0, 0, 0}, center);
+  double ax[3];
+  rotate(plan.pose[0].orientation_wxyz, (const double[3]){0, 0, 1}, ax);
+  ck_assert_double_eq_tol(fabs(ax[2]), 1.0, 1e-9);
+  const double m1 = 0.02 - fmax(fabs(cp[0] - center[0]), fabs(cp[1] - center[1]));
+  const double gx = 0.5 * (cs[0] + cp[0]) - center[0], gy = 0.5 * (cs[1] + cp[1]) - center[1];
+  const double m0 = 0.02 - fmax(fabs(gx), fabs(gy));
+  ck_assert_double_eq_tol(plan.margin_m[1], m1, 1e-9);
+  ck_assert_double_eq_tol(plan.margin_m[0], m0, 1e-9);
+  /* Touching, 1 um pre-penetrated each: small box on B, plate on the small box. */
+  ck_assert_double_eq_tol(plan.pose[0].position_m[2], 0.01 - 1e-6, 1e-9);
+  ck_assert_double_eq_tol(plan.pose[1].position_m[2], 0.03 - 2e-6, 1e-9);
+  /* The whole stack's CoM over B's middle. */
+  ck_assert_double_eq_tol(0.5 * (cs[0] + cp[0]), 0.0, 1e-9);
+  ck_assert_double_eq_tol(0.5 * (cs[1] + cp[1]), 0.0, 1e-9);
+  boxes_free(&b);
+}
+END_TEST
+
+/* The plate's CoM uncertain by 2 mm in x and y: margin 1 loses 2 mm, margin 0 loses 1 mm (the
+ * plate weighs half): 18 + x_b = 19 - (5 + x_b) / 2 at x_b = -1 mm: both 17 mm. */
+START_TEST(plan_uncertainty_box) {
+  boxes_t b;
+  boxes(&b, 0.002);
+  stack_plan_config_t cfg;
+  stack_plan_config_default(&cfg);
+  cfg.mass_rel_uncertainty = 0.0;
+  stack_plan_t plan;
+  ck_assert_int_eq(stack_plan(b.obj, 2, &cfg, &plan), STACK_OK);
+  ck_assert_uint_eq(plan.order[0], 0);
+  ck_assert_msg(fabs(plan.margin_m[0] - 0.017) < 5e-5 && fabs(plan.margin_m[1] - 0.017) < 5e-5,
+                "margins %.6f %.6f mm", 1e3 * plan.margin_m[0], 1e3 * plan.margin_m[1]);
+  /* Masses within x/ 1.3: the worst pair CoM puts w = 1.69 / 2.69 on the small box:
+   * 20 + x_b = 20 - (5 w + (1 - w) x_b) at x_b = -5 w / (2 - w): 17.710 mm. */
+  boxes_free(&b);
+  boxes(&b, 0.0);
+  cfg.mass_rel_uncertainty = 0.3;
+  ck_assert_int_eq(stack_plan(b.obj, 2, &cfg, &plan), STACK_OK);
+  const double w = 1.69 / 2.69, expect = 0.02 - 0.005 * w / (2.0 - w);
+  ck_assert_msg(fabs(plan.margin_m[0] - expect) < 5e-5 && fabs(plan.margin_m[1] - expect) < 5e-5,
+                "margins %.6f %.6f mm, expected %.6f", 1e3 * plan.margin_m[0],
+                1e3 * plan.margin_m[1], 1e3 * expect);
+  boxes_free(&b);
+}
+END_TEST
+
+/* The simulation decides: the plan stands with the believed CoMs as the truth, and the same plan
+ * falls when the plate's true CoM is 40 mm off (38 mm beyond the support's 20 mm). */
+START_TEST(sim_stands_and_falls_by_truth) {
+  boxes_t b;
+  boxes(&b, 0.0);
+  stack_plan_t plan;
+  ck_assert_int_eq(stack_plan(b.obj, 2, NULL, &plan), STACK_OK);
+  char small[512], plate[512], wrong[512];
+  snprintf(small, sizeof small, "%s/small.urdf", tmpdir);
+  snprintf(plate, sizeof plate, "%s/plate.urdf", tmpdir);
+  snprintf(wrong, sizeof wrong, "%s/wrong.urdf", tmpdir);
+  write_box_urdf(small, kSmall, kSmallCom, 0.2);
+  write_box_urdf(plate, kPlate, kPlateCom, 0.2);
+  write_box_urdf(wrong, kPlate, (const double[3]){0.04, 0.0, 0.0}, 0.2);
+  stack_sim_result_t res;
+  const char *right_paths[2] = {small, plate}, *wrong_paths[2] = {small, wrong};
+  ck_assert_int_eq(stack_simulate(right_paths, 2, &plan, NULL, NULL, &res), STACK_OK);
+  ck_assert_msg(res.run.stands, "fell at %.3f s", res.run.seconds_standing);
+  ck_assert_double_eq(res.run.seconds_standing, 5.0);
+  for (int i = 0; i < 2; ++i) {
+    ck_assert(res.object[i].moved_at_s == -1.0);
+    ck_assert(res.object[i].displacement_m < 1e-4);
+  }
+  ck_assert_int_eq(stack_simulate(wrong_paths, 2, &plan, NULL, NULL, &res), STACK_OK);
+  ck_assert(!res.run.stands);
+  ck_assert(res.run.seconds_standing > 0.0 && res.run.seconds_standing < 2.0);
+  ck_assert(res.object[1].moved_at_s == res.run.seconds_standing);
+  /* a file that is not there */
+  const char *missing[2] = {small, "/nonexistent/x.urdf"};
+  ck_assert_int_eq(stack_simulate(missing, 2, &plan, NULL, NULL, &res), STACK_E_ARG);
+  ck_assert_ptr_nonnull(strstr(res.msg, "/nonexistent/x.urdf"));
+  boxes_free(&b);
+}
+END_TEST
+
+START_TEST(plan_bad_input) {
+  boxes_t b;
+  boxes(&b, 0.0);
+  stack_plan_t plan;
+  ck_assert_int_eq(stack_plan(b.obj, 1, NULL, &plan), STACK_E_ARG);
+  ck_assert_int_eq(stack_plan(NULL, 2, NULL, &plan), STACK_E_ARG);
+  ck_assert_int_eq(stack_plan(b.obj, 2, NULL, NULL), STACK_E_ARG);
+  ck_assert_int_eq(stack_plan(b.obj, STACK_MAX_OBJECTS + 1, NULL, &plan), STACK_E_ARG);
+  stack_object_t o[2] = {b.obj[0], b.obj[1]};
+  o[1].com_m[2] = NAN;
+  ck_assert_int_eq(stack_plan(o, 2, NULL, &plan), STACK_E_ARG);
+  o[1] = b.obj[1];
+  o[1].com_halfwidth_m[0] = -1e-3;
+  ck_assert_int_eq(stack_plan(o, 2, NULL, &plan), STACK_E_ARG);
+  o[1] = b.obj[1];
+  o[1].mass_kg = 0.0;
+  ck_assert_int_eq(stack_plan(o, 2, NULL, &plan), STACK_E_ARG);
+  o[1] = b.obj[1];
+  o[1].mesh_link = NULL;
+  ck_assert_int_eq(stack_plan(o, 2, NULL, &plan), STACK_E_ARG);
+  stack_plan_config_t cfg;
+  stack_plan_config_default(&cfg);
+  cfg.max_tilt_rad = NAN;
+  ck_assert_int_eq(stack_plan(b.obj, 2, &cfg, &plan), STACK_E_ARG);
+  stack_plan_config_default(&cfg);
+  cfg.yaw_steps = 0;
+  ck_assert_int_eq(stack_plan(b.obj, 2, &cfg, &plan), STACK_E_ARG);
+  /* A believed CoM outside the object: no face it rests on, no plan, and a message. */
+  o[1] = b.obj[1];
+  o[1].com_m[0] = o[1].com_m[1] = o[1].com_m[2] = 0.5;
+  ck_assert_int_eq(stack_plan(o, 2, NULL, &plan), STACK_E_NOPLAN);
+  ck_assert_uint_eq(plan.count, 0);
+  ck_assert(strlen(plan.msg) > 10);
+  ck_assert_str_eq(stack_status_str(STACK_E_NOPLAN), "no stable stack found");
+  ck_assert_str_eq(stack_com_source_str(STACK_COM_BBOX), "bbox");
+  boxes_free(&b);
+}
+END_TEST
+
+/* ---- the CLI ----------------------------------------------------------------------------- */
+
+static int json_bool(const char *json, const char *key) {
+  char pat[128];
+  snprintf(pat, sizeof pat, "\"%s\": ", key);
+  const char *p = strstr(json, pat);
+  ck_assert_msg(p != NULL, "key %s missing in %s", key, json);
+  p += strlen(pat);
+  if (strncmp(p, "true", 4) == 0) return 1;
+  ck_assert_msg(strncmp(p, "false", 5) == 0, "%s is not a bool", key);
+  return 0;
+}
+
+/* Count occurrences of s in json. */
+static int count_str(const char *json, const char *s) {
+  int n = 0;
+  for (const char *p = strstr(json, s); p; p = strstr(p + 1, s)) ++n;
+  return n;
+}
+
+static void check_rock_stack_json(const char *out, const char *source) {
+  char pat[64];
+  snprintf(pat, sizeof pat, "\"com_source\": \"%s\"", source);
+  ck_assert_msg(strstr(out, pat) != NULL, "%s", out);
+  ck_assert_msg(json_bool(out, "stands"), "the stack fell: %s", out);
+  ck_assert_double_eq_tol(json_num(out, "seconds_standing"), atof(STACK_TEST_ROCK_SECONDS), 1e-9);
+  ck_assert_int_eq(count_str(out, "\"urdf\": "), 3);
+  ck_assert_int_eq(count_str(out, "\"moved_at_s\": -1"), 3);
+  /* order: a permutation of 0, 1, 2 */
+  const char *p = strstr(out, "\"order\": [");
+  ck_assert_ptr_nonnull(p);
+  int a, b, c;
+  ck_assert_int_eq(sscanf(p, "\"order\": [%d, %d, %d]", &a, &b, &c), 3);
+  ck_assert(a != b && b != c && a != c && a >= 0 && b >= 0 && c >= 0 && a < 3 && b < 3 && c < 3);
+  /* every margin positive, every contact within 20 degrees */
+  for (const char *q = strstr(out, "\"margin_m\": "); q; q = strstr(q + 1, "\"margin_m\": "))
+    ck_assert_msg(atof(q + 12) > 0.0, "margin %s", q);
+  for (const char *q = strstr(out, "\"tilt_rad\": "); q; q = strstr(q + 1, "\"tilt_rad\": "))
+    ck_assert(atof(q + 12) >= 0.0 && atof(q + 12) <= 15.0 * 3.14159265358979 / 180.0 + 1e-9);
+  ck_assert(json_num(out, "min_margin_m") > 0.0);
+  ck_assert(json_num(out, "plan_seconds") > 0.0);
+  ck_assert(json_num(out, "sim_seconds") > 0.0);
+}
+
+START_TEST(cli_rocks_true_and_learned_stand) {
+  char cmd[2048];
+  static char out[65536];
+  const char *src[2] = {"true", "learned"};
+  for (int s = 0; s < 2; ++s) {
+    snprintf(cmd, sizeof cmd,
+             "'%s' stack -q --json --com %s --duration-s %s '%s/rocks/rock_1_uneven.urdf' "
+             "'%s/rocks/rock_2_uneven.urdf' '%s/rocks/rock_3_uneven.urdf'",
+             COMLEARN_BIN, src[s], STACK_TEST_ROCK_SECONDS, COMLEARN_ASSETS_DIR,
+             COMLEARN_ASSETS_DIR, COMLEARN_ASSETS_DIR);
+    ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+    check_rock_stack_json(out, src[s]);
+    if (s == 0) {
+      /* the oracle's half widths are 0; the learned ones below 1 mm and not 0 */
+      ck_assert(json_bool(out, "oracle"));
+      double hw[3];
+      json_vec(out, "halfwidth_m", hw);
+      ck_assert(hw[0] == 0.0 && hw[1] == 0.0 && hw[2] == 0.0);
+    } else {
+      ck_assert(!json_bool(out, "oracle"));
+      double hw[3];
+      json_vec(out, "halfwidth_m", hw);
+      for (int k = 0; k < 3; ++k) ck_assert(hw[k] > 0.0 && hw[k] < 1e-3);
+    }
+  }
+}
+END_TEST
+
+START_TEST(cli_boxes_table_and_bbox) {
+  char small[512], plate[512], cmd[2048];
+  static char out[65536];
+  snprintf(small, sizeof small, "%s/small.urdf", tmpdir);
+  snprintf(plate, sizeof plate, "%s/plate.urdf", tmpdir);
+  write_box_urdf(small, kSmall, kSmallCom, 0.2);
+  write_box_urdf(plate, kPlate, (const double[3]){0.04, 0.0, 0.0}, 0.2);
+  /* the truth: stands; the table says so and names the oracle */
+  snprintf(cmd, sizeof cmd, "'%s' stack -q --com true --duration-s 1 '%s' '%s'", COMLEARN_BIN,
+           small, plate);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert_msg(strstr(out, "STANDS") != NULL, "%s", out);
+  ck_assert_ptr_nonnull(strstr(out, "ORACLE"));
+  /* bbox: both CoMs believed at the box centers (0 0 0 in the JSON). The smaller support caps
+   * both orders at 20 mm; the plate at the bottom leaves 50 mm on B: order [1, 0]. */
+  snprintf(cmd, sizeof cmd, "'%s' stack -q --json --com bbox --duration-s 1 '%s' '%s'",
+           COMLEARN_BIN, small, plate);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "\"com_source\": \"bbox\""));
+  double com[3];
+  json_vec(out, "com_m", com);
+  ck_assert(com[0] == 0.0 && com[1] == 0.0 && com[2] == 0.0);
+  ck_assert_msg(strstr(out, "\"order\": [1, 0]") != NULL, "%s", out);
+  ck_assert_double_eq_tol(json_num(out, "min_margin_m"), 0.02, 5e-5);
+  ck_assert(json_bool(out, "stands"));
+}
+END_TEST
+
+START_TEST(cli_bad_input) {
+  char cmd[2048], out[8192], box[512];
+  snprintf(box, sizeof box, "%s/small.urdf", tmpdir);
+  write_box_urdf(box, kSmall, kSmallCom, 0.2);
+  const char *cases[][2] = {
+      {"stack '%s'", "2..8"},
+      {"stack '%s' /nonexistent/rock.urdf", "/nonexistent/rock.urdf"},
+      {"stack --com camera '%s' '%s'", "--com"},
+      {"stack --duration-s abc '%s' '%s'", "--duration-s"},
+      {"stack --duration-s -1 '%s' '%s'", "--duration-s"},
+      {"stack --policy nope '%s' '%s'", "--policy"},
+      {"stack --bogus '%s' '%s'", "bogus"},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+    char args[1024];
+    snprintf(args, sizeof args, cases[i][0], box, box);
+    snprintf(cmd, sizeof cmd, "'%s' %s 2>&1 >/dev/null", COMLEARN_BIN, args);
+    ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+    ck_assert_msg(strstr(out, cases[i][1]) != NULL, "'%s': message '%s' lacks '%s'", args, out,
+                  cases[i][1]);
+  }
+  snprintf(cmd, sizeof cmd, "'%s' stack --help", COMLEARN_BIN);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "--com"));
+  ck_assert_ptr_nonnull(strstr(out, "--duration-s"));
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("stack");
+  TCase *plan = tcase_create("plan");
+  tcase_add_checked_fixture(plan, setup, teardown);
+  tcase_set_timeout(plan, 300);
+  tcase_add_test(plan, plan_box_on_box_margins);
+  tcase_add_test(plan, plan_uncertainty_box);
+  tcase_add_test(plan, sim_stands_and_falls_by_truth);
+  tcase_add_test(plan, plan_bad_input);
+  suite_add_tcase(s, plan);
+  TCase *cli = tcase_create("cli");
+  tcase_add_checked_fixture(cli, setup, teardown);
+  tcase_set_timeout(cli, 600);
+  tcase_add_test(cli, cli_bad_input);
+  tcase_add_test(cli, cli_boxes_table_and_bbox);
+  tcase_add_test(cli, cli_rocks_true_and_learned_stand);
+  suite_add_tcase(s, cli);
+  SRunner *r = srunner_create(s);
+  srunner_run_all(r, CK_NORMAL);
+  const int failed = srunner_ntests_failed(r);
+  srunner_free(r);
+  return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
