@@ -72,6 +72,8 @@ typedef struct {
   size_t sel_count;
 } balance_fast_cache_t;
 
+enum { BALANCE_SEP_SLOTS = 4 };
+
 struct balance_object {
   balance_world_t *world;
   size_t index;                 /* position in world->objects */
@@ -84,6 +86,11 @@ struct balance_object {
   double (*vert_normals)[3];    /* unit outward vertex normals (area-weighted), body frame */
   double (*hull_planes)[4];     /* convex hull faces in the body frame: n . x <= d, (nx, ny, nz, d) */
   size_t hull_plane_count;
+  /* vertex_count x BALANCE_SEP_SLOTS: per vertex, the hull plane of another object (slot: that
+   * object's index % BALANCE_SEP_SLOTS) that last had the vertex outside. A hint only, tried
+   * first: contact_pair.c decides exactly as without it, only sooner (bodies at rest barely move,
+   * so the same plane keeps separating). */
+  uint32_t *sep_cache;
   dBodyID body;                 /* disabled while the object is not placed */
   dGeomID geom;                 /* trimesh in the body frame (stock path) */
   dTriMeshDataID tm_data;

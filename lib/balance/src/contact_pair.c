@@ -27,13 +27,23 @@ static size_t verts_in_hull(const balance_object_t *src, const balance_object_t 
     }
     if (rel[0] * rel[0] + rel[1] * rel[1] + rel[2] * rel[2] > reach * reach) continue;
     for (int k = 0; k < 3; k++) b[k] = rd[0][k] * rel[0] + rd[1][k] * rel[1] + rd[2][k] * rel[2];
+    /* The plane that separated this vertex last time first: outside is outside whichever plane
+     * shows it, so the decision is the one the full scan below makes. */
+    uint32_t *hint = &src->sep_cache[i * BALANCE_SEP_SLOTS + dst->index % BALANCE_SEP_SLOTS];
+    if (*hint < dst->hull_plane_count) {
+      const double *pl = dst->hull_planes[*hint];
+      if (pl[0] * b[0] + pl[1] * b[1] + pl[2] * b[2] - pl[3] >= BALANCE_CONTACT_BAND_M) continue;
+    }
     double worst = -INFINITY;
     for (size_t f = 0; f < dst->hull_plane_count; f++) {
       const double *pl = dst->hull_planes[f];
       const double s = pl[0] * b[0] + pl[1] * b[1] + pl[2] * b[2] - pl[3];
       if (s > worst) {
         worst = s;
-        if (s >= BALANCE_CONTACT_BAND_M) break; /* outside: no contact */
+        if (s >= BALANCE_CONTACT_BAND_M) { /* outside: no contact */
+          *hint = (uint32_t)f;
+          break;
+        }
       }
     }
     if (!(worst < BALANCE_CONTACT_BAND_M) || -worst > BALANCE_CONTACT_MAX_DEPTH_M) continue;

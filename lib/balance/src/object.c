@@ -109,6 +109,7 @@ void balance_object_destroy_internal(balance_object_t *o) {
   free(o->tm_indices);
   free(o->verts_body_m);
   free(o->hull_planes);
+  free(o->sep_cache);
   free(o->vert_normals);
   free(o->edges);
   free(o->fast.verts);
@@ -144,8 +145,9 @@ balance_status_t balance_object_create(balance_world_t *w, const model_mesh_t *m
   o->fast.verts = malloc(nv * sizeof *o->fast.verts);
   o->fast.verts_w = malloc(nv * sizeof *o->fast.verts_w);
   o->fast.local = malloc(nv * sizeof *o->fast.local);
+  o->sep_cache = calloc(nv * BALANCE_SEP_SLOTS, sizeof *o->sep_cache);
   if (!o->verts_body_m || !o->tm_vertices || !o->tm_indices || !all || !o->fast.verts ||
-      !o->fast.verts_w || !o->fast.local) {
+      !o->fast.verts_w || !o->fast.local || !o->sep_cache) {
     free(all);
     goto nomem;
   }
