@@ -32,7 +32,7 @@
 extern "C" {
 #endif
 
-enum { ROCKGEN_MAX_FRACTURES = 6, ROCKGEN_MAX_SUPPORT = 256 };
+enum { ROCKGEN_MAX_FRACTURES = 6, ROCKGEN_MAX_SUPPORT = 256, ROCKGEN_NAME_MAX = 32 };
 
 /* A fracture face: the plane with outward normal `normal` (any length, normalised by the
  * generator) placed `depth_m` inside the unfractured surface's farthest vertex along it. */
@@ -45,7 +45,8 @@ typedef struct {
  * { x : n . (x - com_uniform) >= region_offset_m }, n = region_normal normalised, com_uniform the
  * uniform-density CoM of the generated mesh. */
 typedef struct {
-  const char *name;               /* file stem and URDF link name, e.g. "rock_1" */
+  char name[ROCKGEN_NAME_MAX];     /* file stem and URDF link name, e.g. "rock_1" (a value, so a
+                                     copied spec is self-contained) */
   uint64_t seed;                  /* seeds the lobes */
   unsigned frequency;             /* geodesic frequency f: 20 f^2 triangles, 10 f^2 + 2 vertices */
   double semi_axes_m[3];          /* base ellipsoid */
@@ -66,6 +67,42 @@ typedef struct {
 /* The parameter table of the bundled rocks (tools/rockgen_table.c). Index out of range: NULL. */
 size_t rockgen_spec_count(void);
 const rockgen_spec_t *rockgen_spec_get(size_t index);
+
+/* ---- random rocks (tools/rockgen_random.c) -------------------------------------------------- */
+
+/* A random rock in the style of the table: name "rock_r<seed>" (seed in decimal), frequency 10,
+ * 6 lobes of amplitude 0.20 (cos 0.25-0.35), 26 bumps of 0.06 (cos 0.86-0.88), semi-axes
+ * x 30-38, y 26-31, z 24-28 mm, four fractures: bottom (0, 0, -1) depth 6-7 mm, side (+-1, 0, 0)
+ * depth 6.5-7.5 mm, two oblique faces with unit normals whose z is in [0.4, 0.75] (azimuths at
+ * least 60 degrees apart from each other and from the side face) depth 3-5.5 mm; 2650 kg/m^3
+ * with a 5200 kg/m^3 half-space of random unit normal at 2-4 mm from the uniform-density CoM.
+ *
+ * Rule: attempt k (k = 0, 1, ...) draws every number from the splitmix64 stream whose state is the
+ * (k+1)-th splitmix64 output of `seed`; rockgen_spec_random() returns the first attempt that
+ * rockgen_random_accept() accepts, at most ROCKGEN_RANDOM_MAX_ATTEMPTS. Deterministic (only
+ * + - * / sqrt), so a seed names one rock on every build. */
+enum { ROCKGEN_RANDOM_MAX_ATTEMPTS = 32 };
+
+/* Acceptance: the mesh builds (closed by construction), its largest planar patch (area >= 1 cm^2)
+ * is the bottom face with normal (0, 0, -1), that face is >= ROCKGEN_RANDOM_MIN_WIDTH_M wide, and
+ * both the uniform and the uneven CoM project >= ROCKGEN_RANDOM_MIN_MARGIN_M inside its support
+ * polygon (the rock rests upright for either material). */
+#define ROCKGEN_RANDOM_MIN_MARGIN_M 0.005
+#define ROCKGEN_RANDOM_MIN_WIDTH_M 0.020
+
+/* Attempt `attempt` of `seed`, unchecked. Does not allocate. MODEL_E_ARG for NULL out. */
+model_status_t rockgen_spec_random_draw(uint64_t seed, unsigned attempt, rockgen_spec_t *out);
+
+/* Does `spec` pass the acceptance rule above? Writes 1 or 0 to *accepted and, when non-NULL, the
+ * bottom face's margin for the uneven CoM to *margin_m (NaN when there is no bottom face).
+ * Builds the mesh (allocates temporarily). Errors of rockgen_shape_build / rockgen_mass other than
+ * a spec the shape cannot take (MODEL_E_ARG there counts as "not accepted") are returned. */
+model_status_t rockgen_random_accept(const rockgen_spec_t *spec, int *accepted, double *margin_m);
+
+/* The first accepted attempt of `seed` (see the rule above) into *out. Allocates temporarily.
+ * MODEL_E_ARG for NULL out; MODEL_E_DEGENERATE when no attempt in ROCKGEN_RANDOM_MAX_ATTEMPTS is
+ * accepted (not seen in practice); MODEL_E_NOMEM. Thread-safe (no globals). */
+model_status_t rockgen_spec_random(uint64_t seed, rockgen_spec_t *out);
 
 /* Build a rock's mesh in its link frame (see above). out must not own arrays; allocates.
  * MODEL_E_ARG for a NULL or invalid spec (frequency 0 or > 64, non-positive axes, depth < 0),
