@@ -127,12 +127,16 @@ START_TEST(top_box_beyond_edge_falls) {
   ck_assert(per[1].displacement_m > cfg.max_displacement_m ||
             per[1].rotation_rad > cfg.max_rotation_rad);
   ck_assert(r.steps < 1000);
-  /* Run to the end: it has fallen off the lower box, below its top (20 mm). */
+  /* Run to the end: it has tipped off the lower box's edge and leans against it with a corner on
+   * B (rotated ~37 degrees, its CoM beyond the edge and below where it started). Until the
+   * object-object friction bound became Coulomb (lib/balance/src/world.c) it ended inside the
+   * lower box instead. */
   cfg.run_to_end = 1;
   ck_assert_int_eq(balance_stack_run(t.w, t.obj, t.pose, 2, &cfg, &r, per), BALANCE_OK);
   ck_assert(!r.stands);
   ck_assert_uint_eq(r.steps, 2000);
-  ck_assert(per[1].final_pose.position_m[2] < 0.02);
+  ck_assert(per[1].final_pose.position_m[0] > 0.03);
+  ck_assert(per[1].final_pose.position_m[2] < t.pose[1].position_m[2] - 0.005);
   ck_assert(per[1].rotation_rad > 0.5);
   two_boxes_free(&t);
 }

@@ -74,6 +74,15 @@ typedef struct {
 
 enum { BALANCE_SEP_SLOTS = 4 };
 
+/* The normal force an object-object contact carried in the last step (world.c): the friction bound
+ * of the same contact in the next step. */
+typedef struct {
+  const struct balance_object *a, *b; /* the pair, in contact-joint order */
+  double pos_m[3];                    /* the contact point, world */
+  double normal[3];                   /* the contact normal (into a) */
+  double force_n;                     /* normal force on a [N], after the step */
+} balance_pair_force_t;
+
 struct balance_object {
   balance_world_t *world;
   size_t index;                 /* position in world->objects */
@@ -113,6 +122,12 @@ struct balance_world {
   balance_point_t *points;      /* contact scratch before reduction */
   size_t point_capacity;
   double time_s;                /* simulated time since the last balance_world_time_reset */
+  /* Object-object friction history (world.c): the contacts of the last step with their normal
+   * forces (prev), the ones being built (now, with ODE feedback slots). Cleared whenever an
+   * object is placed or removed. */
+  balance_pair_force_t *pair_prev, *pair_now;
+  dJointFeedback *pair_feedback;
+  size_t pair_prev_count, pair_now_count, pair_capacity;
 };
 
 /* ---- geometry helpers (world.c); pure ---- */

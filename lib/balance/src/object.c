@@ -347,6 +347,7 @@ balance_status_t balance_object_place(balance_object_t *o, const balance_pose_t 
   dBodySetTorque(o->body, 0.0, 0.0, 0.0);
   dBodyEnable(o->body);
   o->placed = 1;
+  o->world->pair_prev_count = 0;
   o->fast.valid = 0;
   o->fast.sel_valid = 0;
   return BALANCE_OK;
@@ -356,6 +357,7 @@ void balance_object_remove(balance_object_t *o) {
   if (!o) return;
   dBodyDisable(o->body);
   o->placed = 0;
+  o->world->pair_prev_count = 0;
   o->fast.valid = 0;
   o->fast.sel_valid = 0;
 }

@@ -91,6 +91,9 @@ void balance_world_destroy(balance_world_t *w) {
   free(w->objects);
   free(w->raw);
   free(w->points);
+  free(w->pair_prev);
+  free(w->pair_now);
+  free(w->pair_feedback);
   if (w->base_geom) dGeomDestroy(w->base_geom);
   if (w->contact_group) dJointGroupDestroy(w->contact_group);
   if (w->ode) dWorldDestroy(w->ode);
@@ -215,29 +218,121 @@ static size_t dedupe(balance_point_t *p, size_t n) {
   return m;
 }
 
+/* One contact joint. mu_abs < 0: ODE's friction pyramid with mu = cfg.friction (the bound
+ * follows the contact's normal force inside the LCP); else a fixed friction bound of mu_abs N. */
+static dJointID add_joint(balance_world_t *w, dBodyID b1, dBodyID b2, const balance_point_t *pt,
+                          double mu_abs) {
+  dContact c;
+  memset(&c, 0, sizeof c);
+  c.surface.mode = dContactSoftERP | dContactSoftCFM;
+  if (mu_abs < 0.0) {
+    c.surface.mode |= dContactApprox1;
+    c.surface.mu = w->cfg.friction;
+  } else {
+    c.surface.mu = mu_abs;
+  }
+  c.surface.soft_erp = w->cfg.soft_erp;
+  c.surface.soft_cfm = w->cfg.soft_cfm;
+  if (pt->depth_m < 0.0) {
+    /* Speculative contact: ODE clamps a negative depth to zero, which would hold the point at
+     * its gap. Allow it to close the gap in this step instead. */
+    c.surface.mode |= dContactMotionN;
+    c.surface.motionN = pt->depth_m / w->cfg.dt_s;
+  }
+  for (int k = 0; k < 3; k++) {
+    c.geom.pos[k] = pt->pos_m[k];
+    c.geom.normal[k] = pt->normal[k];
+  }
+  c.geom.depth = pt->depth_m > 0.0 ? pt->depth_m : 0.0;
+  dJointID j = dJointCreateContact(w->ode, w->contact_group, &c);
+  dJointAttach(j, b1, b2);
+  return j;
+}
+
 static void add_joints(balance_world_t *w, dBodyID b1, dBodyID b2, const balance_point_t *pts,
                        size_t n) {
-  for (size_t i = 0; i < n; i++) {
-    dContact c;
-    memset(&c, 0, sizeof c);
-    c.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
-    c.surface.mu = w->cfg.friction;
-    c.surface.soft_erp = w->cfg.soft_erp;
-    c.surface.soft_cfm = w->cfg.soft_cfm;
-    if (pts[i].depth_m < 0.0) {
-      /* Speculative contact: ODE clamps a negative depth to zero, which would hold the point at
-       * its gap. Allow it to close the gap in this step instead. */
-      c.surface.mode |= dContactMotionN;
-      c.surface.motionN = pts[i].depth_m / w->cfg.dt_s;
+  for (size_t i = 0; i < n; i++) add_joint(w, b1, b2, &pts[i], -1.0);
+}
+
+/* Room for n object-object contacts in this step's friction history. Called before the first
+ * pair joint of a step: ODE keeps pointers into pair_feedback until the step is taken. */
+static int pair_reserve(balance_world_t *w, size_t n) {
+  if (n <= w->pair_capacity) return 1;
+  balance_pair_force_t *p = realloc(w->pair_prev, n * sizeof *p);
+  if (!p) return 0;
+  w->pair_prev = p;
+  p = realloc(w->pair_now, n * sizeof *p);
+  if (!p) return 0;
+  w->pair_now = p;
+  dJointFeedback *f = realloc(w->pair_feedback, n * sizeof *f);
+  if (!f) return 0;
+  w->pair_feedback = f;
+  w->pair_capacity = n;
+  return 1;
+}
+
+/* Object-object contact joints. Friction: ODE's pyramid (dContactApprox1) takes each contact's
+ * bound from its normal force inside the LCP, and its Dantzig solver leaves the bound of a
+ * contact whose normal force is resolved late at zero. On a rock resting on a few bump tips only
+ * one contact then carried friction, so nothing resisted a twist about the contact normal, and a
+ * stack planned with millimetres of margin spun off its support within a second (docs/physics.md).
+ * So each contact gets a fixed Coulomb bound, cfg.friction x the normal force the same pair
+ * carried in the last step (1 ms earlier) at the nearest point within BALANCE_PAIR_MATCH_M. The
+ * match is by position, not by vertex id: where a bump tip touches a face, the vertex of one body
+ * and the nearby one of the other take turns as the contact (dedupe keeps one), and a contact
+ * that lost its history every few steps slipped (a 1 mm/s creep on a 10-degree contact). A
+ * contact with nothing near it last step gets the pair's mean force; a pair without history
+ * keeps the pyramid. */
+#define BALANCE_PAIR_MATCH_M 5e-4
+static void add_pair_joints(balance_world_t *w, const balance_object_t *a,
+                            const balance_object_t *b, const balance_point_t *pts, size_t n) {
+  double sum = 0.0;
+  size_t count = 0;
+  for (size_t q = 0; q < w->pair_prev_count; q++)
+    if (w->pair_prev[q].a == a && w->pair_prev[q].b == b) {
+      sum += w->pair_prev[q].force_n > 0.0 ? w->pair_prev[q].force_n : 0.0;
+      ++count;
     }
-    for (int k = 0; k < 3; k++) {
-      c.geom.pos[k] = pts[i].pos_m[k];
-      c.geom.normal[k] = pts[i].normal[k];
+  for (size_t i = 0; i < n && w->pair_now_count < w->pair_capacity; i++) {
+    double mu_abs = -1.0;
+    if (count > 0) {
+      double fn = sum / (double)count, d2min = BALANCE_PAIR_MATCH_M * BALANCE_PAIR_MATCH_M;
+      for (size_t q = 0; q < w->pair_prev_count; q++) {
+        const balance_pair_force_t *p = &w->pair_prev[q];
+        if (p->a != a || p->b != b) continue;
+        double d2 = 0.0;
+        for (int k = 0; k < 3; k++) d2 += (p->pos_m[k] - pts[i].pos_m[k]) * (p->pos_m[k] - pts[i].pos_m[k]);
+        if (d2 < d2min) {
+          d2min = d2;
+          fn = p->force_n > 0.0 ? p->force_n : 0.0;
+        }
+      }
+      mu_abs = w->cfg.friction * fn;
     }
-    c.geom.depth = pts[i].depth_m > 0.0 ? pts[i].depth_m : 0.0;
-    dJointID j = dJointCreateContact(w->ode, w->contact_group, &c);
-    dJointAttach(j, b1, b2);
+    dJointID j = add_joint(w, a->body, b->body, &pts[i], mu_abs);
+    balance_pair_force_t *now = &w->pair_now[w->pair_now_count];
+    now->a = a;
+    now->b = b;
+    memcpy(now->pos_m, pts[i].pos_m, sizeof now->pos_m);
+    memcpy(now->normal, pts[i].normal, sizeof now->normal);
+    now->force_n = 0.0;
+    dJointSetFeedback(j, &w->pair_feedback[w->pair_now_count]);
+    w->pair_now_count++;
   }
+}
+
+/* After the step: the normal force of every pair contact, which becomes the history. */
+static void pair_forces_record(balance_world_t *w) {
+  for (size_t i = 0; i < w->pair_now_count; i++) {
+    const dReal *f = w->pair_feedback[i].f1;
+    const double *nrm = w->pair_now[i].normal;
+    w->pair_now[i].force_n = f[0] * nrm[0] + f[1] * nrm[1] + f[2] * nrm[2];
+  }
+  balance_pair_force_t *t = w->pair_prev;
+  w->pair_prev = w->pair_now;
+  w->pair_now = t;
+  w->pair_prev_count = w->pair_now_count;
+  w->pair_now_count = 0;
 }
 
 static int body_finite(dBodyID b) {
@@ -268,6 +363,10 @@ balance_status_t balance_world_step(balance_world_t *w) {
     n = balance_points_reduce(w->points, n, k);
     add_joints(w, o->body, 0, w->points, n);
   }
+  size_t placed = 0;
+  for (size_t i = 0; i < w->object_count; i++) placed += w->objects[i]->placed ? 1u : 0u;
+  w->pair_now_count = 0;
+  if (placed > 1 && !pair_reserve(w, placed * (placed - 1) / 2 * k)) return BALANCE_E_NOMEM;
   for (size_t i = 0; i < w->object_count; i++) {
     balance_object_t *a = w->objects[i];
     if (!a->placed) continue;
@@ -284,11 +383,12 @@ balance_status_t balance_world_step(balance_world_t *w) {
       size_t n = balance_pair_contacts(a, b, w->points, w->point_capacity);
       n = balance_points_reduce(w->points, n, k);
       n = dedupe(w->points, n);
-      add_joints(w, a->body, b->body, w->points, n);
+      add_pair_joints(w, a, b, w->points, n);
     }
   }
   int ok = dWorldStep(w->ode, w->cfg.dt_s);
   dJointGroupEmpty(w->contact_group);
+  if (ok) pair_forces_record(w);
   if (!ok) return BALANCE_E_NOMEM;
   w->time_s += w->cfg.dt_s;
   balance_status_t st = BALANCE_OK;
