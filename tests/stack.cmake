@@ -2,13 +2,14 @@
 comlearn_add_check(check_stack SOURCES check_stack.c
   LIBS comlearn_stack_sim comlearn_stack comlearn_balance comlearn_model_sim comlearn_model
   TIMEOUT 600)
-target_compile_definitions(check_stack PRIVATE COMLEARN_BIN="$<TARGET_FILE:comlearn>")
+target_compile_definitions(check_stack PRIVATE COMLEARN_BIN="$<TARGET_FILE:comlearn>"
+  COMLEARN_ROCKGEN="$<TARGET_FILE:comlearn-rockgen>")
 # The rocks stand the full 5 s in the normal build; the sanitizer build (-O0, ~10x slower
 # contacts) simulates 1 s of it to keep the suite within its budget.
 if(COMLEARN_SANITIZE)
   target_compile_definitions(check_stack PRIVATE STACK_TEST_ROCK_SECONDS="1")
 endif()
-add_dependencies(check_stack comlearn)
+add_dependencies(check_stack comlearn comlearn-rockgen)
 # The planner side must not reference the URDF inertial (as estimate_symbols.cmake for the
 # estimator): no symbol naming "inertial" in the comlearn_stack archive.
 add_test(NAME stack_no_inertial_symbols

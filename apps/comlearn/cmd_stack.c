@@ -50,7 +50,13 @@ static void usage(FILE *out) {
           "  --policy P         learned: bisect | pba | paper-qtable | paper-mlp (default: bisect)\n"
           "  --mass-uncertainty U  relative mass uncertainty; plans hold for masses in\n"
           "                     m*[1/(1+U), 1+U], m = mesh volume x 2650 kg/m^3 (default: 0.3)\n"
-          "  --max-tilt-deg D   steepest contact plane, 1..45 (default: 15)\n"
+          "  --max-tilt-deg D   steepest contact plane of the first plan, 1..45 (default: 20);\n"
+          "                     a plan that falls in rehearsal is replaced by one with\n"
+          "                     contacts at most 4 degrees flatter, down to 4 degrees;\n"
+          "                     with no plan at all at D, steeper ones, up to D + 12\n"
+          "  --no-rehearse      build the first plan without rehearsing it on the beliefs\n"
+          "                     (default: rehearse each plan in simulation on the believed\n"
+          "                     CoMs and mass guesses before the real run)\n"
           "  --duration-s S     simulated time the stack must stand, 0.01..600 (default: 5)\n"
           "  --svg FILE         write a side view of the stack after the simulation\n"
           "  --json             print one JSON object on stdout (default: a table)\n"
@@ -185,9 +191,17 @@ static int learn(belief_t *b, const char *lcm_url, qlearn_policy_kind_t policy,
   return 0;
 }
 
+/* What rehearsing the plans on the beliefs gave. */
+typedef struct {
+  int tried;        /* rehearsals run */
+  int stood;        /* the built plan stood in rehearsal */
+  double tilt_deg;  /* the contact-slope limit of the built plan */
+  double seconds;   /* wall time of the rehearsals */
+} rehearsal_t;
+
 static void print_json(const belief_t *bel, size_t n, stack_com_source_t src, const stack_plan_t *plan,
-                       const stack_sim_result_t *sim, double learn_s, double plan_s, double sim_s,
-                       double duration_s) {
+                       const stack_sim_result_t *sim, const rehearsal_t *reh, double learn_s,
+                       double plan_s, double sim_s, double duration_s) {
   size_t level[STACK_MAX_OBJECTS] = {0};
   for (size_t k = 0; k < n; ++k) level[plan->order[k]] = k;
   printf("{\"stands\": %s, \"seconds_standing\": ", sim->run.stands ? "true" : "false");
@@ -231,16 +245,20 @@ static void print_json(const belief_t *bel, size_t n, stack_com_source_t src, co
     out_json_number(sim->object[i].rotation_rad);
     printf("}");
   }
-  printf("], \"learn_seconds\": %.6f, \"plan_seconds\": %.6f, \"sim_seconds\": %.6f, "
-         "\"sim_time_s\": ",
-         learn_s, plan_s, sim_s);
+  printf("], \"rehearsals\": %d, \"rehearsal_stands\": %s, \"max_tilt_deg\": ", reh->tried,
+         reh->stood ? "true" : "false");
+  out_json_number(reh->tilt_deg);
+  printf(", \"learn_seconds\": %.6f, \"plan_seconds\": %.6f, \"rehearse_seconds\": %.6f, "
+         "\"sim_seconds\": %.6f, \"sim_time_s\": ",
+         learn_s, plan_s, reh->seconds, sim_s);
   out_json_number(sim->run.sim_time_s);
   printf("}\n");
 }
 
 static void print_table(const belief_t *bel, size_t n, stack_com_source_t src,
-                        const stack_plan_t *plan, const stack_sim_result_t *sim, double learn_s,
-                        double plan_s, double sim_s, double duration_s) {
+                        const stack_plan_t *plan, const stack_sim_result_t *sim,
+                        const rehearsal_t *reh, double learn_s, double plan_s, double sim_s,
+                        double duration_s) {
   printf("CoM source: %s%s\n", stack_com_source_str(src),
          src == STACK_COM_TRUE ? " (ORACLE: the URDF truth, for comparison only)" : "");
   printf("order (bottom first):");
@@ -267,7 +285,11 @@ static void print_table(const belief_t *bel, size_t n, stack_com_source_t src,
       printf("moved: %s at %.3f s (%.2f mm, %.3f rad at most)\n", bel[i].urdf,
              sim->object[i].moved_at_s, 1e3 * sim->object[i].displacement_m,
              sim->object[i].rotation_rad);
-  printf("learn %.2f s, plan %.2f s, simulation %.2f s wall\n", learn_s, plan_s, sim_s);
+  printf("contacts up to %.0f deg; %d rehearsal(s) on the beliefs, the built plan %s\n",
+         reh->tilt_deg, reh->tried,
+         reh->tried == 0 ? "not rehearsed" : reh->stood ? "stood" : "fell there too");
+  printf("learn %.2f s, plan %.2f s, rehearse %.2f s, simulation %.2f s wall\n", learn_s, plan_s,
+         reh->seconds, sim_s);
   if (sim->run.stands) printf("STANDS for %.2f s\n", duration_s);
   else printf("FELL after %.3f s\n", sim->run.seconds_standing);
 }
@@ -278,12 +300,14 @@ int cmd_stack(int argc, char **argv) {
       {"policy", required_argument, NULL, 'p'},     {"svg", required_argument, NULL, 'S'},
       {"duration-s", required_argument, NULL, 'D'}, {"mass-uncertainty", required_argument, NULL, 'M'},
       {"max-tilt-deg", required_argument, NULL, 'T'}, {"json", no_argument, NULL, 'j'},
+      {"no-rehearse", no_argument, NULL, 'N'},
       {"verbose", no_argument, NULL, 'v'},          {"quiet", no_argument, NULL, 'q'},
       {"help", no_argument, NULL, 'h'},             {NULL, 0, NULL, 0}};
   stack_com_source_t src = STACK_COM_LEARNED;
   qlearn_policy_kind_t policy = QLEARN_POLICY_BISECT;
   const char *policy_name = "bisect", *lcm_url = NULL, *svg = NULL;
-  double duration_s = 5.0, mass_u = 0.3, tilt_deg = 15.0;
+  double duration_s = 5.0, mass_u = 0.3, tilt_deg = 20.0;
+  int rehearse = 1;
   int json = 0, c;
   optind = 1;
   while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
@@ -323,6 +347,9 @@ int cmd_stack(int argc, char **argv) {
         break;
       case 'T':
         if (number_arg("--max-tilt-deg", optarg, 1.0, 45.0, &tilt_deg) != 0) return EXIT_USAGE;
+        break;
+      case 'N':
+        rehearse = 0;
         break;
       case 'j': json = 1; break;
       case 'v': log_set_level(LOG_DEBUG); break;
@@ -401,8 +428,9 @@ int cmd_stack(int argc, char **argv) {
     }
   }
   double plan_s = 0.0, sim_s = 0.0;
+  rehearsal_t reh = {0, 0, 0.0, 0.0};
+  stack_object_t in[STACK_MAX_OBJECTS];
   if (rc == 0) {
-    stack_object_t in[STACK_MAX_OBJECTS];
     for (size_t i = 0; i < n; ++i) {
       in[i].mesh_link = &bel[i].geo.mesh;
       memcpy(in[i].com_m, bel[i].com_m, sizeof in[i].com_m);
@@ -413,12 +441,70 @@ int cmd_stack(int argc, char **argv) {
     stack_plan_config_t pc;
     stack_plan_config_default(&pc);
     pc.mass_rel_uncertainty = mass_u;
-    pc.max_tilt_rad = tilt_deg * 3.14159265358979323846 / 180.0;
-    LOG_I("planning a stack of %zu objects (%s CoMs)", n, stack_com_source_str(src));
+    balance_stack_config_t rsc;
+    balance_stack_config_default(&rsc);
+    rsc.duration_s = duration_s;
+    /* Plan on contacts at most tilt_deg steep; rehearse the plan in simulation on the beliefs;
+     * if it falls there, plan again 4 degrees flatter. When there is no plan at tilt_deg at all,
+     * try steeper contacts instead (4 degrees at a time, up to 12 more). The first plan found is
+     * kept in case none stands in rehearsal. */
+    stack_plan_t *cand = malloc(sizeof *cand);
+    stack_sim_result_t *rr = malloc(sizeof *rr);
+    stack_status_t st = STACK_E_NOPLAN;
+    int have = 0;
+    if (!cand || !rr) {
+      LOG_E("out of memory");
+      rc = EXIT_FAILURE;
+    }
     const double t0 = out_now_s();
-    const stack_status_t st = stack_plan(in, n, &pc, plan);
-    plan_s = out_now_s() - t0;
-    if (st != STACK_OK) {
+    double step = -4.0;
+    const double steepest = fmin(45.0, tilt_deg + 12.0);
+    for (double tilt = tilt_deg; rc == 0 && tilt >= 4.0 - 1e-9 && tilt <= steepest + 1e-9;
+         tilt += step) {
+      pc.max_tilt_rad = tilt * 3.14159265358979323846 / 180.0;
+      LOG_I("planning a stack of %zu objects (%s CoMs, contacts up to %.0f deg)", n,
+            stack_com_source_str(src), tilt);
+      const stack_status_t ps = stack_plan(in, n, &pc, cand);
+      if (ps != STACK_OK) {
+        if (!have) {
+          st = ps;
+          memcpy(plan, cand, sizeof *plan);
+        }
+        if (ps == STACK_E_ARG || ps == STACK_E_NOMEM) break;
+        if (!have) step = 4.0; /* nothing at this slope: flatter contacts will not help */
+        continue;
+      }
+      if (!have) {
+        memcpy(plan, cand, sizeof *plan);
+        have = 1;
+        st = STACK_OK;
+        reh.tilt_deg = tilt;
+      }
+      if (!rehearse) break;
+      const double tr = out_now_s();
+      const stack_status_t rs = stack_rehearse(in, n, cand, NULL, &rsc, rr);
+      reh.seconds += out_now_s() - tr;
+      ++reh.tried;
+      if (rs != STACK_OK) {
+        LOG_W("rehearsal failed: %s: %s", stack_status_str(rs), rr->msg);
+        break;
+      }
+      LOG_I("rehearsal on the beliefs (contacts up to %.0f deg): %s", tilt,
+            rr->run.stands ? "stands" : "falls");
+      if (rr->run.stands) {
+        memcpy(plan, cand, sizeof *plan);
+        reh.stood = 1;
+        reh.tilt_deg = tilt;
+        break;
+      }
+    }
+    plan_s = out_now_s() - t0 - reh.seconds;
+    if (rc == 0 && have && rehearse && !reh.stood)
+      LOG_W("no plan stood in rehearsal; building the first one (contacts up to %.0f deg)",
+            reh.tilt_deg);
+    free(cand);
+    free(rr);
+    if (rc == 0 && st != STACK_OK) {
       LOG_E("plan: %s: %s", stack_status_str(st), plan->msg);
       if (json) {
         printf("{\"stands\": false, \"planned\": false, \"seconds_standing\": 0, \"com_source\": "
@@ -466,8 +552,8 @@ int cmd_stack(int argc, char **argv) {
     }
   }
   if (rc == 0) {
-    if (json) print_json(bel, n, src, plan, sim, learn_s, plan_s, sim_s, duration_s);
-    else print_table(bel, n, src, plan, sim, learn_s, plan_s, sim_s, duration_s);
+    if (json) print_json(bel, n, src, plan, sim, &reh, learn_s, plan_s, sim_s, duration_s);
+    else print_table(bel, n, src, plan, sim, &reh, learn_s, plan_s, sim_s, duration_s);
     if (svg_failed) rc = EXIT_FAILURE;
   }
   free(plan);

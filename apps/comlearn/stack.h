@@ -90,6 +90,15 @@ stack_status_t stack_simulate(const char *const *urdf_paths, size_t count, const
                               const balance_config_t *cfg, const balance_stack_config_t *scfg,
                               stack_sim_result_t *out);
 
+/* Rehearse a plan in simulation on the planner's beliefs (stack_rehearse.c; no URDF inertial):
+ * every object with its mass guess, its believed CoM and its mesh's uniform-density inertia moved
+ * to that CoM, released at plan->pose and run like stack_simulate. A plan that falls here falls
+ * in the believed world; `comlearn stack` then plans again on flatter contacts. cfg / scfg NULL:
+ * defaults. */
+stack_status_t stack_rehearse(const stack_object_t *objects, size_t count, const stack_plan_t *plan,
+                              const balance_config_t *cfg, const balance_stack_config_t *scfg,
+                              stack_sim_result_t *out);
+
 /* ---- picture (stack_svg.c) ------------------------------------------------------------------ */
 
 /* A side view (looking along +y: x right, z up) of meshes_link[i] at poses[i], with B's top, each
