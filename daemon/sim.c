@@ -26,42 +26,9 @@ static void clear_error(sim_t *s) {
 
 /* ---- small pose helpers ------------------------------------------------------------------ */
 
-static void rot_to_quat(const double r[3][3], double q[4]) {
-  const double tr = r[0][0] + r[1][1] + r[2][2];
-  if (tr > 0.0) {
-    const double s = sqrt(tr + 1.0) * 2.0;
-    q[0] = 0.25 * s;
-    q[1] = (r[2][1] - r[1][2]) / s;
-    q[2] = (r[0][2] - r[2][0]) / s;
-    q[3] = (r[1][0] - r[0][1]) / s;
-  } else if (r[0][0] > r[1][1] && r[0][0] > r[2][2]) {
-    const double s = sqrt(1.0 + r[0][0] - r[1][1] - r[2][2]) * 2.0;
-    q[0] = (r[2][1] - r[1][2]) / s;
-    q[1] = 0.25 * s;
-    q[2] = (r[0][1] + r[1][0]) / s;
-    q[3] = (r[0][2] + r[2][0]) / s;
-  } else if (r[1][1] > r[2][2]) {
-    const double s = sqrt(1.0 + r[1][1] - r[0][0] - r[2][2]) * 2.0;
-    q[0] = (r[0][2] - r[2][0]) / s;
-    q[1] = (r[0][1] + r[1][0]) / s;
-    q[2] = 0.25 * s;
-    q[3] = (r[1][2] + r[2][1]) / s;
-  } else {
-    const double s = sqrt(1.0 + r[2][2] - r[0][0] - r[1][1]) * 2.0;
-    q[0] = (r[1][0] - r[0][1]) / s;
-    q[1] = (r[0][2] + r[2][0]) / s;
-    q[2] = (r[1][2] + r[2][1]) / s;
-    q[3] = 0.25 * s;
-  }
-  const double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  for (int i = 0; i < 4; i++) q[i] /= n;
-  if (q[0] < 0.0)
-    for (int i = 0; i < 4; i++) q[i] = -q[i];
-}
-
 static void pose_to_balance(const placement_pose_t *p, balance_pose_t *b) {
   memcpy(b->position_m, p->pos_m, sizeof b->position_m);
-  rot_to_quat(p->rot, b->orientation_wxyz);
+  model_rot_to_quat(p->rot, b->orientation_wxyz);
 }
 
 static void pose_from_balance(const balance_pose_t *b, placement_pose_t *p) {

@@ -672,6 +672,38 @@ START_TEST(test_box_primitive) {
 }
 END_TEST
 
+/* model_rot_to_quat inverts model_quat_to_rot (up to the sign of q) in every branch of
+ * Shepperd's method: the identity, half turns about each axis (trace -1, each diagonal entry
+ * largest in turn) and a spread of seeded rotations; the result is unit with w >= 0. */
+START_TEST(test_rot_quat_round_trip) {
+  double qs[64][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}, {0, 0.6, 0.8, 0}};
+  uint64_t x = 0x9E3779B97F4A7C15ull;
+  for (int i = 5; i < 64; ++i)
+    for (int k = 0; k < 4; ++k) {
+      x ^= x << 13;
+      x ^= x >> 7;
+      x ^= x << 17;
+      qs[i][k] = (double)(x >> 11) / 9007199254740992.0 - 0.5;
+    }
+  for (int i = 0; i < 64; ++i) {
+    double n = 0.0;
+    for (int k = 0; k < 4; ++k) n += qs[i][k] * qs[i][k];
+    for (int k = 0; k < 4; ++k) qs[i][k] /= sqrt(n);
+    double r[3][3], q[4], r2[3][3];
+    model_quat_to_rot(qs[i], r);
+    model_rot_to_quat((const double(*)[3])r, q);
+    ck_assert_double_eq_tol(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-14);
+    ck_assert(q[0] >= 0.0);
+    const double sgn = (q[0] * qs[i][0] + q[1] * qs[i][1] + q[2] * qs[i][2] + q[3] * qs[i][3]) < 0.0
+                           ? -1.0 : 1.0;
+    for (int k = 0; k < 4; ++k) ck_assert_double_eq_tol(q[k], sgn * qs[i][k], 1e-12);
+    model_quat_to_rot(q, r2);
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) ck_assert_double_eq_tol(r2[a][b], r[a][b], 1e-14);
+  }
+}
+END_TEST
+
 Suite *model_mesh_suite(void) {
   Suite *s = suite_create("model_mesh");
   TCase *tc = tcase_create("check");
@@ -688,6 +720,7 @@ Suite *model_mesh_suite(void) {
   tcase_add_test(tc, test_check_bad_input);
   tcase_add_test(tc, test_check_zero_volume_rejected);
   tcase_add_test(tc, test_copy);
+  tcase_add_test(tc, test_rot_quat_round_trip);
   suite_add_tcase(s, tc);
   TCase *io = tcase_create("io");
   tcase_set_timeout(io, 60);

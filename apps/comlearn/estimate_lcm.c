@@ -110,35 +110,6 @@ static void quat_conj(const double a[4], double out[4]) {
   out[3] = -a[3];
 }
 
-/* Shepperd's method: the unit quaternion of a rotation matrix. */
-static void quat_from_rot(double r[3][3], double q[4]) {
-  const double tr = r[0][0] + r[1][1] + r[2][2];
-  if (tr > 0) {
-    const double s = 2.0 * sqrt(tr + 1.0);
-    q[0] = 0.25 * s;
-    q[1] = (r[2][1] - r[1][2]) / s;
-    q[2] = (r[0][2] - r[2][0]) / s;
-    q[3] = (r[1][0] - r[0][1]) / s;
-  } else if (r[0][0] > r[1][1] && r[0][0] > r[2][2]) {
-    const double s = 2.0 * sqrt(1.0 + r[0][0] - r[1][1] - r[2][2]);
-    q[0] = (r[2][1] - r[1][2]) / s;
-    q[1] = 0.25 * s;
-    q[2] = (r[0][1] + r[1][0]) / s;
-    q[3] = (r[0][2] + r[2][0]) / s;
-  } else if (r[1][1] > r[2][2]) {
-    const double s = 2.0 * sqrt(1.0 + r[1][1] - r[0][0] - r[2][2]);
-    q[0] = (r[0][2] - r[2][0]) / s;
-    q[1] = (r[0][1] + r[1][0]) / s;
-    q[2] = 0.25 * s;
-    q[3] = (r[1][2] + r[2][1]) / s;
-  } else {
-    const double s = 2.0 * sqrt(1.0 + r[2][2] - r[0][0] - r[1][1]);
-    q[0] = (r[1][0] - r[0][1]) / s;
-    q[1] = (r[0][2] + r[2][0]) / s;
-    q[2] = (r[1][2] + r[2][1]) / s;
-    q[3] = 0.25 * s;
-  }
-}
 
 static int rot_is_identity(const double r[3][3]) {
   for (int i = 0; i < 3; ++i)
@@ -438,7 +409,7 @@ static int plan_trial(estimate_lcm_t *l, const balance_pose_t *rel, trial_plan_t
         placement_pose_inverse(&tcp_place, &tcp_inv);
         placement_pose_mul(&tcp_inv, &want_w, &g);
         double qg2[4];
-        quat_from_rot(g.rot, qg2);
+        model_rot_to_quat((const double(*)[3])g.rot, qg2);
         const double n2 = sqrt(qg2[0] * qg2[0] + qg2[1] * qg2[1] + qg2[2] * qg2[2] + qg2[3] * qg2[3]);
         for (int i = 0; i < 4; ++i) qg2[i] /= n2;
         memcpy(tp->g_pos, g.pos_m, sizeof tp->g_pos);
@@ -680,7 +651,7 @@ int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
   placement_plan_config_default(&l->plan_cfg);
   /* the estimator's trials are 1 um pre-penetrated; plan the same touching depth */
   l->plan_cfg.touch_depth_m = 1e-6;
-  quat_from_rot(l->plan_cfg.block_in_base.rot, l->bib_wxyz);
+  model_rot_to_quat((const double(*)[3])l->plan_cfg.block_in_base.rot, l->bib_wxyz);
   placement_error_t pe = {{0}};
   placement_status_t ps = placement_arm_load_yumi(&l->arm[0], cfg->yumi_urdf, PLACEMENT_ARM_LEFT, &pe);
   if (ps == PLACEMENT_OK)

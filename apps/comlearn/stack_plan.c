@@ -106,39 +106,6 @@ static void rot_a_to_b(const double a[3], const double b[3], double r[3][3]) {
   axis_angle(ax, atan2(s, c), r);
 }
 
-static void mat_to_quat(const double r[3][3], double q[4]) {
-  const double tr = r[0][0] + r[1][1] + r[2][2];
-  if (tr > 0.0) {
-    const double s = 2.0 * sqrt(tr + 1.0);
-    q[0] = 0.25 * s;
-    q[1] = (r[2][1] - r[1][2]) / s;
-    q[2] = (r[0][2] - r[2][0]) / s;
-    q[3] = (r[1][0] - r[0][1]) / s;
-  } else if (r[0][0] > r[1][1] && r[0][0] > r[2][2]) {
-    const double s = 2.0 * sqrt(1.0 + r[0][0] - r[1][1] - r[2][2]);
-    q[0] = (r[2][1] - r[1][2]) / s;
-    q[1] = 0.25 * s;
-    q[2] = (r[0][1] + r[1][0]) / s;
-    q[3] = (r[0][2] + r[2][0]) / s;
-  } else if (r[1][1] > r[2][2]) {
-    const double s = 2.0 * sqrt(1.0 + r[1][1] - r[0][0] - r[2][2]);
-    q[0] = (r[0][2] - r[2][0]) / s;
-    q[1] = (r[0][1] + r[1][0]) / s;
-    q[2] = 0.25 * s;
-    q[3] = (r[1][2] + r[2][1]) / s;
-  } else {
-    const double s = 2.0 * sqrt(1.0 + r[2][2] - r[0][0] - r[1][1]);
-    q[0] = (r[1][0] - r[0][1]) / s;
-    q[1] = (r[0][2] + r[2][0]) / s;
-    q[2] = (r[1][2] + r[2][1]) / s;
-    q[3] = 0.25 * s;
-  }
-  if (q[0] < 0.0)
-    for (int k = 0; k < 4; ++k) q[k] = -q[k];
-  const double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  for (int k = 0; k < 4; ++k) q[k] /= n;
-}
-
 /* ---- polygons ------------------------------------------------------------------------------ */
 
 /* min over edges of (b - a.p) for a CCW polygon: the signed distance inside, a lower bound of
@@ -976,7 +943,7 @@ stack_status_t stack_plan(const stack_object_t *objects, size_t count,
           out->margin_m[k] = L->margin[k];
           out->tilt_rad[k] = L->tilt[k];
           balance_pose_t *p = &out->pose[i];
-          mat_to_quat(c->rot[k], p->orientation_wxyz);
+          model_rot_to_quat(c->rot[k], p->orientation_wxyz);
           p->position_m[0] = L->pos[k][0] - cm[0] / mt;
           p->position_m[1] = L->pos[k][1] - cm[1] / mt;
           p->position_m[2] = L->pos[k][2];

@@ -200,6 +200,11 @@ void model_plane_basis(const double n[3], double u[3], double v[3]);
  * not normalised here. */
 void model_quat_to_rot(const double q_wxyz[4], double rot[3][3]);
 
+/* The unit quaternion (w, x, y, z), w >= 0, of a rotation matrix (Shepperd's method, then
+ * normalised). The inverse of model_quat_to_rot up to the sign of q. C11 does not convert
+ * double (*)[3] to const double (*)[3] implicitly: cast a non-const matrix. */
+void model_rot_to_quat(const double rot[3][3], double q_wxyz[4]);
+
 /* An object as the estimator sees it: the collision geometry of one URDF link. */
 typedef struct {
   char robot_name[128];
