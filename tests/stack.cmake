@@ -10,8 +10,15 @@ if(COMLEARN_SANITIZE)
   target_compile_definitions(check_stack PRIVATE STACK_TEST_ROCK_SECONDS="1")
 endif()
 add_dependencies(check_stack comlearn comlearn-rockgen)
-# The planner side must not reference the URDF inertial (as estimate_symbols.cmake for the
-# estimator): no symbol naming "inertial" in the comlearn_stack archive.
+# The planner side (planner and rehearsal) must not reference the URDF inertial, like the
+# estimator: no symbol naming "inertial" in the comlearn_stack archive.
 add_test(NAME stack_no_inertial_symbols
          COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:comlearn_stack>
-                 -P ${CMAKE_CURRENT_SOURCE_DIR}/stack_symbols.cmake)
+                 -DANCHOR=stack_plan
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/no_inertial_symbols.cmake)
+# The control: the simulator side reads the inertial, so the same check must fail on it.
+add_test(NAME no_inertial_symbols_control
+         COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:comlearn_stack_sim>
+                 -DANCHOR=stack_simulate
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/no_inertial_symbols.cmake)
+set_tests_properties(no_inertial_symbols_control PROPERTIES WILL_FAIL TRUE)

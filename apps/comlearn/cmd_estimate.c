@@ -55,27 +55,6 @@ static void usage(FILE *out) {
           "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n");
 }
 
-static const char *policy_name(qlearn_policy_kind_t k) {
-  switch (k) {
-    case QLEARN_POLICY_BISECT: return "bisect";
-    case QLEARN_POLICY_PBA: return "pba";
-    case QLEARN_POLICY_PAPER_QTABLE: return "paper-qtable";
-    case QLEARN_POLICY_PAPER_MLP: return "paper-mlp";
-  }
-  return "?";
-}
-
-static int policy_parse(const char *s, qlearn_policy_kind_t *k) {
-  static const qlearn_policy_kind_t all[] = {QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA,
-                                             QLEARN_POLICY_PAPER_QTABLE, QLEARN_POLICY_PAPER_MLP};
-  for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
-    if (strcmp(s, policy_name(all[i])) == 0) {
-      *k = all[i];
-      return 0;
-    }
-  return -1;
-}
-
 static const char *outcome_name(balance_outcome_t o) {
   switch (o) {
     case BALANCE_STAYS: return "stays";
@@ -116,7 +95,7 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
                        const model_mass_t *truth) {
   printf("{\"object\": ");
   out_json_string(urdf, 0);
-  printf(", \"policy\": \"%s\", \"backend\": \"%s\", \"resolution_m\": ", policy_name(policy),
+  printf(", \"policy\": \"%s\", \"backend\": \"%s\", \"resolution_m\": ", estimate_policy_name(policy),
          backend);
   out_json_number(res_m);
   printf(", ");
@@ -189,7 +168,7 @@ static void print_table(const char *urdf, qlearn_policy_kind_t policy, const est
                         double wall_s, const model_mass_t *truth) {
   static const char axis[3] = {'x', 'y', 'z'};
   printf("%s: policy %s, %zu trials (%zu stable-pose checks, %zu flagged), %.3f s\n", urdf,
-         policy_name(policy), r->trial_count, r->stable_trials, r->flagged_trials, wall_s);
+         estimate_policy_name(policy), r->trial_count, r->stable_trials, r->flagged_trials, wall_s);
   printf("axis  estimate (mm)  +- (mm)  found%s\n", truth ? "   truth (mm)  error (mm)" : "");
   for (int k = 0; k < 3; ++k) {
     printf("  %c   %12.4f  %7.4f  %5s", axis[k], 1e3 * r->com_m[k], 1e3 * r->halfwidth_m[k],
@@ -223,7 +202,7 @@ int cmd_estimate(int argc, char **argv) {
   while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
     switch (c) {
       case 'p':
-        if (policy_parse(optarg, &cfg.policy) != 0) {
+        if (estimate_policy_parse(optarg, &cfg.policy) != 0) {
           LOG_E("--policy: '%s' is not one of bisect, pba, paper-qtable, paper-mlp", optarg);
           return EXIT_USAGE;
         }
@@ -309,7 +288,7 @@ int cmd_estimate(int argc, char **argv) {
     lc.urdf_path = urdf;
     lc.mesh_link = &obj.mesh;
     lc.yumi_urdf = COMLEARN_YUMI_URDF;
-    lc.policy = policy_name(cfg.policy);
+    lc.policy = estimate_policy_name(cfg.policy);
     lc.log = lcm_log;
     rc = estimate_lcm_open(&lc, &lcmb, &backend, err, sizeof err);
   }

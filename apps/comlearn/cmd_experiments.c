@@ -44,16 +44,6 @@ enum { EXIT_USAGE = 2, MAX_POLICIES = 4, MAX_SEEDS = 1000 };
 static const qlearn_policy_kind_t all_policies[MAX_POLICIES] = {
     QLEARN_POLICY_PAPER_QTABLE, QLEARN_POLICY_PAPER_MLP, QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA};
 
-static const char *policy_name(qlearn_policy_kind_t k) {
-  switch (k) {
-    case QLEARN_POLICY_BISECT: return "bisect";
-    case QLEARN_POLICY_PBA: return "pba";
-    case QLEARN_POLICY_PAPER_QTABLE: return "paper-qtable";
-    case QLEARN_POLICY_PAPER_MLP: return "paper-mlp";
-  }
-  return "?";
-}
-
 /* One trial as the estimator asked for it: the running estimate before it, and what came of it. */
 typedef struct {
   int kind;      /* estimate_trial_kind_t */
@@ -189,7 +179,7 @@ static int parse_policies(const char *arg, exp_opts_t *o) {
   for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
     int hit = -1;
     for (int i = 0; i < MAX_POLICIES; ++i)
-      if (strcmp(tok, policy_name(all_policies[i])) == 0) hit = i;
+      if (strcmp(tok, estimate_policy_name(all_policies[i])) == 0) hit = i;
     if (hit < 0) {
       LOG_E("--policies: '%s' is not one of paper-qtable, paper-mlp, bisect, pba", tok);
       return -1;
@@ -260,7 +250,7 @@ static int run_one(const exp_opts_t *o, const exp_rock_t *rock, const model_obje
     lc.urdf_path = rock->path;
     lc.mesh_link = &obj->mesh;
     lc.yumi_urdf = COMLEARN_YUMI_URDF;
-    lc.policy = policy_name(run->policy);
+    lc.policy = estimate_policy_name(run->policy);
     lc.log = lcm_log;
     rc = estimate_lcm_open(&lc, &lcmb, &inner, err, sizeof err);
   } else {
@@ -397,7 +387,7 @@ static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, s
   const char *backend = o->lcm_url ? "LCM (YuMi placement, comlearn-sim)" : "direct (in-process)";
   fprintf(f, "# comlearn experiments\n\n");
   fprintf(f, "%zu objects, policies:", nrocks);
-  for (int p = 0; p < o->npolicies; ++p) fprintf(f, "%s %s", p ? "," : "", policy_name(o->policy[p]));
+  for (int p = 0; p < o->npolicies; ++p) fprintf(f, "%s %s", p ? "," : "", estimate_policy_name(o->policy[p]));
   fprintf(f, "; resolution %.3g mm; %.1f s wall.\n\n", 1e3 * o->resolution_m, wall_s);
 
   fprintf(f, "## Table I: noiseless, %s\n\n", backend);
@@ -407,7 +397,7 @@ static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, s
              "searches run along oblique directions of the object, so a component's trials are "
              "not separable.\n\n");
   fprintf(f, "| object | axis | true |");
-  for (int p = 0; p < o->npolicies; ++p) fprintf(f, " %s | \\|err\\| |", policy_name(o->policy[p]));
+  for (int p = 0; p < o->npolicies; ++p) fprintf(f, " %s | \\|err\\| |", estimate_policy_name(o->policy[p]));
   fprintf(f, "\n|---|---|---:|");
   for (int p = 0; p < o->npolicies; ++p) fprintf(f, "---:|---:|");
   fprintf(f, "\n");
@@ -450,7 +440,7 @@ static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, s
       stats_of(runs, nruns, rocks, o->policy[p], 0, pass, scratch, &st);
       if (!st.runs) continue;
       fprintf(f, "| %s | %s%zu | %.3f | %.3f | %zu of %zu | %.1f | %.3f |\n",
-              policy_name(o->policy[p]), pass ? "uniform-density: " : "all: ", st.runs,
+              estimate_policy_name(o->policy[p]), pass ? "uniform-density: " : "all: ", st.runs,
               1e3 * mean_of(st.err_sum, st.errs), 1e3 * st.err_max, st.found, st.comps,
               mean_of(st.trials_sum, st.runs), mean_of(st.wall_sum, st.runs));
     }
@@ -481,7 +471,7 @@ static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, s
     if (o->policy[p] == QLEARN_POLICY_PBA && o->placement_noise_m > res) res = o->placement_noise_m;
     fprintf(f, "| %s | %zu | %.3g | %.3f +- %.3f | %.3f | %.3f | %.0f %% (%zu of %zu) | %.3f | "
                "%.0f %% (%zu of %zu) | %.1f +- %.1f | %zu |\n",
-            policy_name(o->policy[p]), st.runs, 1e3 * res, 1e3 * mean_of(st.err_sum, st.errs),
+            estimate_policy_name(o->policy[p]), st.runs, 1e3 * res, 1e3 * mean_of(st.err_sum, st.errs),
             1e3 * sd_of(st.err_sum, st.err_sq, st.errs), 1e3 * pct_of(st.err, st.errs, 0.95),
             1e3 * st.err_max, st.comps ? 100.0 * (double)st.found / (double)st.comps : 0.0,
             st.found, st.comps, 1e3 * mean_of(st.hw_sum, st.errs),
@@ -548,7 +538,7 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
   fprintf(f, "{\"settings\": {\"policies\": [");
   for (int p = 0; p < o->npolicies; ++p) {
     if (p) fputs(", ", f);
-    js_str(f, policy_name(o->policy[p]));
+    js_str(f, estimate_policy_name(o->policy[p]));
   }
   fprintf(f, "], \"seeds\": %d, \"placement_noise_m\": ", o->seeds);
   js_num(f, o->placement_noise_m);
@@ -590,7 +580,7 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
       stats_of(runs, nruns, rocks, o->policy[p], noisy, 0, scratch, &st);
       if (!st.runs) continue;
       fprintf(f, "%s{\"policy\": \"%s\", \"noisy\": %s, \"stats\": ", first ? "" : ", ",
-              policy_name(o->policy[p]), noisy ? "true" : "false");
+              estimate_policy_name(o->policy[p]), noisy ? "true" : "false");
       js_stats(f, &st);
       fputc('}', f);
       first = 0;
@@ -600,7 +590,7 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
     const exp_run_t *r = &runs[i];
     fprintf(f, "%s\n{\"object\": ", i ? "," : "");
     js_str(f, rocks[r->rock].stem);
-    fprintf(f, ", \"policy\": \"%s\", \"noisy\": %s, \"seed\": ", policy_name(r->policy),
+    fprintf(f, ", \"policy\": \"%s\", \"noisy\": %s, \"seed\": ", estimate_policy_name(r->policy),
             r->noisy ? "true" : "false");
     if (r->noisy) fprintf(f, "%llu", (unsigned long long)r->seed);
     else fputs("null", f);
@@ -712,7 +702,7 @@ static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *r
           r->status == ESTIMATE_OK ? 1e3 * (r->com_m[k] - rock->bbox_center_m[k]) : NAN;
       ser[ns].value_mm[k] = vals[ns][k];
     }
-    snprintf(labels[ns], sizeof labels[ns], "%s (%zu trials)", policy_name(r->policy), r->trials);
+    snprintf(labels[ns], sizeof labels[ns], "%s (%zu trials)", estimate_policy_name(r->policy), r->trials);
     ser[ns].label = labels[ns];
     ser[ns].n = n;
     ++ns;
@@ -908,7 +898,7 @@ int cmd_experiments(int argc, char **argv) {
           else snprintf(what, sizeof what, "noiseless");
           int all = run->found[0] && run->found[1] && run->found[2];
           fprintf(stderr, "comlearn experiments: %-16s %-12s %-9s %3zu trials  %.3f s  %s%s\n",
-                  rk->stem, policy_name(run->policy), what, run->trials, run->wall_s,
+                  rk->stem, estimate_policy_name(run->policy), what, run->trials, run->wall_s,
                   estimate_status_str(run->status), all ? "" : " (not all found)");
         }
       }

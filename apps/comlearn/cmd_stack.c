@@ -79,22 +79,6 @@ static int com_parse(const char *s, stack_com_source_t *out) {
   return -1;
 }
 
-static int policy_parse(const char *s, qlearn_policy_kind_t *k) {
-  static const struct {
-    const char *name;
-    qlearn_policy_kind_t kind;
-  } all[] = {{"bisect", QLEARN_POLICY_BISECT},
-             {"pba", QLEARN_POLICY_PBA},
-             {"paper-qtable", QLEARN_POLICY_PAPER_QTABLE},
-             {"paper-mlp", QLEARN_POLICY_PAPER_MLP}};
-  for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
-    if (strcmp(s, all[i].name) == 0) {
-      *k = all[i].kind;
-      return 0;
-    }
-  return -1;
-}
-
 static int number_arg(const char *opt, const char *s, double lo, double hi, double *out) {
   char *end;
   errno = 0;
@@ -326,7 +310,7 @@ int cmd_stack(int argc, char **argv) {
         lcm_url = optarg;
         break;
       case 'p':
-        if (policy_parse(optarg, &policy) != 0) {
+        if (estimate_policy_parse(optarg, &policy) != 0) {
           LOG_E("--policy: '%s' is not one of bisect, pba, paper-qtable, paper-mlp", optarg);
           return EXIT_USAGE;
         }

@@ -15,6 +15,27 @@
 #define PI 3.14159265358979323846
 enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw sweep over [0, pi) */
 
+const char *estimate_policy_name(qlearn_policy_kind_t k) {
+  switch (k) {
+    case QLEARN_POLICY_BISECT: return "bisect";
+    case QLEARN_POLICY_PBA: return "pba";
+    case QLEARN_POLICY_PAPER_QTABLE: return "paper-qtable";
+    case QLEARN_POLICY_PAPER_MLP: return "paper-mlp";
+  }
+  return "?";
+}
+
+int estimate_policy_parse(const char *s, qlearn_policy_kind_t *k) {
+  static const qlearn_policy_kind_t all[] = {QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA,
+                                             QLEARN_POLICY_PAPER_QTABLE, QLEARN_POLICY_PAPER_MLP};
+  for (size_t i = 0; s && i < sizeof all / sizeof all[0]; ++i)
+    if (strcmp(s, estimate_policy_name(all[i])) == 0) {
+      *k = all[i];
+      return 0;
+    }
+  return -1;
+}
+
 const char *estimate_status_str(estimate_status_t s) {
   switch (s) {
     case ESTIMATE_OK: return "ok";

@@ -43,6 +43,11 @@ typedef enum {
 
 const char *estimate_status_str(estimate_status_t s);
 
+/* The command-line names of the policies: "bisect", "pba", "paper-qtable", "paper-mlp" ("?" for
+ * anything else), and back (0, or -1 for an unknown name). */
+const char *estimate_policy_name(qlearn_policy_kind_t k);
+int estimate_policy_parse(const char *s, qlearn_policy_kind_t *k);
+
 /* ---- the trial backend -------------------------------------------------------------------- */
 
 typedef enum {

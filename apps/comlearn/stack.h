@@ -90,6 +90,14 @@ stack_status_t stack_simulate(const char *const *urdf_paths, size_t count, const
                               const balance_config_t *cfg, const balance_stack_config_t *scfg,
                               stack_sim_result_t *out);
 
+/* Release count objects (meshes_link[i] with mass properties masses[i], link frame) at
+ * plan->pose on lib/balance and run them (cfg / scfg NULL: defaults). What stack_rehearse and
+ * stack_simulate share; the caller decides where the masses come from. */
+stack_status_t stack_run_bodies(const model_mesh_t *const *meshes_link, const model_mass_t *masses,
+                                size_t count, const stack_plan_t *plan,
+                                const balance_config_t *cfg, const balance_stack_config_t *scfg,
+                                stack_sim_result_t *out);
+
 /* Rehearse a plan in simulation on the planner's beliefs (stack_rehearse.c; no URDF inertial):
  * every object with its mass guess, its believed CoM and its mesh's uniform-density inertia moved
  * to that CoM, released at plan->pose and run like stack_simulate. A plan that falls here falls

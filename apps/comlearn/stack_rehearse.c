@@ -36,13 +36,14 @@ static int belief_mass(const stack_object_t *o, model_mass_t *out) {
   return 0;
 }
 
-stack_status_t stack_rehearse(const stack_object_t *objects, size_t count, const stack_plan_t *plan,
-                              const balance_config_t *cfg, const balance_stack_config_t *scfg,
-                              stack_sim_result_t *out) {
+stack_status_t stack_run_bodies(const model_mesh_t *const *meshes_link, const model_mass_t *masses,
+                                size_t count, const stack_plan_t *plan,
+                                const balance_config_t *cfg, const balance_stack_config_t *scfg,
+                                stack_sim_result_t *out) {
   if (out == NULL) return STACK_E_ARG;
   memset(out, 0, sizeof *out);
-  if (objects == NULL || plan == NULL || count < 1 || count > STACK_MAX_OBJECTS ||
-      plan->count != count) {
+  if (meshes_link == NULL || masses == NULL || plan == NULL || count < 1 ||
+      count > STACK_MAX_OBJECTS || plan->count != count) {
     snprintf(out->msg, sizeof out->msg, "need 1..%d objects matching the plan", STACK_MAX_OBJECTS);
     return STACK_E_ARG;
   }
@@ -58,17 +59,12 @@ stack_status_t stack_rehearse(const stack_object_t *objects, size_t count, const
   balance_object_t *objs[STACK_MAX_OBJECTS] = {NULL};
   stack_status_t st = STACK_OK;
   for (size_t i = 0; i < count && st == STACK_OK; ++i) {
-    model_mass_t mass;
-    if (objects[i].mesh_link == NULL || belief_mass(&objects[i], &mass) != 0) {
-      snprintf(out->msg, sizeof out->msg, "object %zu: no usable mesh or mass guess", i);
-      st = STACK_E_ARG;
-      break;
-    }
-    bs = balance_object_create(world, objects[i].mesh_link, &mass, &objs[i]);
+    bs = meshes_link[i] ? balance_object_create(world, meshes_link[i], &masses[i], &objs[i])
+                        : BALANCE_E_ARG;
     if (bs != BALANCE_OK) {
-      snprintf(out->msg, sizeof out->msg, "object %zu: believed body: %s", i,
+      snprintf(out->msg, sizeof out->msg, "object %zu: simulated body: %s", i,
                balance_status_str(bs));
-      st = bs == BALANCE_E_NOMEM ? STACK_E_NOMEM : STACK_E_SIM;
+      st = bs == BALANCE_E_NOMEM ? STACK_E_NOMEM : bs == BALANCE_E_ARG ? STACK_E_ARG : STACK_E_SIM;
     }
   }
   if (st == STACK_OK) {
@@ -80,4 +76,25 @@ stack_status_t stack_rehearse(const stack_object_t *objects, size_t count, const
   }
   balance_world_destroy(world);
   return st;
+}
+
+stack_status_t stack_rehearse(const stack_object_t *objects, size_t count, const stack_plan_t *plan,
+                              const balance_config_t *cfg, const balance_stack_config_t *scfg,
+                              stack_sim_result_t *out) {
+  if (out == NULL) return STACK_E_ARG;
+  memset(out, 0, sizeof *out);
+  if (objects == NULL || count < 1 || count > STACK_MAX_OBJECTS) {
+    snprintf(out->msg, sizeof out->msg, "need 1..%d objects", STACK_MAX_OBJECTS);
+    return STACK_E_ARG;
+  }
+  const model_mesh_t *meshes[STACK_MAX_OBJECTS];
+  model_mass_t masses[STACK_MAX_OBJECTS];
+  for (size_t i = 0; i < count; ++i) {
+    meshes[i] = objects[i].mesh_link;
+    if (meshes[i] == NULL || belief_mass(&objects[i], &masses[i]) != 0) {
+      snprintf(out->msg, sizeof out->msg, "object %zu: no usable mesh or mass guess", i);
+      return STACK_E_ARG;
+    }
+  }
+  return stack_run_bodies(meshes, masses, count, plan, cfg, scfg, out);
 }
