@@ -1,18 +1,121 @@
 #!/usr/bin/env bash
-# The main job of README.md. Sets up and builds, then runs the most complete thing comlearn does
-# today: inspect every bundled rock as the estimator sees it (geometry only) beside the truth, then
-# estimate each rock's center of mass over LCM: `--spawn-sim` starts comlearn-sim (the YuMi
-# controller and world stand-in), every placement is planned for the YuMi and driven through
-# YUMI_COMMAND / YUMI_STATUS / OBJECT_STATE; the truth is read only afterwards, for the error.
+# The main job of README.md: the paper's experiments and the rock stack, end to end, over LCM.
+#
+#   1. set up and build (scripts/setup.sh);
+#   2. start comlearn-sim (the YuMi controller and world stand-in) on a private LCM URL, and two
+#      lcm-loggers (the COM_* records, and every channel) under out/lcm/;
+#   3. `comlearn experiments`: every bundled rock x every policy, noiseless over LCM with YuMi
+#      placement, then with the noise profile over several seeds (in-process, same physics and
+#      seeding as comlearn-sim); Table I and Fig. 2 under out/experiments/;
+#   4. `comlearn stack`: the three uneven rocks stacked on their CoMs learned over LCM, then on
+#      bounding-box centers and on the true CoMs, each simulated for 5 s; side views under out/;
+#   5. stop the loggers and the simulator, write out/report.md.
+#
+# Environment: SEEDS (noisy runs per rock and policy, default 5), OUT (default out).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
 bash scripts/setup.sh default
-comlearn=build/default/apps/comlearn/comlearn
-echo "== comlearn inspect --truth assets/rocks/*.urdf" >&2
-"$comlearn" inspect --truth assets/rocks/*.urdf
-for urdf in assets/rocks/*.urdf; do
-  echo >&2
-  echo "== comlearn estimate $urdf --spawn-sim --truth" >&2
-  "$comlearn" estimate "$urdf" --spawn-sim --truth
+
+bin=build/default
+comlearn=$bin/apps/comlearn/comlearn
+sim=$bin/daemon/comlearn-sim
+out=${OUT:-out}
+seeds=${SEEDS:-5}
+url="udpm://239.255.76.67:$((7700 + $$ % 1000))?ttl=0"
+stack_rocks=(assets/rocks/rock_1_uneven.urdf assets/rocks/rock_2_uneven.urdf
+             assets/rocks/rock_3_uneven.urdf)
+
+step() { printf '\n== %s\n' "$*" >&2; }
+
+case "$out" in
+  "" | / | . | .. | "$HOME") echo "main: refusing OUT='$out'" >&2; exit 2 ;;
+esac
+rm -rf "$out"
+mkdir -p "$out/lcm" "$out/experiments"
+started=$(date +%s)
+
+pids=()
+stop_all() {
+  # Loggers first (SIGINT: they flush what they queued), then the simulator.
+  local p
+  for p in "${pids[@]}"; do kill -INT "$p" 2>/dev/null || true; done
+  for p in "${pids[@]}"; do wait "$p" 2>/dev/null || true; done
+  pids=()
+}
+trap stop_all EXIT
+trap 'exit 130' INT TERM
+
+step "comlearn-sim on $url; lcm-logger -> $out/lcm/"
+"$sim" --lcm-url "$url" -q &
+sim_pid=$!
+lcm-logger --lcm-url="$url" -c 'COM_.*' --quiet "$out/lcm/results.lcmlog" &
+log_results_pid=$!
+lcm-logger --lcm-url="$url" --quiet "$out/lcm/all.lcmlog" &
+log_all_pid=$!
+pids=("$log_results_pid" "$log_all_pid" "$sim_pid")
+sleep 1
+kill -0 "$sim_pid" || { echo "main: comlearn-sim did not start" >&2; exit 1; }
+
+step "comlearn inspect --truth assets/rocks/*.urdf"
+"$comlearn" inspect --truth assets/rocks/*.urdf | tee "$out/inspect.txt"
+
+step "comlearn experiments assets/rocks/*.urdf --lcm-url URL --seeds $seeds --out $out/experiments"
+"$comlearn" experiments assets/rocks/*.urdf --lcm-url "$url" --seeds "$seeds" \
+  --out "$out/experiments" | tee "$out/experiments/table.txt"
+
+for src in learned bbox true; do
+  step "comlearn stack ${stack_rocks[*]} --com $src"
+  extra=()
+  [ "$src" = learned ] && extra=(--lcm-url "$url")
+  "$comlearn" stack "${stack_rocks[@]}" --com "$src" "${extra[@]}" \
+    --svg "$out/stack_$src.svg" | tee "$out/stack_$src.txt"
+  "$comlearn" stack "${stack_rocks[@]}" --com "$src" "${extra[@]}" --json -q \
+    > "$out/stack_$src.json"
 done
+
+step "stopping the loggers and comlearn-sim"
+stop_all
+trap - EXIT
+ls -l "$out/lcm" >&2
+
+finished=$(date +%s)
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+{
+  echo "# comlearn main job report"
+  echo
+  echo "Commit \`$commit\`, $(date -u '+%Y-%m-%d %H:%M UTC'), $((finished - started)) s."
+  echo "Regenerate with \`bash scripts/main.sh\` (docs/results.md explains every column)."
+  echo
+  echo "## The paper's Table I, reproduced"
+  echo
+  echo "Noiseless runs over LCM against comlearn-sim with YuMi placement; noisy runs"
+  echo "($seeds seeds per rock and policy) in-process with the same physics and seeding."
+  echo
+  cat "$out/experiments/table.md"
+  echo
+  echo "## Fig. 2: the estimate against trial number"
+  echo
+  for f in "$out"/experiments/fig2_*.svg; do
+    echo "![$(basename "$f" .svg)](experiments/$(basename "$f"))"
+    echo
+  done
+  echo "## The rock stack (three uneven rocks, 5 s)"
+  echo
+  for src in learned bbox true; do
+    echo "### CoM source: $src"
+    echo
+    echo '```'
+    cat "$out/stack_$src.txt"
+    echo '```'
+    echo
+    echo "![stack, $src](stack_$src.svg)"
+    echo
+  done
+  echo "## Recording"
+  echo
+  echo "\`lcm/results.lcmlog\` (COM_TRIAL, COM_ESTIMATE) and \`lcm/all.lcmlog\` (every channel)."
+  echo "Replay: \`comlearn watch --lcm-url URL & lcm-logplayer --lcm-url=URL out/lcm/results.lcmlog\`"
+  echo "(docs/replay.md)."
+} > "$out/report.md"
+step "report: $out/report.md ($((finished - started)) s)"
