@@ -92,7 +92,7 @@ commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
   echo "Noiseless runs over LCM against comlearn-sim with YuMi placement; noisy runs"
   echo "($seeds seeds per rock and policy) in-process with the same physics and seeding."
   echo
-  cat "$out/experiments/table.md"
+  sed "1{/^# /d}" "$out/experiments/table.md"
   echo
   echo "## Fig. 2: the estimate against trial number"
   echo
