@@ -7,7 +7,8 @@
  * between the eye and the old surface), so conflicts are only redistributed to new faces. Each
  * iteration turns one point into a hull vertex, so n iterations bound the loop. The horizon is
  * walked depth first, which lists its edges as one closed loop; a horizon that is not a single
- * loop (possible only through rounding) is reported as MODEL_E_HULL rather than patched. */
+ * loop (possible only through rounding) is reported as MODEL_E_HULL rather than patched, and so is
+ * a result with a point above one of its faces. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -508,9 +509,24 @@ model_status_t model_mesh_hull(const model_mesh_t *mesh, model_mesh_t *hull, mod
     volume6 += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
                a[2] * (b[0] * c[1] - b[1] * c[0]);
   }
-  if (broken || !(volume6 > 0.0)) {
+  /* And no point above any face (by more than a rounding margin far above tol): quickhull has
+   * been seen to leave a sheet of two opposite faces through the middle of a generated rock, with
+   * every edge twinned and the volume right (docs/model.md). O(points x faces). */
+  const double slack = 1e3 * h.tol;
+  int outside = 0;
+  for (size_t f = 0; f < h.face_count && !broken && !outside; ++f) {
+    if (!h.faces[f].alive) {
+      continue;
+    }
+    for (uint32_t i = 0; i < n && !outside; ++i) {
+      outside = face_dist(&h, &h.faces[f], i) > slack;
+    }
+  }
+  if (broken || !(volume6 > 0.0) || outside) {
     st = model_fail(err, MODEL_E_HULL, "convex hull: numerical failure (%s)",
-                    broken ? "broken face adjacency" : "non-positive volume");
+                    broken    ? "broken face adjacency"
+                    : outside ? "a point above a hull face"
+                              : "non-positive volume");
     model_mesh_free(hull);
   }
 
