@@ -218,6 +218,7 @@ static void on_control_raw(const lcm_recv_buf_t *rbuf, const char *channel, void
   int32_t r = sim_control(&d->sim, &sc);
   logf_(r == 0 ? LOG_INFO : LOG_WARN, "SIM_CONTROL seq %lld action %d object '%s': result %d",
         (long long)sc.seq, (int)sc.action, sc.object_id, (int)r);
+  if (r == COMLEARN_OBJECT_STATE_T_SIM_CONTROL_ERR_LOAD) logf_(LOG_WARN, "%s", d->sim.error_text);
   comlearn_sim_control_t_decode_cleanup(&sc);
   d->publish_now = 1;
 }

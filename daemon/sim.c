@@ -406,6 +406,16 @@ static int32_t sc_done(sim_t *s, const comlearn_sim_control_t *c, int32_t result
   return result;
 }
 
+/* A LOAD that lib/model refused: SIM_CONTROL_ERR_LOAD, and the reason in the status' error_text
+ * (ERR_INVALID: the urdf_path field names no object the simulator can have). The loaded object,
+ * if any, stays. */
+static int32_t sc_load_refused(sim_t *s, const comlearn_sim_control_t *c, model_status_t ms,
+                               const char *why) {
+  set_error(s, ERR(ERR_INVALID), "SIM_CONTROL load of '%s' refused: %s (%s)", c->object_id,
+            why[0] ? why : c->urdf_path, model_status_str(ms));
+  return sc_done(s, c, SC(SIM_CONTROL_ERR_LOAD));
+}
+
 static void put_in_gripper(sim_t *s, const comlearn_sim_control_t *c) {
   s->held_arm = c->arm;
   s->held_width = c->gripper_width_m;
@@ -450,22 +460,32 @@ int32_t sim_control(sim_t *s, const comlearn_sim_control_t *c) {
     if (c->urdf_path[0] == '\0') return sc_done(s, c, SC(SIM_CONTROL_ERR_INVALID));
     model_object_t mo;
     model_mass_t mass;
-    model_error_t me;
-    if (model_object_load(c->urdf_path, NULL, &mo, &me) != MODEL_OK)
-      return sc_done(s, c, SC(SIM_CONTROL_ERR_LOAD));
-    if (model_inertial_load(c->urdf_path, NULL, &mass, &me) != MODEL_OK) {
+    model_error_t me = {{0}};
+    model_status_t ms = model_object_load(c->urdf_path, NULL, &mo, &me);
+    if (ms != MODEL_OK) return sc_load_refused(s, c, ms, me.msg);
+    ms = model_inertial_load(c->urdf_path, NULL, &mass, &me);
+    if (ms == MODEL_OK && (ms = model_mass_plausible(&mass, &mo.mesh, &me)) != MODEL_OK) {
+      char why[sizeof me.msg];
+      memcpy(why, me.msg, sizeof why);
+      /* the reason first: error_text holds SIM_TEXT_MAX bytes */
+      snprintf(me.msg, sizeof me.msg, "%.300s (URDF %.180s <inertial>)", why, c->urdf_path);
+    }
+    if (ms != MODEL_OK) {
       model_object_free(&mo);
-      return sc_done(s, c, SC(SIM_CONTROL_ERR_LOAD));
+      return sc_load_refused(s, c, ms, me.msg);
     }
     balance_config_t bc;
     balance_config_default(&bc);
     memcpy(bc.base_size_m, s->plan.block_size_m, sizeof bc.base_size_m);
     balance_world_t *w = NULL;
     balance_object_t *o = NULL;
-    if (balance_world_create(&bc, &w) != BALANCE_OK ||
-        balance_object_create(w, &mo.mesh, &mass, &o) != BALANCE_OK) {
+    balance_status_t bs = balance_world_create(&bc, &w);
+    if (bs == BALANCE_OK) bs = balance_object_create(w, &mo.mesh, &mass, &o);
+    if (bs != BALANCE_OK) {
       balance_world_destroy(w);
       model_object_free(&mo);
+      set_error(s, ERR(ERR_INVALID), "SIM_CONTROL load of '%s' refused by the physics: %s",
+                c->object_id, balance_status_str(bs));
       return sc_done(s, c, SC(SIM_CONTROL_ERR_LOAD));
     }
     object_unload(s);

@@ -1,5 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
-/* check_cli: the comlearn program as a user runs it: output values and exit codes. */
+/* check_cli: the comlearn program as a user runs it: output values and exit codes (inspect, and
+ * `estimate --direct` refusing an implausible truth). */
 #include <check.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,19 +17,25 @@
 static char tmpdir[256];
 
 /* A 4 x 6 x 2 cm box whose geometry sits at (0.01, -0.02, 0.005) in the link frame, with a true
- * CoM elsewhere (an uneven body) so the truth cannot be confused with the geometry. */
-static void write_box_urdf(const char *path) {
+ * CoM elsewhere (an uneven body) so the truth cannot be confused with the geometry; mass and
+ * CoM as given (the inertia is that of 0.2 kg). */
+static void write_box_urdf_truth(const char *path, const char *mass_kg, const char *com_xyz) {
   FILE *f = fopen(path, "w");
   ck_assert_ptr_nonnull(f);
   fprintf(f,
           "<?xml version=\"1.0\"?>\n<robot name=\"cli_box\">\n <link name=\"body\">\n"
-          "  <inertial><origin xyz=\"0.013 -0.021 0.004\"/><mass value=\"0.2\"/>\n"
+          "  <inertial><origin xyz=\"%s\"/><mass value=\"%s\"/>\n"
           "   <inertia ixx=\"6.67e-5\" iyy=\"3.33e-5\" izz=\"8.67e-5\" ixy=\"0\" ixz=\"0\" "
           "iyz=\"0\"/></inertial>\n"
           "  <collision><origin xyz=\"0.01 -0.02 0.005\"/>"
           "<geometry><box size=\"0.04 0.06 0.02\"/></geometry></collision>\n"
-          " </link>\n</robot>\n");
+          " </link>\n</robot>\n",
+          com_xyz, mass_kg);
   fclose(f);
+}
+
+static void write_box_urdf(const char *path) {
+  write_box_urdf_truth(path, "0.2", "0.013 -0.021 0.004");
 }
 
 static void setup(void) {
@@ -108,6 +115,40 @@ START_TEST(bad_input_exit_codes) {
 }
 END_TEST
 
+/* `comlearn estimate --direct` refuses a truth no real object of that shape can have (the
+ * simulator side's model_mass_plausible): exit 2, the URDF and the reason on stderr, nothing on
+ * stdout. The same box with a sane truth estimates (exit 0), so the file itself is fine. */
+START_TEST(estimate_direct_implausible_truth) {
+  char urdf[512], cmd[1536], out[8192];
+  const struct {
+    const char *mass, *com, *why[2];
+  } cases[] = {
+      {"1e-300", "0.013 -0.021 0.004", {"mass 1e-300 kg", "[0.001, 10] kg"}},
+      {"12", "0.013 -0.021 0.004", {"mass 12 kg", "[0.001, 10] kg"}},
+      {"0.2", "0.013 0.021 0.004", {"outside the mesh's bounding box", "y = 0.021 m"}},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+    snprintf(urdf, sizeof urdf, "%s/implausible_%zu.urdf", tmpdir, i);
+    write_box_urdf_truth(urdf, cases[i].mass, cases[i].com);
+    snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct --json 2>&1 >/dev/null", COMLEARN_BIN,
+             urdf);
+    ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+    ck_assert_msg(strstr(out, urdf) != NULL, "stderr must name the URDF: %s", out);
+    for (int w = 0; w < 2; ++w)
+      ck_assert_msg(strstr(out, cases[i].why[w]) != NULL, "stderr must say '%s': %s",
+                    cases[i].why[w], out);
+    snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct --json 2>/dev/null", COMLEARN_BIN, urdf);
+    ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+    ck_assert_str_eq(out, "");
+  }
+  snprintf(urdf, sizeof urdf, "%s/box.urdf", tmpdir);
+  write_box_urdf(urdf);
+  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct --json 2>/dev/null", COMLEARN_BIN, urdf);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "\"com_m\": ["));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("cli");
   TCase *tc = tcase_create("inspect");
@@ -117,6 +158,11 @@ int main(void) {
   tcase_add_test(tc, inspect_without_truth_reports_no_truth);
   tcase_add_test(tc, bad_input_exit_codes);
   suite_add_tcase(s, tc);
+  TCase *est = tcase_create("estimate");
+  tcase_add_checked_fixture(est, setup, teardown);
+  tcase_set_timeout(est, 120);
+  tcase_add_test(est, estimate_direct_implausible_truth);
+  suite_add_tcase(s, est);
   SRunner *r = srunner_create(s);
   srunner_run_all(r, CK_NORMAL);
   int failed = srunner_ntests_failed(r);

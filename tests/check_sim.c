@@ -610,19 +610,23 @@ END_TEST
 
 /* ---- a placement trial end to end ---------------------------------------------------------- */
 
-static void write_box_urdf(const char *path, double com_x) {
+/* A 40 x 60 x 50 mm box with its CoM at (com_x, 0, 0) and mass mass_kg (the inertia is that of
+ * about 0.2 kg). */
+static void write_box_urdf_mass(const char *path, double com_x, double mass_kg) {
   FILE *fp = fopen(path, "w");
   ck_assert_ptr_nonnull(fp);
   fprintf(fp,
           "<?xml version=\"1.0\"?>\n<robot name=\"box\">\n <link name=\"box\">\n"
-          "  <inertial><origin xyz=\"%.17g 0 0\" rpy=\"0 0 0\"/><mass value=\"0.2\"/>\n"
+          "  <inertial><origin xyz=\"%.17g 0 0\" rpy=\"0 0 0\"/><mass value=\"%.17g\"/>\n"
           "   <inertia ixx=\"1.0e-4\" ixy=\"0\" ixz=\"0\" iyy=\"0.7e-4\" iyz=\"0\" izz=\"0.9e-4\"/>"
           "</inertial>\n"
           "  <collision><origin xyz=\"0 0 0\" rpy=\"0 0 0\"/><geometry><box size=\"0.04 0.06 0.05\"/>"
           "</geometry></collision>\n </link>\n</robot>\n",
-          com_x);
+          com_x, mass_kg);
   fclose(fp);
 }
+
+static void write_box_urdf(const char *path, double com_x) { write_box_urdf_mass(path, com_x, 0.2); }
 
 static int trial_over(const fx_t *f, const void *arg) {
   const int64_t t = *(const int64_t *)arg;
@@ -751,6 +755,75 @@ START_TEST(place_box_over_edge) {
 }
 END_TEST
 
+static int status_says_load_refused(const fx_t *f, const void *arg) {
+  return f->n_st > 0 && strstr(f->st.error_text, (const char *)arg) != NULL;
+}
+
+/* A LOAD of a URDF whose truth no real object of that shape can have (model_mass_plausible) is
+ * refused with SIM_CONTROL_ERR_LOAD and the reason in YUMI_STATUS.error_text; the object loaded
+ * before stays and still simulates with its own truth; a valid LOAD still works afterwards. */
+START_TEST(implausible_load_refused) {
+  fx_t f;
+  spawn(&f, NULL);
+  const char *tmp = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
+  char urdf[256], bad_mass[256], bad_com[256];
+  snprintf(urdf, sizeof urdf, "%s/check_sim_ok_%d.urdf", tmp, (int)getpid());
+  snprintf(bad_mass, sizeof bad_mass, "%s/check_sim_1e-300kg_%d.urdf", tmp, (int)getpid());
+  snprintf(bad_com, sizeof bad_com, "%s/check_sim_com_out_%d.urdf", tmp, (int)getpid());
+  const double com_x = 0.006;
+  write_box_urdf(urdf, com_x);
+  write_box_urdf_mass(bad_mass, com_x, 1e-300);
+  write_box_urdf_mass(bad_com, 0.021, 0.2); /* the box spans x in [-0.02, 0.02] */
+  int64_t sc_seq = 0, seq = 0;
+  ck_assert_int_eq(place_trial(&f, urdf, 1, &sc_seq, &seq, com_x + 0.002), 1);
+
+  const struct {
+    const char *path, *why[3];
+  } cases[] = {
+      {bad_mass, {"SIM_CONTROL load of 'box_bad' refused", "mass 1e-300 kg", "[0.001, 10] kg"}},
+      {bad_com, {"SIM_CONTROL load of 'box_bad' refused", "outside the mesh's bounding box",
+                 "x = 0.021 m"}},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    const int64_t rejected = f.st.messages_rejected;
+    comlearn_sim_control_t sc;
+    memset(&sc, 0, sizeof sc);
+    sc.seq = ++sc_seq;
+    sc.action = SCA(ACTION_LOAD);
+    sc.object_id = (char *)"box_bad";
+    sc.urdf_path = (char *)cases[i].path;
+    sc.arm = SCA(ARM_RIGHT);
+    sc.link_in_tool_position_m[2] = 0.010;
+    sc.link_in_tool_wxyz[1] = 1.0;
+    sc.gripper_width_m = 0.04;
+    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+    ck_assert(wait_for(&f, sc_acked, &sc_seq, 5.0));
+    ck_assert_int_eq(f.os.sim_control_result, OS(SIM_CONTROL_ERR_LOAD));
+    ck_assert_msg(wait_for(&f, status_says_load_refused, cases[i].why[0], 2.0),
+                  "case %zu: status error_text: %s", i, f.st.error_text);
+    ck_assert_int_eq(f.st.error_code, ST(ERR_INVALID));
+    for (int w = 1; w < 3; w++)
+      ck_assert_msg(strstr(f.st.error_text, cases[i].why[w]) != NULL, "case %zu: '%s' not in %s",
+                    i, cases[i].why[w], f.st.error_text);
+    ck_assert_msg(strstr(f.st.error_text, cases[i].path) != NULL, "case %zu: no URDF in %s", i,
+                  f.st.error_text);
+    ck_assert_int_eq(f.st.messages_rejected, rejected + 1);
+    /* nothing lost: the box placed before is still tracked where the trial left it */
+    ck_assert(f.os.tracked);
+    ck_assert_str_eq(f.os.object_id, "box_test");
+    ck_assert(f.os.on_base);
+  }
+  /* the old object still simulates with its own truth: 2 mm beyond its CoM it tips */
+  ck_assert_int_eq(place_trial(&f, urdf, 0, &sc_seq, &seq, com_x - 0.002), 2);
+  /* and a valid LOAD still works */
+  ck_assert_int_eq(place_trial(&f, urdf, 1, &sc_seq, &seq, com_x + 0.0003), 1);
+  remove(urdf);
+  remove(bad_mass);
+  remove(bad_com);
+  finish(&f);
+}
+END_TEST
+
 START_TEST(drop_rate_survives) {
   const char *extra[] = {"--drop-rate", "0.5", "--seed", "3", NULL};
   fx_t f;
@@ -796,6 +869,7 @@ int main(void) {
   tcase_add_test(tc, invalid_commands_refused);
   tcase_add_test(tc, garbage_counted);
   tcase_add_test(tc, place_box_over_edge);
+  tcase_add_test(tc, implausible_load_refused);
   tcase_add_test(tc, drop_rate_survives);
   suite_add_tcase(s, tc);
   SRunner *sr = srunner_create(s);

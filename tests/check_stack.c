@@ -200,6 +200,15 @@ START_TEST(sim_stands_and_falls_by_truth) {
   const char *missing[2] = {small, "/nonexistent/x.urdf"};
   ck_assert_int_eq(stack_simulate(missing, 2, &plan, NULL, NULL, &res), STACK_E_ARG);
   ck_assert_ptr_nonnull(strstr(res.msg, "/nonexistent/x.urdf"));
+  /* a truth no real object of that shape can have (model_mass_plausible): bad input */
+  char absurd[512];
+  snprintf(absurd, sizeof absurd, "%s/absurd.urdf", tmpdir);
+  write_box_urdf(absurd, kPlate, kPlateCom, 1e-300);
+  const char *absurd_paths[2] = {small, absurd};
+  ck_assert_int_eq(stack_simulate(absurd_paths, 2, &plan, NULL, NULL, &res), STACK_E_ARG);
+  ck_assert_msg(strstr(res.msg, absurd) && strstr(res.msg, "mass 1e-300 kg") &&
+                    strstr(res.msg, "[0.001, 10] kg"),
+                "%s", res.msg);
   boxes_free(&b);
 }
 END_TEST

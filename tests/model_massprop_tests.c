@@ -1,8 +1,10 @@
 /* model_massprop_tests.c - model_mesh_mass() and model_mesh_mass_halfspace() against closed forms:
  * boxes, a tetrahedron (Tonon 2004), an icosphere (symmetry, inscribed-sphere bounds and the
  * exact polyhedron volume), two-material boxes cut by axis-aligned and oblique planes, rigid
- * motions, and bad input. */
+ * motions, and bad input; model_mass_plausible() at each of its limits, just inside and just
+ * outside, and on the bundled rocks. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -638,6 +640,258 @@ START_TEST(bad_input) {
 }
 END_TEST
 
+/* ---- plausibility against the mesh (model_mass_plausible) ------------------------------- */
+
+/* A box [lo, hi] with the exact uniform mass properties of total mass mass_kg. */
+static void plausible_box(model_mesh_t *m, const double lo[3], const double hi[3], double mass_kg,
+                          model_mass_t *out) {
+  memset(m, 0, sizeof *m);
+  make_box(m, lo, hi);
+  model_mass_t unit;
+  ck_assert_int_eq(model_mesh_mass(m, 1.0, &unit), MODEL_OK);
+  *out = unit;
+  out->mass_kg = mass_kg;
+  const double scale = mass_kg / unit.mass_kg;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) out->inertia_kg_m2[i][j] = unit.inertia_kg_m2[i][j] * scale;
+  }
+}
+
+static void set_isotropic(model_mass_t *mp, double moment_kg_m2) {
+  memset(mp->inertia_kg_m2, 0, sizeof mp->inertia_kg_m2);
+  for (int i = 0; i < 3; ++i) mp->inertia_kg_m2[i][i] = moment_kg_m2;
+}
+
+/* st must be MODEL_E_IMPLAUSIBLE with every one of the `n` words in the message. */
+static void expect_implausible(const model_mass_t *mp, const model_mesh_t *m, const char *what,
+                               const char *const *words, size_t n) {
+  model_error_t err = {{0}};
+  const model_status_t st = model_mass_plausible(mp, m, &err);
+  ck_assert_msg(st == MODEL_E_IMPLAUSIBLE, "%s: status %d (%s)", what, (int)st, err.msg);
+  for (size_t i = 0; i < n; ++i) {
+    ck_assert_msg(strstr(err.msg, words[i]) != NULL, "%s: '%s' not in: %s", what, words[i],
+                  err.msg);
+  }
+}
+
+static void expect_plausible(const model_mass_t *mp, const model_mesh_t *m, const char *what) {
+  model_error_t err = {{0}};
+  const model_status_t st = model_mass_plausible(mp, m, &err);
+  ck_assert_msg(st == MODEL_OK, "%s: status %d: %s", what, (int)st, err.msg);
+}
+
+START_TEST(plausible_box_passes) {
+  /* 40 x 60 x 20 mm of granite, off the origin, with its exact inertia; and a two-material box
+   * (CoM off centre, exact inertia) */
+  const double lo[3] = {-0.01, -0.05, 0.005}, hi[3] = {0.03, 0.01, 0.025};
+  model_mesh_t m;
+  memset(&m, 0, sizeof m);
+  make_box(&m, lo, hi);
+  model_mass_t mp;
+  ck_assert_int_eq(model_mesh_mass(&m, 2650.0, &mp), MODEL_OK);
+  expect_plausible(&mp, &m, "granite box");
+  const model_mass_t cf = box_closed_form(lo, hi, 2650.0);
+  expect_plausible(&cf, &m, "granite box, closed form");
+  const model_halfspace_t region = {{1.0, 0.3, -0.2}, 0.012};
+  ck_assert_int_eq(model_mesh_mass_halfspace(&m, 1000.0, &region, 8000.0, &mp), MODEL_OK);
+  expect_plausible(&mp, &m, "two-material box");
+  /* what this function adds to model_mass_check: 1e-300 kg passes that, not this */
+  model_mesh_free(&m);
+  plausible_box(&m, lo, hi, 1e-300, &mp);
+  ck_assert_int_eq(model_mass_check(&mp, NULL), MODEL_OK);
+  const char *words[] = {"mass 1e-300 kg", "[0.001, 10] kg"};
+  expect_implausible(&mp, &m, "1e-300 kg", words, 2);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(plausible_mass_limits) {
+  /* 1 cm^3 at the lower limit (density 1000), a 10 cm cube at the upper one (density 10000) */
+  const double lo[3] = {0, 0, 0}, small[3] = {0.01, 0.01, 0.01}, big[3] = {0.1, 0.1, 0.1};
+  model_mesh_t m;
+  model_mass_t mp;
+  plausible_box(&m, lo, small, MODEL_MASS_MIN_KG, &mp);
+  expect_plausible(&mp, &m, "1 g");
+  model_mesh_free(&m);
+  plausible_box(&m, lo, small, MODEL_MASS_MIN_KG * (1.0 - 1e-9), &mp);
+  const char *low[] = {"mass 0.001 kg", "[0.001, 10] kg"};
+  expect_implausible(&mp, &m, "just under 1 g", low, 2);
+  model_mesh_free(&m);
+  plausible_box(&m, lo, big, MODEL_MASS_MAX_KG, &mp);
+  expect_plausible(&mp, &m, "10 kg");
+  model_mesh_free(&m);
+  plausible_box(&m, lo, big, MODEL_MASS_MAX_KG * (1.0 + 1e-9), &mp);
+  const char *high[] = {"mass 10 kg", "[0.001, 10] kg"};
+  expect_implausible(&mp, &m, "just over 10 kg", high, 2);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(plausible_density_limits) {
+  /* a 10 cm cube: 1e-3 m^3; at 10 kg/m^3 it weighs 10 g, at 25 000 kg/m^3 25 kg: use 0.1 m x
+   * 0.1 m x 0.02 m (2e-4 m^3, 5 kg) for the upper limit */
+  const double lo[3] = {0, 0, 0}, cube[3] = {0.1, 0.1, 0.1}, slab[3] = {0.1, 0.1, 0.02};
+  const double volume_cube = 1e-3, volume_slab = 2e-4;
+  model_mesh_t m;
+  model_mass_t mp;
+  plausible_box(&m, lo, cube, MODEL_DENSITY_MIN_KG_M3 * volume_cube * (1.0 + 1e-6), &mp);
+  expect_plausible(&mp, &m, "just over 10 kg/m^3");
+  model_mesh_free(&m);
+  plausible_box(&m, lo, cube, MODEL_DENSITY_MIN_KG_M3 * volume_cube * (1.0 - 1e-6), &mp);
+  const char *low[] = {"mean density 9.99999 kg/m^3", "[10, 25000] kg/m^3"};
+  expect_implausible(&mp, &m, "just under 10 kg/m^3", low, 2);
+  model_mesh_free(&m);
+  plausible_box(&m, lo, slab, MODEL_DENSITY_MAX_KG_M3 * volume_slab * (1.0 - 1e-6), &mp);
+  expect_plausible(&mp, &m, "just under 25000 kg/m^3");
+  model_mesh_free(&m);
+  plausible_box(&m, lo, slab, MODEL_DENSITY_MAX_KG_M3 * volume_slab * (1.0 + 1e-6), &mp);
+  const char *high[] = {"mean density 25000", "[10, 25000] kg/m^3"};
+  expect_implausible(&mp, &m, "just over 25000 kg/m^3", high, 2);
+  model_mesh_free(&m);
+  /* a mesh in millimetres read as metres: 1e9 x the volume */
+  const double mm[3] = {40, 60, 20};
+  plausible_box(&m, lo, mm, 0.2, &mp);
+  const char *units[] = {"mean density 4.16667e-06 kg/m^3"};
+  expect_implausible(&mp, &m, "mesh in mm", units, 1);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(plausible_com_in_bbox) {
+  const double lo[3] = {-0.02, -0.03, 0.0}, hi[3] = {0.02, 0.03, 0.02};
+  model_mesh_t m;
+  model_mass_t mp;
+  plausible_box(&m, lo, hi, 0.2, &mp);
+  for (int k = 0; k < 3; ++k) {
+    for (int side = 0; side < 2; ++side) {
+      model_mass_t t = mp;
+      const double edge = side ? hi[k] : lo[k], out = side ? 1e-6 : -1e-6;
+      t.com_m[k] = edge; /* on the box's face: inside */
+      expect_plausible(&t, &m, "CoM on a face of the bounding box");
+      t.com_m[k] = edge + out; /* 1 um beyond it */
+      char axis[8];
+      snprintf(axis, sizeof axis, "%c = ", "xyz"[k]);
+      const char *words[] = {"center of mass", "outside the mesh's bounding box", axis};
+      expect_implausible(&t, &m, "CoM 1 um outside the bounding box", words, 3);
+    }
+  }
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(plausible_moment_upper_bound) {
+  /* CoM at the centre: the farthest vertex is a corner, r^2 = 0.02^2 + 0.03^2 + 0.01^2 */
+  const double lo[3] = {-0.02, -0.03, -0.01}, hi[3] = {0.02, 0.03, 0.01};
+  const double r2 = 0.02 * 0.02 + 0.03 * 0.03 + 0.01 * 0.01, mass = 0.2;
+  model_mesh_t m;
+  model_mass_t mp;
+  plausible_box(&m, lo, hi, mass, &mp);
+  set_isotropic(&mp, mass * r2 * (1.0 - 1e-7));
+  expect_plausible(&mp, &m, "moments just under m r^2");
+  set_isotropic(&mp, mass * r2 * (1.0 + 1e-7));
+  char bound[64];
+  snprintf(bound, sizeof bound, "= %g kg m^2", mass * r2);
+  const char *words[] = {"exceeds mass x (farthest mesh vertex from the CoM)^2", bound};
+  expect_implausible(&mp, &m, "moments just over m r^2", words, 2);
+  /* one moment too large on a rotated tensor (the triangle inequality still holds) */
+  const double a = 0.6, c = 0.8; /* rotation about z */
+  const double d[3] = {mass * r2 * 0.6, mass * r2 * 0.55, mass * r2 * 1.01};
+  memset(mp.inertia_kg_m2, 0, sizeof mp.inertia_kg_m2);
+  mp.inertia_kg_m2[0][0] = c * c * d[0] + a * a * d[1];
+  mp.inertia_kg_m2[1][1] = a * a * d[0] + c * c * d[1];
+  mp.inertia_kg_m2[0][1] = mp.inertia_kg_m2[1][0] = c * a * (d[0] - d[1]);
+  mp.inertia_kg_m2[2][2] = d[2];
+  expect_implausible(&mp, &m, "one moment over m r^2", words, 1);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(plausible_moment_lower_bound) {
+  const double lo[3] = {-0.02, -0.03, -0.01}, hi[3] = {0.02, 0.03, 0.01}, mass = 0.2;
+  model_mesh_t m;
+  model_mass_t mp;
+  plausible_box(&m, lo, hi, mass, &mp);
+  /* the least sum of moments: a ball of 0.2 kg at 25 000 kg/m^3, (6/5) m R^2 */
+  const double pi = 3.14159265358979323846;
+  const double ball_r = cbrt(3.0 * mass / (4.0 * pi * MODEL_DENSITY_MAX_KG_M3));
+  const double least = 1.2 * mass * ball_r * ball_r;
+  set_isotropic(&mp, least / 3.0 * (1.0 + 1e-7));
+  expect_plausible(&mp, &m, "sum just over (6/5) m R^2");
+  set_isotropic(&mp, least / 3.0 * (1.0 - 1e-7));
+  char bound[64];
+  snprintf(bound, sizeof bound, "below %g kg m^2", least);
+  const char *words[] = {"principal moments sum to", bound, "25000 kg/m^3"};
+  expect_implausible(&mp, &m, "sum just under (6/5) m R^2", words, 3);
+  set_isotropic(&mp, 1e-300);
+  expect_implausible(&mp, &m, "inertia 1e-300", words, 1);
+  /* positive: zero and negative moments stay model_mass_check's MODEL_E_INERTIAL */
+  set_isotropic(&mp, 0.0);
+  ck_assert_int_eq(model_mass_plausible(&mp, &m, NULL), MODEL_E_INERTIAL);
+  set_isotropic(&mp, 1e-5);
+  mp.inertia_kg_m2[2][2] = -1e-5;
+  ck_assert_int_eq(model_mass_plausible(&mp, &m, NULL), MODEL_E_INERTIAL);
+  /* the triangle inequality too */
+  set_isotropic(&mp, 1e-5);
+  mp.inertia_kg_m2[2][2] = 2.1e-5;
+  ck_assert_int_eq(model_mass_plausible(&mp, &m, NULL), MODEL_E_INERTIA_TRIANGLE);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(plausible_nonfinite_and_null) {
+  const double lo[3] = {-0.02, -0.03, -0.01}, hi[3] = {0.02, 0.03, 0.01};
+  model_mesh_t m;
+  model_mass_t mp;
+  plausible_box(&m, lo, hi, 0.2, &mp);
+  expect_plausible(&mp, &m, "reference box");
+  const double bad[3] = {NAN, INFINITY, -INFINITY};
+  for (int b = 0; b < 3; ++b) {
+    model_mass_t t = mp;
+    t.mass_kg = bad[b];
+    ck_assert_int_eq(model_mass_plausible(&t, &m, NULL), MODEL_E_INERTIAL);
+    t = mp;
+    t.com_m[1] = bad[b];
+    ck_assert_int_eq(model_mass_plausible(&t, &m, NULL), MODEL_E_INERTIAL);
+    t = mp;
+    t.inertia_kg_m2[0][2] = t.inertia_kg_m2[2][0] = bad[b];
+    ck_assert_int_eq(model_mass_plausible(&t, &m, NULL), MODEL_E_INERTIAL);
+  }
+  model_error_t err = {{0}};
+  ck_assert_int_eq(model_mass_plausible(NULL, &m, &err), MODEL_E_ARG);
+  ck_assert_int_eq(model_mass_plausible(&mp, NULL, &err), MODEL_E_ARG);
+  ck_assert_ptr_nonnull(strstr(err.msg, "mesh"));
+  m.vertices_m[5][2] = NAN;
+  ck_assert_int_eq(model_mass_plausible(&mp, &m, &err), MODEL_E_NONFINITE);
+  ck_assert_ptr_nonnull(strstr(err.msg, "mesh"));
+  model_mesh_free(&m);
+  model_mesh_t empty;
+  memset(&empty, 0, sizeof empty);
+  ck_assert_int_eq(model_mass_plausible(&mp, &empty, &err), MODEL_E_DEGENERATE);
+}
+END_TEST
+
+static const char *const kRocks[] = {"rock_1_even", "rock_1_uneven", "rock_2_even",
+                                     "rock_2_uneven", "rock_3_even", "rock_3_uneven"};
+
+START_TEST(plausible_bundled_rocks) {
+  char path[1024];
+  snprintf(path, sizeof path, "%s/rocks/%s.urdf", COMLEARN_ASSETS_DIR, kRocks[_i]);
+  model_object_t obj;
+  model_mass_t mp;
+  model_error_t err = {{0}};
+  ck_assert_msg(model_object_load(path, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_msg(model_inertial_load(path, NULL, &mp, &err) == MODEL_OK, "%s", err.msg);
+  expect_plausible(&mp, &obj.mesh, kRocks[_i]);
+  /* and not with a mesh 10 x too large (a scale slip): 1/1000 of the density */
+  for (size_t v = 0; v < obj.mesh.vertex_count; ++v) {
+    for (int k = 0; k < 3; ++k) obj.mesh.vertices_m[v][k] *= 10.0;
+  }
+  const char *words[] = {"mean density", "[10, 25000] kg/m^3"};
+  expect_implausible(&mp, &obj.mesh, kRocks[_i], words, 2);
+  model_object_free(&obj);
+}
+END_TEST
+
 Suite *model_massprop_suite(void) {
   Suite *s = suite_create("model_massprop");
   TCase *one = tcase_create("one_material");
@@ -657,5 +911,16 @@ Suite *model_massprop_suite(void) {
   TCase *bad = tcase_create("bad_input");
   tcase_add_test(bad, bad_input);
   suite_add_tcase(s, bad);
+  TCase *plaus = tcase_create("plausible");
+  tcase_add_test(plaus, plausible_box_passes);
+  tcase_add_test(plaus, plausible_mass_limits);
+  tcase_add_test(plaus, plausible_density_limits);
+  tcase_add_test(plaus, plausible_com_in_bbox);
+  tcase_add_test(plaus, plausible_moment_upper_bound);
+  tcase_add_test(plaus, plausible_moment_lower_bound);
+  tcase_add_test(plaus, plausible_nonfinite_and_null);
+  tcase_add_loop_test(plaus, plausible_bundled_rocks, 0,
+                      (int)(sizeof kRocks / sizeof kRocks[0]));
+  suite_add_tcase(s, plaus);
   return s;
 }

@@ -75,9 +75,10 @@ START_TEST(test_status_strings) {
       MODEL_OK,           MODEL_E_ARG,      MODEL_E_NOFILE,   MODEL_E_PARSE,
       MODEL_E_NOLINK,     MODEL_E_NOGEOM,   MODEL_E_OPEN,     MODEL_E_ORIENT,
       MODEL_E_DEGENERATE, MODEL_E_NONFINITE, MODEL_E_INERTIAL, MODEL_E_INERTIA_TRIANGLE,
-      MODEL_E_NOMEM,      MODEL_E_UNSUPPORTED, MODEL_E_REGION, MODEL_E_HULL};
+      MODEL_E_NOMEM,      MODEL_E_UNSUPPORTED, MODEL_E_REGION, MODEL_E_HULL,
+      MODEL_E_CHAIN,      MODEL_E_IMPLAUSIBLE};
   const size_t n = sizeof all / sizeof all[0];
-  ck_assert_uint_eq(n, 16);
+  ck_assert_uint_eq(n, 18);
   for (size_t i = 0; i < n; ++i) {
     const char *s = model_status_str(all[i]);
     ck_assert_ptr_nonnull(s);

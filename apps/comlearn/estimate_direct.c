@@ -57,6 +57,13 @@ int estimate_direct_open(const char *urdf_path, const char *link_name, const bal
   model_mass_t truth;
   model_status_t ms = model_object_load(urdf_path, link_name, &obj, &merr);
   if (ms == MODEL_OK) ms = model_inertial_load(urdf_path, link_name, &truth, &merr);
+  if (ms == MODEL_OK && (ms = model_mass_plausible(&truth, &obj.mesh, &merr)) != MODEL_OK) {
+    /* bad input like any other: a truth no real object of this shape can have */
+    char why[sizeof merr.msg];
+    memcpy(why, merr.msg, sizeof why);
+    snprintf(merr.msg, sizeof merr.msg, "URDF %.180s: link '%.60s': <inertial>: %.230s", urdf_path,
+             obj.link_name, why);
+  }
   if (ms != MODEL_OK) {
     snprintf(err, err_size, "%s (%s)", merr.msg[0] ? merr.msg : urdf_path, model_status_str(ms));
     model_object_free(&obj);

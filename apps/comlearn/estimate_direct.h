@@ -32,8 +32,9 @@ typedef struct estimate_direct estimate_direct_t;
 
 /* Load urdf_path (link NULL = root) with its inertial and build the world per cfg (NULL: the
  * balance defaults). Fills *backend (its ctx is the returned handle). Returns 0 on success,
- * 2 for bad input (missing or unreadable file, no/invalid inertial, unusable mesh) and 1 for a
- * runtime failure (out of memory), matching the program's exit codes; err gets a message. */
+ * 2 for bad input (missing or unreadable file, no/invalid inertial, one that fails
+ * model_mass_plausible against the mesh, unusable mesh) and 1 for a runtime failure (out of
+ * memory), matching the program's exit codes; err gets a message naming the URDF. */
 int estimate_direct_open(const char *urdf_path, const char *link_name, const balance_config_t *cfg,
                          estimate_direct_t **out, estimate_backend_t *backend, char *err,
                          size_t err_size);

@@ -59,6 +59,7 @@ struct estimate_lcm {
   double bib_wxyz[4]; /* block_in_base orientation as a quaternion */
   /* latest messages */
   comlearn_yumi_status_t st;
+  char st_text[512]; /* its error_text, truncated (the simulator's reason for a refusal) */
   uint64_t n_st;
   comlearn_object_state_t os;
   char os_id[ID_MAX];
@@ -159,7 +160,9 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const void *msg,
   (void)ch;
   estimate_lcm_t *l = user;
   l->st = *(const comlearn_yumi_status_t *)msg;
-  l->st.error_text = NULL; /* not kept (valid only during the call) */
+  /* the string is valid only during the call: keep a copy */
+  snprintf(l->st_text, sizeof l->st_text, "%s", l->st.error_text ? l->st.error_text : "");
+  l->st.error_text = NULL;
   l->n_st++;
 }
 
@@ -504,8 +507,11 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
   }
   if (r < 0) return 1;
   if (r != OS(SIM_CONTROL_APPLIED)) {
-    snprintf(err, err_size, "SIM_CONTROL %s of %s refused: result %d", l->loaded ? "reset" : "load",
-             l->urdf, r);
+    /* comlearn-sim publishes the status, with its reason for a refused LOAD, before the
+     * acknowledgement; any other error text is not about this message */
+    const int why = strncmp(l->st_text, "SIM_CONTROL", 11) == 0;
+    snprintf(err, err_size, "SIM_CONTROL %s of %s refused: result %d%s%s",
+             l->loaded ? "reset" : "load", l->urdf, r, why ? ": " : "", why ? l->st_text : "");
     return -1;
   }
   l->loaded = 1;

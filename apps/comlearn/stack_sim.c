@@ -34,6 +34,12 @@ stack_status_t stack_simulate(const char *const *urdf_paths, size_t count, const
     model_error_t merr = {{0}};
     model_status_t ms = model_object_load(urdf_paths[i], NULL, &obj[i], &merr);
     if (ms == MODEL_OK) ms = model_inertial_load(urdf_paths[i], NULL, &truth[i], &merr);
+    if (ms == MODEL_OK && (ms = model_mass_plausible(&truth[i], &obj[i].mesh, &merr)) != MODEL_OK) {
+      char why[sizeof merr.msg];
+      memcpy(why, merr.msg, sizeof why);
+      snprintf(merr.msg, sizeof merr.msg, "URDF %.180s: link '%.60s': <inertial>: %.230s",
+               urdf_paths[i], obj[i].link_name, why);
+    }
     if (ms != MODEL_OK) {
       snprintf(out->msg, sizeof out->msg, "%.200s (%s)", merr.msg[0] ? merr.msg : urdf_paths[i],
                model_status_str(ms));

@@ -145,6 +145,102 @@ model_status_t model_mass_check(const model_mass_t *mass, model_error_t *err) {
   return MODEL_OK;
 }
 
+/* ---- plausibility against the mesh ------------------------------------------------------- */
+
+static const double PLAUSIBLE_REL_TOL = 1e-9;
+
+static model_status_t plausible_density(double mass_kg, double volume_m3, model_error_t *err) {
+  const double density = mass_kg / volume_m3;
+  if (density < MODEL_DENSITY_MIN_KG_M3 || density > MODEL_DENSITY_MAX_KG_M3) {
+    return model_fail(err, MODEL_E_IMPLAUSIBLE, "mean density %g kg/m^3 (mass %g kg / mesh "
+                      "volume %g m^3) is outside the range of solids [%g, %g] kg/m^3", density,
+                      mass_kg, volume_m3, MODEL_DENSITY_MIN_KG_M3, MODEL_DENSITY_MAX_KG_M3);
+  }
+  return MODEL_OK;
+}
+
+static model_status_t plausible_com(const double com_m[3], const model_aabb_t *box,
+                                    model_error_t *err) {
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double e = box->max_m[k] - box->min_m[k];
+    d2 += e * e;
+  }
+  const double slack = PLAUSIBLE_REL_TOL * sqrt(d2);
+  for (int k = 0; k < 3; ++k) {
+    if (com_m[k] < box->min_m[k] - slack || com_m[k] > box->max_m[k] + slack) {
+      return model_fail(err, MODEL_E_IMPLAUSIBLE, "center of mass (%g, %g, %g) m is outside the "
+                        "mesh's bounding box: %c = %g m not in [%g, %g] m", com_m[0], com_m[1],
+                        com_m[2], "xyz"[k], com_m[k], box->min_m[k], box->max_m[k]);
+    }
+  }
+  return MODEL_OK;
+}
+
+/* Principal moments against the two rigorous bounds in model_inertial.h. */
+static model_status_t plausible_moments(const model_mass_t *mass, const model_mesh_t *mesh,
+                                        model_error_t *err) {
+  double r2 = 0.0;
+  for (size_t v = 0; v < mesh->vertex_count; ++v) {
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double d = mesh->vertices_m[v][k] - mass->com_m[k];
+      d2 += d * d;
+    }
+    r2 = fmax(r2, d2);
+  }
+  double m[3], axes[3][3];
+  if (model_inertia_principal(mass->inertia_kg_m2, m, axes) != MODEL_OK) {
+    return model_fail(err, MODEL_E_INERTIAL, "principal moments of inertia did not converge");
+  }
+  const double upper = mass->mass_kg * r2;
+  if (m[2] > upper * (1.0 + PLAUSIBLE_REL_TOL)) {
+    return model_fail(err, MODEL_E_IMPLAUSIBLE, "principal moment %g kg m^2 exceeds mass x "
+                      "(farthest mesh vertex from the CoM)^2 = %g kg x (%g m)^2 = %g kg m^2",
+                      m[2], mass->mass_kg, sqrt(r2), upper);
+  }
+  /* Least sum of moments: the mass packed into a ball at the densest material's density. */
+  const double pi = 3.14159265358979323846;
+  const double ball_r = cbrt(3.0 * mass->mass_kg / (4.0 * pi * MODEL_DENSITY_MAX_KG_M3));
+  const double lower = 1.2 * mass->mass_kg * ball_r * ball_r;
+  const double sum = m[0] + m[1] + m[2];
+  if (sum < lower * (1.0 - PLAUSIBLE_REL_TOL)) {
+    return model_fail(err, MODEL_E_IMPLAUSIBLE, "principal moments sum to %g kg m^2, below "
+                      "%g kg m^2, the least for %g kg (a ball of radius %g m at %g kg/m^3)", sum,
+                      lower, mass->mass_kg, ball_r, MODEL_DENSITY_MAX_KG_M3);
+  }
+  return MODEL_OK;
+}
+
+model_status_t model_mass_plausible(const model_mass_t *mass, const model_mesh_t *mesh,
+                                    model_error_t *err) {
+  model_status_t st = model_mass_check(mass, err);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  if (mass->mass_kg < MODEL_MASS_MIN_KG || mass->mass_kg > MODEL_MASS_MAX_KG) {
+    return model_fail(err, MODEL_E_IMPLAUSIBLE, "mass %g kg is outside the plausible range "
+                      "[%g, %g] kg", mass->mass_kg, MODEL_MASS_MIN_KG, MODEL_MASS_MAX_KG);
+  }
+  if (mesh == NULL) {
+    return model_fail(err, MODEL_E_ARG, "mesh is NULL");
+  }
+  model_mass_t unit;
+  st = model_mesh_mass(mesh, 1.0, &unit);
+  if (st != MODEL_OK) {
+    return model_fail(err, st, "the mesh has no usable volume (%s)", model_status_str(st));
+  }
+  model_aabb_t box;
+  st = model_mesh_aabb(mesh, &box);
+  if (st != MODEL_OK) {
+    return model_fail(err, st, "the mesh has no bounding box (%s)", model_status_str(st));
+  }
+  st = plausible_density(mass->mass_kg, unit.mass_kg, err);
+  if (st == MODEL_OK) st = plausible_com(mass->com_m, &box, err);
+  if (st == MODEL_OK) st = plausible_moments(mass, mesh, err);
+  return st;
+}
+
 model_status_t model_inertial_load(const char *urdf_path, const char *link_name,
                                    model_mass_t *out, model_error_t *err) {
   if (out == NULL) {

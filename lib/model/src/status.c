@@ -25,6 +25,8 @@ const char *model_status_str(model_status_t status) {
     case MODEL_E_REGION: return "invalid density region";
     case MODEL_E_HULL: return "convex hull failed";
     case MODEL_E_CHAIN: return "no usable kinematic chain between the links";
+    case MODEL_E_IMPLAUSIBLE:
+      return "mass properties implausible for a real object of that shape";
   }
   return "unknown model status";
 }

@@ -47,7 +47,8 @@ typedef enum {
   MODEL_E_UNSUPPORTED = -13,  /* mesh format or URDF geometry type not supported */
   MODEL_E_REGION = -14,       /* a density region that is not valid (zero normal, ...) */
   MODEL_E_HULL = -15,         /* convex hull failed (all points coplanar, iteration cap) */
-  MODEL_E_CHAIN = -16         /* no kinematic chain between two links, or an unusable joint */
+  MODEL_E_CHAIN = -16,        /* no kinematic chain between two links, or an unusable joint */
+  MODEL_E_IMPLAUSIBLE = -17   /* mass properties no real object of that shape can have */
 } model_status_t;
 
 /* A static English description of a status; never NULL. */

@@ -32,6 +32,36 @@ model_status_t model_inertial_load(const char *urdf_path, const char *link_name,
  * MODEL_E_INERTIA_TRIANGLE otherwise, with the offending numbers in err. Does not allocate. */
 model_status_t model_mass_check(const model_mass_t *mass, model_error_t *err);
 
+/* Limits of model_mass_plausible() (docs/model.md says why these numbers). */
+#define MODEL_MASS_MIN_KG 1e-3          /* 1 g: a paper clip; lighter is no object to place */
+#define MODEL_MASS_MAX_KG 10.0          /* 10 kg: 20 x the YuMi's payload per arm */
+#define MODEL_DENSITY_MIN_KG_M3 10.0    /* mean density: expanded polystyrene, sealed shells */
+#define MODEL_DENSITY_MAX_KG_M3 25000.0 /* above osmium (22 590), the densest element */
+
+/* Whether mass properties are those of a real object whose surface is `mesh` (closed and outward,
+ * as model_object_load() gives it; the same frame as mass, the URDF link frame). Every simulator
+ * loader runs it on the truth before physics sees it. In this order, each failure naming the
+ * number and the limit in err:
+ *   model_mass_check(mass) first (its statuses: MODEL_E_INERTIAL, MODEL_E_INERTIA_TRIANGLE);
+ *   MODEL_E_IMPLAUSIBLE  mass outside [MODEL_MASS_MIN_KG, MODEL_MASS_MAX_KG];
+ *   the mesh, as model_mesh_mass() judges it: MODEL_E_ARG (NULL, an index out of range),
+ *             MODEL_E_NONFINITE (a vertex), MODEL_E_DEGENERATE (empty, under 4 triangles, or
+ *             a volume not clearly > 0);
+ *   MODEL_E_IMPLAUSIBLE  mean density mass / mesh volume outside
+ *                        [MODEL_DENSITY_MIN_KG_M3, MODEL_DENSITY_MAX_KG_M3];
+ *   MODEL_E_IMPLAUSIBLE  the CoM outside the mesh's bounding box (slack 1e-9 x its diagonal): a
+ *                        CoM is an average of points of the body;
+ *   MODEL_E_IMPLAUSIBLE  a principal moment above mass x r^2 (1 + 1e-9), r the largest distance
+ *                        from the CoM to a mesh vertex: no mass element is farther than r from any
+ *                        axis through the CoM (the body lies in the vertices' convex hull);
+ *   MODEL_E_IMPLAUSIBLE  the sum of the principal moments below (6/5) mass R^2 (1 - 1e-9), R the
+ *                        radius of a ball of mass `mass` at MODEL_DENSITY_MAX_KG_M3: the sum is
+ *                        2 x the integral of rho |x - com|^2, least when the mass is packed as
+ *                        densely as any material allows into a ball around the CoM.
+ * MODEL_OK when all hold. Does not allocate. */
+model_status_t model_mass_plausible(const model_mass_t *mass, const model_mesh_t *mesh,
+                                    model_error_t *err);
+
 /* A half-space region { x : normal . x >= offset_m } in the mesh frame. normal need not be unit
  * length but must be finite and non-zero. */
 typedef struct {
