@@ -44,6 +44,69 @@ static inline void bp_box(model_mesh_t *m, const double h[3], double lean_x) {
   bp_hexahedron(m, (const double(*)[3])c);
 }
 
+/* Two boxes of half extents h side by side along x, centred at x = -gap/2 - h[0] and
+ * gap/2 + h[0], bottoms coplanar: an object on two separate feet (two shells; 16 vertices). */
+static inline void bp_two_feet(model_mesh_t *m, const double h[3], double gap) {
+  model_mesh_t a = {0}, b = {0};
+  bp_box(&a, h, 0.0);
+  bp_box(&b, h, 0.0);
+  m->vertex_count = 16;
+  m->triangle_count = 24;
+  m->vertices_m = malloc(16 * sizeof *m->vertices_m);
+  m->triangles = malloc(24 * sizeof *m->triangles);
+  ck_assert_ptr_nonnull(m->vertices_m);
+  ck_assert_ptr_nonnull(m->triangles);
+  for (int v = 0; v < 8; ++v) {
+    memcpy(m->vertices_m[v], a.vertices_m[v], sizeof *m->vertices_m);
+    memcpy(m->vertices_m[v + 8], b.vertices_m[v], sizeof *m->vertices_m);
+    m->vertices_m[v][0] -= 0.5 * gap + h[0];
+    m->vertices_m[v + 8][0] += 0.5 * gap + h[0];
+  }
+  for (int t = 0; t < 12; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      m->triangles[t][k] = a.triangles[t][k];
+      m->triangles[t + 12][k] = b.triangles[t][k] + 8u;
+    }
+  }
+  model_mesh_free(&a);
+  model_mesh_free(&b);
+}
+
+/* A washer: the annulus r_in..r_out (n segments, vertices on the circles) extruded over z in
+ * [-h, h], centred at the origin. Its bottom is one flat region that is not convex. Allocated. */
+static inline void bp_washer(model_mesh_t *m, double r_in, double r_out, double h, unsigned n) {
+  m->vertex_count = 4 * (size_t)n;
+  m->triangle_count = 8 * (size_t)n;
+  m->vertices_m = malloc(m->vertex_count * sizeof *m->vertices_m);
+  m->triangles = malloc(m->triangle_count * sizeof *m->triangles);
+  ck_assert_ptr_nonnull(m->vertices_m);
+  ck_assert_ptr_nonnull(m->triangles);
+  /* vertex 4i + j: j = 0 outer bottom, 1 outer top, 2 inner bottom, 3 inner top */
+  for (unsigned i = 0; i < n; ++i) {
+    const double a = 2.0 * BP_PI * i / n, c = cos(a), s = sin(a);
+    const double r[4] = {r_out, r_out, r_in, r_in}, z[4] = {-h, h, -h, h};
+    for (unsigned j = 0; j < 4; ++j) {
+      m->vertices_m[4 * i + j][0] = r[j] * c;
+      m->vertices_m[4 * i + j][1] = r[j] * s;
+      m->vertices_m[4 * i + j][2] = z[j];
+    }
+  }
+  size_t t = 0;
+  for (unsigned i = 0; i < n; ++i) {
+    const uint32_t a = 4 * i, b = 4 * ((i + 1) % n);
+    const uint32_t quads[4][4] = {{a + 0, b + 0, b + 1, a + 1},  /* outer wall, facing out */
+                                  {a + 3, b + 3, b + 2, a + 2},  /* inner wall, facing in */
+                                  {a + 1, b + 1, b + 3, a + 3},  /* top */
+                                  {a + 2, b + 2, b + 0, a + 0}}; /* bottom */
+    for (int q = 0; q < 4; ++q) {
+      const uint32_t tri[2][3] = {{quads[q][0], quads[q][1], quads[q][2]},
+                                  {quads[q][0], quads[q][2], quads[q][3]}};
+      memcpy(m->triangles[t++], tri[0], sizeof tri[0]);
+      memcpy(m->triangles[t++], tri[1], sizeof tri[1]);
+    }
+  }
+}
+
 /* Mass properties of a box of half extents h and mass kg with its CoM moved to com (the inertia
  * stays the box's own about its center: a valid, positive-definite tensor). */
 static inline void bp_box_mass(const double h[3], double kg, const double com[3], model_mass_t *out) {

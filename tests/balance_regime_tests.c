@@ -47,6 +47,34 @@ static balance_pose_t over_edge(const model_mesh_t *m, const double q[4], balanc
   return pose;
 }
 
+/* Is the world point xy on one of the mesh triangles lying in the support plane of `pose`
+ * (test-side: its own rotation, lowest vertex, 1 um tolerance, point-in-triangle)? */
+static int on_contact(const model_mesh_t *m, const balance_pose_t *pose, const double xy[2]) {
+  double zmin = HUGE_VAL;
+  double(*w)[3] = malloc(m->vertex_count * sizeof *w);
+  for (size_t v = 0; v < m->vertex_count; ++v) {
+    rot(pose->orientation_wxyz, m->vertices_m[v], w[v]);
+    for (int k = 0; k < 3; ++k) w[v][k] += pose->position_m[k];
+    if (w[v][2] < zmin) zmin = w[v][2];
+  }
+  int on = 0;
+  for (size_t t = 0; t < m->triangle_count && !on; ++t) {
+    const uint32_t *tri = m->triangles[t];
+    if (w[tri[0]][2] - zmin > 1e-6 || w[tri[1]][2] - zmin > 1e-6 || w[tri[2]][2] - zmin > 1e-6)
+      continue;
+    int pos = 0, neg = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double *a = w[tri[k]], *b = w[tri[(k + 1) % 3]];
+      const double c = (b[0] - a[0]) * (xy[1] - a[1]) - (b[1] - a[1]) * (xy[0] - a[0]);
+      pos += c >= 0.0;
+      neg += c <= 0.0;
+    }
+    on = pos == 3 || neg == 3;
+  }
+  free(w);
+  return on;
+}
+
 /* ---- boxes: exact answers ---------------------------------------------------------------- */
 
 START_TEST(box_patch_is_its_bottom_face) {
@@ -235,6 +263,120 @@ START_TEST(leaning_box_com_outside_bottom) {
 }
 END_TEST
 
+/* ---- real contact: separate feet, a ring ----------------------------------------------- */
+
+START_TEST(two_feet_chord_is_the_real_contact) {
+  /* Feet 20 x 40 mm (x, y), 20 mm apart: x in [-30, -10] and [10, 30]. */
+  const double h[3] = {0.01, 0.02, 0.005};
+  model_mesh_t m = {0};
+  bp_two_feet(&m, h, 0.02);
+  model_mesh_check(&m, NULL, NULL);
+  const double mid[3] = {0.0, 0.0, 0.0};
+  /* Over a Y edge (edge line along x) the line crosses both feet: the chord runs from one
+   * foot's outer end to the other's, bridging the gap, and the edge line bounds the support
+   * polygon all along it. */
+  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PY, mid, 0.0);
+  balance_regime_t r;
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PY, mid, NULL, &r),
+                   BALANCE_OK);
+  ck_assert_uint_eq(r.patch.face_count, 4);
+  ck_assert_uint_eq(r.patch.region_count, 2);
+  ck_assert_double_eq_tol(r.patch.faces_area_m2, 2 * 0.02 * 0.04, 1e-15);
+  ck_assert_double_eq_tol(r.patch.region_area_m2, 0.02 * 0.04, 1e-15);
+  ck_assert_double_eq_tol(r.patch.region_width_m, 0.02, 1e-15);
+  ck_assert_double_eq_tol(r.patch.area_m2, 0.06 * 0.04, 1e-15); /* the outline spans the gap */
+  ck_assert(r.patch.flat);
+  ck_assert_double_eq_tol(r.chord_m[0], -0.03, 1e-15);
+  ck_assert_double_eq_tol(r.chord_m[1], 0.03, 1e-15);
+  ck_assert_int_eq(r.kind, BALANCE_REGIME_FLAT_PATCH);
+  /* Over an X edge with the gap's middle on the edge line: the line meets no foot (the outline
+   * would give a 40 mm chord there). The object rests on the inner foot, whose edge is 10 mm
+   * inside: not a flat-patch trial. */
+  pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, mid, 0.0);
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, mid, NULL, &r),
+                   BALANCE_OK);
+  ck_assert(!r.chord_valid);
+  ck_assert(r.chord_margin_m == -HUGE_VAL);
+  ck_assert_int_eq(r.kind, BALANCE_REGIME_POINT_SUPPORT);
+  /* The edge line through one foot (x = 20 mm): that foot's chord, [-20, 20] mm in y. */
+  const double on_foot[3] = {0.02, 0.005, 0.0};
+  pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, on_foot, 0.0);
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, on_foot, NULL, &r),
+                   BALANCE_OK);
+  ck_assert_double_eq_tol(r.chord_m[0] - r.com_along_m, -0.025, 1e-15);
+  ck_assert_double_eq_tol(r.chord_m[1] - r.com_along_m, 0.015, 1e-15);
+  ck_assert_double_eq_tol(r.chord_margin_m, 0.015, 1e-15);
+  ck_assert_int_eq(r.kind, BALANCE_REGIME_FLAT_PATCH);
+  /* Yaw: the best line through the gap's middle runs corner to corner across both feet (half
+   * length hypot(30, 20) mm); at yaw 0 the line runs in the gap. */
+  double yaw = 0.0, best = 0.0, at0 = 0.0;
+  ck_assert_int_eq(balance_yaw_best(&m, kIdentity, mid, BALANCE_EDGE_PX, NULL, &yaw, &best),
+                   BALANCE_OK);
+  ck_assert_double_eq_tol(best, hypot(0.03, 0.02), 1e-9);
+  ck_assert(fabs(yaw - BP_PI / 2) > 0.1);
+  ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, mid, BALANCE_EDGE_PX, 0.0, NULL, &at0),
+                   BALANCE_OK);
+  ck_assert(at0 == -HUGE_VAL);
+  /* The hull face under the feet: real area of one foot, two regions. */
+  balance_face_t f[16];
+  size_t n = 0;
+  ck_assert_int_eq(balance_faces_find(&m, mid, NULL, f, 16, &n), BALANCE_OK);
+  int bottom = 0;
+  for (size_t i = 0; i < (n < 16 ? n : 16); ++i) {
+    if (f[i].normal_link[2] > -1.0 + 1e-12) continue;
+    bottom = 1;
+    ck_assert_double_eq_tol(f[i].area_m2, 0.06 * 0.04, 1e-15);
+    ck_assert_uint_eq(f[i].region_count, 2);
+    ck_assert_double_eq_tol(f[i].patch_area_m2, 0.02 * 0.04, 1e-15);
+    ck_assert_double_eq_tol(f[i].patch_width_m, 0.02, 1e-15);
+  }
+  ck_assert(bottom);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(narrow_feet_are_not_flat) {
+  /* Feet 6 x 40 mm: each region is 6 mm wide, under the 10 mm a flat patch needs, although
+   * the outline of the two (26 mm x 40 mm) would pass. */
+  const double h[3] = {0.003, 0.02, 0.005};
+  model_mesh_t m = {0};
+  bp_two_feet(&m, h, 0.014);
+  const double mid[3] = {0.0, 0.0, 0.0};
+  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PY, mid, 0.0);
+  balance_regime_t r;
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PY, mid, NULL, &r),
+                   BALANCE_OK);
+  ck_assert(r.patch.width_m >= 0.02);
+  ck_assert_double_eq_tol(r.patch.region_width_m, 0.006, 1e-15);
+  ck_assert(!r.patch.flat);
+  ck_assert_int_eq(r.kind, BALANCE_REGIME_EDGE_ROLL);
+  model_mesh_free(&m);
+}
+END_TEST
+
+START_TEST(washer_is_one_ring_region) {
+  const unsigned n = 64;
+  const double r_in = 0.015, r_out = 0.025;
+  model_mesh_t m = {0};
+  bp_washer(&m, r_in, r_out, 0.004, n);
+  const double mid[3] = {0.0, 0.0, 0.0};
+  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, mid, 0.0);
+  balance_regime_t r;
+  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, mid, NULL, &r),
+                   BALANCE_OK);
+  const double poly = 0.5 * n * sin(2.0 * BP_PI / n); /* area of the unit n-gon */
+  ck_assert_uint_eq(r.patch.region_count, 1);
+  ck_assert_double_eq_tol(r.patch.faces_area_m2, poly * (r_out * r_out - r_in * r_in), 1e-12);
+  ck_assert_double_eq_tol(r.patch.area_m2, poly * r_out * r_out, 1e-12);
+  ck_assert(r.patch.flat);
+  /* Through the hole: the chord spans both sides of the ring (n is a multiple of 4, so the edge
+   * line x = const through the centre passes through two outer vertices, at +-r_out). */
+  ck_assert_double_eq_tol(r.chord_margin_m, r_out, 1e-12);
+  ck_assert_int_eq(r.kind, BALANCE_REGIME_FLAT_PATCH);
+  model_mesh_free(&m);
+}
+END_TEST
+
 /* ---- the bundled rocks ------------------------------------------------------------------- */
 
 START_TEST(rock_bottom_face_spans_the_com) {
@@ -259,19 +401,16 @@ START_TEST(rock_bottom_face_spans_the_com) {
                     reg.chord_margin_m);
       ck_assert_int_eq(reg.kind, BALANCE_REGIME_FLAT_PATCH);
       ck_assert_double_eq_tol(reg.com_beyond_m, 0.0, 1e-12);
-      /* The chord ends lie on the patch's boundary: half a micrometre outward leaves it. */
+      /* The chord ends lie on the real contact's boundary: half a micrometre outward leaves
+       * every in-plane triangle, half a micrometre inward is on one. */
       const int x_edge = e < 2;
       for (int end = 0; end < 2; ++end) {
-        const double s = reg.chord_m[end] + (end ? 5e-7 : -5e-7);
-        const double probe[2] = {x_edge ? (e == 0 ? 0.15 : -0.15) : s,
-                                 x_edge ? s : (e == 2 ? 0.15 : -0.15)};
-        int inside = 1;
-        const size_t nv = reg.patch.vertex_count;
-        for (size_t i = 0; i < nv; ++i) {
-          const double *a = reg.patch.polygon_xy_m[i], *b = reg.patch.polygon_xy_m[(i + 1) % nv];
-          if ((b[0] - a[0]) * (probe[1] - a[1]) - (b[1] - a[1]) * (probe[0] - a[0]) < 0.0) inside = 0;
+        for (int dir = -1; dir <= 1; dir += 2) {
+          const double s = reg.chord_m[end] + dir * (end ? 5e-7 : -5e-7);
+          const double probe[2] = {x_edge ? (e == 0 ? 0.15 : -0.15) : s,
+                                   x_edge ? s : (e == 2 ? 0.15 : -0.15)};
+          ck_assert_int_eq(on_contact(m, &pose, probe), dir < 0);
         }
-        ck_assert(!inside);
       }
     }
   }
@@ -479,6 +618,9 @@ Suite *balance_regime_suite(void) {
   tcase_add_test(tc, box_best_yaw_is_the_diagonal);
   tcase_add_test(tc, box_faces_with_offset_com);
   tcase_add_test(tc, leaning_box_com_outside_bottom);
+  tcase_add_test(tc, two_feet_chord_is_the_real_contact);
+  tcase_add_test(tc, narrow_feet_are_not_flat);
+  tcase_add_test(tc, washer_is_one_ring_region);
   tcase_add_loop_test(tc, rock_bottom_face_spans_the_com, 0, 6);
   tcase_add_loop_test(tc, rock_faces_are_the_fractures, 0, 3);
   tcase_add_test(tc, ellipsoid_is_point_support);

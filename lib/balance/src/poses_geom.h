@@ -29,9 +29,29 @@ balance_status_t balance_geom_mesh_check(const model_mesh_t *mesh);
 
 /* Planar hull, area, width and margin: model_polygon_*() in comlearn/model.h. */
 
-/* The chord of the line p + s d (d unit) through a convex counter-clockwise polygon: returns 1 and
- * [s0, s1] when the line crosses its interior (s1 - s0 > 0), 0 otherwise. */
-int balance_geom_poly_chord(const double (*poly)[2], size_t n, const double p[2], const double d[2],
-                            double *s0, double *s1);
+/* The real contact of a mesh on a plane: the mesh triangles whose three vertices lie on it. */
+typedef struct {
+  size_t triangle_count;  /* triangles in the plane */
+  double area_m2;         /* the sum of their areas (the real contact area) */
+  size_t region_count;    /* groups of them that touch (share a vertex), transitively */
+  double region_area_m2;  /* the largest group's real area */
+  double region_width_m;  /* the smallest width of that group's convex hull */
+} balance_geom_contact_t;
+
+/* Analyse the real contact: on[v] != 0 marks the vertices on the plane, xy[v] their 2-D
+ * coordinates in it (every vertex has an entry; only those marked are read). When tri_xy is not
+ * NULL it receives the in-plane triangles' corners (room for mesh->triangle_count). Allocates
+ * temporary memory: BALANCE_E_NOMEM, else BALANCE_OK. */
+balance_status_t balance_geom_contact(const model_mesh_t *mesh, const double (*xy)[2],
+                                      const unsigned char *on, double (*tri_xy)[3][2],
+                                      balance_geom_contact_t *out);
+
+/* Extent of the real contact along the line p + s d (d unit): the smallest and the largest s at
+ * which the line meets one of the n triangles (corners in tri_xy). Returns 1 with [*s0, *s1] when
+ * that extent has a positive length, 0 otherwise (no triangle met, or only at one point). The
+ * extent may bridge gaps between separate regions: over a line, the convex hull of the contact is
+ * the interval between its outermost points, whatever lies between. */
+int balance_geom_tris_chord(const double (*tri_xy)[3][2], size_t n, const double p[2],
+                            const double d[2], double *s0, double *s1);
 
 #endif

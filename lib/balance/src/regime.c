@@ -2,6 +2,7 @@
  * line, the regime verdict, yaws that make the chord span the CoM; and the private geometry
  * helpers of poses_geom.h. Pure geometry: no ODE. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -69,26 +70,106 @@ balance_status_t balance_geom_mesh_check(const model_mesh_t *mesh) {
   return BALANCE_OK;
 }
 
-int balance_geom_poly_chord(const double (*poly)[2], size_t n, const double p[2], const double d[2],
-                            double *s0, double *s1) {
-  /* Clip the line against each side's inner half-plane (Cyrus-Beck). */
-  if (n < 3) return 0;
-  double lo = -HUGE_VAL, hi = HUGE_VAL;
-  for (size_t i = 0; i < n; ++i) {
-    const double *a = poly[i], *b = poly[(i + 1) % n];
-    const double ex = b[0] - a[0], ey = b[1] - a[1];
-    /* inner side: cross(e, x - a) >= 0; along the line: f(s) = c0 + s c1 */
-    const double c0 = ex * (p[1] - a[1]) - ey * (p[0] - a[0]);
-    const double c1 = ex * d[1] - ey * d[0];
-    if (c1 == 0.0) {
-      if (c0 <= 0.0) return 0; /* parallel, on or outside this side */
-      continue;
+static uint32_t region_root(uint32_t *parent, uint32_t v) {
+  while (parent[v] != v) {
+    parent[v] = parent[parent[v]]; /* path halving */
+    v = parent[v];
+  }
+  return v;
+}
+
+balance_status_t balance_geom_contact(const model_mesh_t *mesh, const double (*xy)[2],
+                                      const unsigned char *on, double (*tri_xy)[3][2],
+                                      balance_geom_contact_t *out) {
+  const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
+  memset(out, 0, sizeof *out);
+  uint32_t *parent = malloc(nv * sizeof *parent);
+  double *area = calloc(nv, sizeof *area);
+  double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
+  double(*hull)[2] = malloc((nv + 1) * sizeof *hull);
+  balance_status_t st = BALANCE_OK;
+  if (parent == NULL || area == NULL || pts == NULL || hull == NULL) {
+    st = BALANCE_E_NOMEM;
+    goto done;
+  }
+  for (size_t v = 0; v < nv; ++v) parent[v] = (uint32_t)v;
+  /* Group the in-plane triangles by shared vertices (union-find), summing real areas. */
+  for (size_t t = 0; t < nt; ++t) {
+    const uint32_t *tri = mesh->triangles[t];
+    if (!on[tri[0]] || !on[tri[1]] || !on[tri[2]]) continue;
+    const double *a = xy[tri[0]], *b = xy[tri[1]], *c = xy[tri[2]];
+    if (tri_xy != NULL) {
+      for (int k = 0; k < 3; ++k) memcpy(tri_xy[out->triangle_count][k], xy[tri[k]], sizeof *xy);
     }
-    const double s = -c0 / c1;
-    if (c1 > 0.0) {
-      if (s > lo) lo = s;
-    } else {
-      if (s < hi) hi = s;
+    ++out->triangle_count;
+    const double ta = 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    out->area_m2 += ta;
+    uint32_t r0 = region_root(parent, tri[0]);
+    for (int k = 1; k < 3; ++k) {
+      const uint32_t rk = region_root(parent, tri[k]);
+      if (rk == r0) continue;
+      parent[rk] = r0;
+      area[r0] += area[rk];
+      area[rk] = 0.0;
+    }
+    area[r0] += ta;
+  }
+  if (out->triangle_count == 0) goto done;
+  /* Regions: roots of vertices that belong to an in-plane triangle; the largest by real area
+   * (ties to the lowest vertex index, so the choice does not depend on rounding). */
+  uint32_t best = UINT32_MAX;
+  for (size_t t = 0; t < nt; ++t) {
+    const uint32_t *tri = mesh->triangles[t];
+    if (!on[tri[0]] || !on[tri[1]] || !on[tri[2]]) continue;
+    const uint32_t r = region_root(parent, tri[0]);
+    if (area[r] < 0.0) continue; /* counted already (marked by the sign) */
+    ++out->region_count;
+    if (best == UINT32_MAX || area[r] > out->region_area_m2 ||
+        (area[r] == out->region_area_m2 && r < best)) {
+      best = r;
+      out->region_area_m2 = area[r];
+    }
+    area[r] = -area[r] - 1.0; /* mark, recoverable: -(a + 1) */
+  }
+  size_t np = 0;
+  for (size_t v = 0; v < nv; ++v) {
+    if (on[v] && region_root(parent, (uint32_t)v) == best) {
+      pts[np][0] = xy[v][0];
+      pts[np][1] = xy[v][1];
+      ++np;
+    }
+  }
+  const size_t nh = model_polygon_hull(pts, np, hull);
+  out->region_width_m = model_polygon_width((const double(*)[2])hull, nh);
+done:
+  free(parent);
+  free(area);
+  free(pts);
+  free(hull);
+  return st;
+}
+
+int balance_geom_tris_chord(const double (*tri_xy)[3][2], size_t n, const double p[2],
+                            const double d[2], double *s0, double *s1) {
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (size_t t = 0; t < n; ++t) {
+    double h[3], s[3];
+    for (int k = 0; k < 3; ++k) {
+      const double rx = tri_xy[t][k][0] - p[0], ry = tri_xy[t][k][1] - p[1];
+      h[k] = d[0] * ry - d[1] * rx; /* signed distance from the line */
+      s[k] = d[0] * rx + d[1] * ry; /* position along it */
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int j = (k + 1) % 3;
+      if (h[k] == 0.0) {
+        if (s[k] < lo) lo = s[k];
+        if (s[k] > hi) hi = s[k];
+      }
+      if ((h[k] < 0.0 && h[j] > 0.0) || (h[k] > 0.0 && h[j] < 0.0)) {
+        const double x = s[k] + (s[j] - s[k]) * (h[k] / (h[k] - h[j]));
+        if (x < lo) lo = x;
+        if (x > hi) hi = x;
+      }
     }
   }
   if (!(hi > lo)) return 0;
@@ -169,18 +250,23 @@ balance_status_t balance_orientation_resting(const double normal_link[3], double
 
 /* ---- resting patch ------------------------------------------------------------------------ */
 
-/* The patch of the mesh in orientation q (unit) with the link origin at (x, y). */
+/* The patch of the mesh in orientation q (unit) with the link origin at pos. When tris is not
+ * NULL it receives the in-plane triangles in world x, y (malloc'd, out->face_count of them; the
+ * caller frees it; NULL when there are none). */
 static balance_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
                                       const double pos[3], const balance_regime_config_t *cfg,
-                                      balance_patch_t *out) {
+                                      balance_patch_t *out, double (**tris)[3][2]) {
   const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
   double(*w)[3] = malloc(nv * sizeof *w);
+  double(*xy)[2] = malloc(nv * sizeof *xy);
   unsigned char *touch = calloc(nv, 1);
-  unsigned char *used = calloc(nv, 1);
   double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
   double(*hull)[2] = malloc((nv + 1) * sizeof *hull);
+  double(*tri_xy)[3][2] = tris != NULL ? malloc(nt * sizeof *tri_xy) : NULL;
   balance_status_t st = BALANCE_OK;
-  if (w == NULL || touch == NULL || used == NULL || pts == NULL || hull == NULL) {
+  if (tris != NULL) *tris = NULL;
+  if (w == NULL || xy == NULL || touch == NULL || pts == NULL || hull == NULL ||
+      (tris != NULL && tri_xy == NULL)) {
     st = BALANCE_E_NOMEM;
     goto done;
   }
@@ -189,6 +275,8 @@ static balance_status_t patch_compute(const model_mesh_t *mesh, const double q[4
   for (size_t v = 0; v < nv; ++v) {
     balance_geom_quat_rotate(q, mesh->vertices_m[v], w[v]);
     for (int k = 0; k < 3; ++k) w[v][k] += pos[k];
+    xy[v][0] = w[v][0];
+    xy[v][1] = w[v][1];
     if (w[v][2] < zmin) zmin = w[v][2];
   }
   out->support_z_m = zmin;
@@ -198,23 +286,27 @@ static balance_status_t patch_compute(const model_mesh_t *mesh, const double q[4
       ++out->touch_count;
     }
   }
-  size_t np = 0;
-  for (size_t t = 0; t < nt; ++t) {
-    const uint32_t *tri = mesh->triangles[t];
-    if (!touch[tri[0]] || !touch[tri[1]] || !touch[tri[2]]) continue;
-    ++out->face_count;
-    const double *a = w[tri[0]], *b = w[tri[1]], *c = w[tri[2]];
-    out->faces_area_m2 +=
-        0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-    for (int k = 0; k < 3; ++k) {
-      if (used[tri[k]]) continue;
-      used[tri[k]] = 1;
-      pts[np][0] = w[tri[k]][0];
-      pts[np][1] = w[tri[k]][1];
-      ++np;
-    }
-  }
+  balance_geom_contact_t ct;
+  st = balance_geom_contact(mesh, (const double(*)[2])xy, touch, tri_xy, &ct);
+  if (st != BALANCE_OK) goto done;
+  out->face_count = ct.triangle_count;
+  out->faces_area_m2 = ct.area_m2;
+  out->region_count = ct.region_count;
+  out->region_area_m2 = ct.region_area_m2;
+  out->region_width_m = ct.region_width_m;
   if (out->face_count > 0) {
+    /* The hull of every vertex of an in-plane triangle: an outline, which may span gaps between
+     * regions (two feet); chords use the triangles themselves. */
+    size_t np = 0;
+    for (size_t t = 0; t < nt; ++t) {
+      const uint32_t *tri = mesh->triangles[t];
+      if (!touch[tri[0]] || !touch[tri[1]] || !touch[tri[2]]) continue;
+      for (int k = 0; k < 3; ++k) {
+        if (touch[tri[k]] == 2) continue;
+        touch[tri[k]] = 2;
+        memcpy(pts[np++], xy[tri[k]], sizeof *pts);
+      }
+    }
     const size_t nh = model_polygon_hull(pts, np, hull);
     if (nh > BALANCE_PATCH_MAX_VERTICES) {
       st = BALANCE_E_CAPACITY;
@@ -225,13 +317,19 @@ static balance_status_t patch_compute(const model_mesh_t *mesh, const double q[4
     out->area_m2 = model_polygon_area((const double(*)[2])hull, nh);
     out->width_m = model_polygon_width((const double(*)[2])hull, nh);
   }
-  out->flat = out->area_m2 >= cfg->min_patch_area_m2 && out->width_m >= cfg->min_patch_width_m;
+  out->flat = out->region_area_m2 >= cfg->min_patch_area_m2 &&
+              out->region_width_m >= cfg->min_patch_width_m;
+  if (tris != NULL && out->face_count > 0) {
+    *tris = tri_xy;
+    tri_xy = NULL;
+  }
 done:
   free(w);
+  free(xy);
   free(touch);
-  free(used);
   free(pts);
   free(hull);
+  free(tri_xy);
   return st;
 }
 
@@ -251,16 +349,24 @@ static balance_status_t vec_check(const double v[3]) {
   return BALANCE_OK;
 }
 
+/* The checks every patch function makes: config (resolved into *c), mesh, pose (q: unit). */
+static balance_status_t patch_args(const model_mesh_t *mesh_link, const balance_pose_t *pose,
+                                   const balance_regime_config_t *cfg, balance_regime_config_t *c,
+                                   double q[4]) {
+  balance_status_t st = config_resolve(cfg, c);
+  if (st == BALANCE_OK) st = balance_geom_mesh_check(mesh_link);
+  if (st == BALANCE_OK) st = pose_check(pose, q);
+  return st;
+}
+
 balance_status_t balance_patch_resting(const model_mesh_t *mesh_link, const balance_pose_t *pose,
                                        const balance_regime_config_t *cfg, balance_patch_t *out) {
   if (out == NULL) return BALANCE_E_ARG;
   balance_regime_config_t c;
   double q[4];
-  balance_status_t st = config_resolve(cfg, &c);
-  if (st == BALANCE_OK) st = balance_geom_mesh_check(mesh_link);
-  if (st == BALANCE_OK) st = pose_check(pose, q);
+  const balance_status_t st = patch_args(mesh_link, pose, cfg, &c, q);
   if (st != BALANCE_OK) return st;
-  return patch_compute(mesh_link, q, pose->position_m, &c, out);
+  return patch_compute(mesh_link, q, pose->position_m, &c, out, NULL);
 }
 
 /* ---- chords and regimes ------------------------------------------------------------------- */
@@ -279,13 +385,45 @@ static int edge_axes(balance_edge_t edge, double normal[2], double along[2]) {
   return 1;
 }
 
-/* Chord margin of the line through p along `dir` (unit) across a flat patch. */
-static double chord_margin(const balance_patch_t *patch, const double p[2], const double dir[2],
+/* A resting patch with its in-plane triangles (world x, y), for chords. */
+typedef struct {
+  balance_patch_t patch;
+  double (*tris)[3][2]; /* patch.face_count triangles, malloc'd */
+} contact_t;
+
+static void contact_free(contact_t *c) {
+  free(c->tris);
+  free(c);
+}
+
+/* The patch of mesh_link resting in `pose` with its triangles; *out NULL on error. */
+static balance_status_t contact_build(const model_mesh_t *mesh_link, const balance_pose_t *pose,
+                                      const balance_regime_config_t *cfg, contact_t **out) {
+  *out = NULL;
+  balance_regime_config_t c;
+  double q[4];
+  balance_status_t st = patch_args(mesh_link, pose, cfg, &c, q);
+  if (st != BALANCE_OK) return st;
+  contact_t *ct = calloc(1, sizeof *ct);
+  if (ct == NULL) return BALANCE_E_NOMEM;
+  st = patch_compute(mesh_link, q, pose->position_m, &c, &ct->patch, &ct->tris);
+  if (st != BALANCE_OK) {
+    contact_free(ct);
+    return st;
+  }
+  *out = ct;
+  return BALANCE_OK;
+}
+
+/* Chord margin of the line through p along `dir` (unit) across the real contact of a flat patch:
+ * the extent of the in-plane triangles on that line, so two feet or a ring give the interval
+ * between their outermost crossings, and a line that crosses one foot only gives that foot's. */
+static double chord_margin(const contact_t *ct, const double p[2], const double dir[2],
                            double *s0, double *s1) {
   double lo = 0.0, hi = 0.0;
-  if (!patch->flat ||
-      !balance_geom_poly_chord((const double(*)[2])patch->polygon_xy_m, patch->vertex_count, p, dir,
-                               &lo, &hi))
+  if (!ct->patch.flat ||
+      !balance_geom_tris_chord((const double(*)[3][2])ct->tris, ct->patch.face_count, p, dir, &lo,
+                               &hi))
     return -HUGE_VAL;
   if (s0 != NULL) *s0 = lo;
   if (s1 != NULL) *s1 = hi;
@@ -307,11 +445,13 @@ balance_status_t balance_regime_classify(const model_mesh_t *mesh_link, const ba
     if (!(base_size_m[k] > 0.0)) return BALANCE_E_ARG;
   }
   memset(out, 0, sizeof *out);
-  st = balance_patch_resting(mesh_link, pose, cfg, &out->patch);
+  contact_t *ct = NULL;
+  st = contact_build(mesh_link, pose, cfg, &ct);
   if (st != BALANCE_OK) return st;
+  out->patch = ct->patch;
   balance_regime_config_t c;
   balance_regime_config_default(&c);
-  if (cfg != NULL) c = *cfg; /* checked by balance_patch_resting */
+  if (cfg != NULL) c = *cfg; /* checked by contact_build */
   double q[4], cw[3];
   balance_geom_quat_check(pose->orientation_wxyz, q);
   balance_geom_quat_rotate(q, com_estimate_link_m, cw);
@@ -323,14 +463,14 @@ balance_status_t balance_regime_classify(const model_mesh_t *mesh_link, const ba
   const double on[2] = {p[0] - out->com_beyond_m * normal[0], p[1] - out->com_beyond_m * normal[1]};
   double s0 = 0.0, s1 = 0.0;
   out->chord_margin_m = -HUGE_VAL;
-  if (out->patch.vertex_count >= 3 &&
-      balance_geom_poly_chord((const double(*)[2])out->patch.polygon_xy_m, out->patch.vertex_count,
-                              on, along, &s0, &s1)) {
+  if (balance_geom_tris_chord((const double(*)[3][2])ct->tris, ct->patch.face_count, on, along,
+                              &s0, &s1)) {
     out->chord_valid = 1;
     out->chord_m[0] = out->com_along_m + s0;
     out->chord_m[1] = out->com_along_m + s1;
     out->chord_margin_m = fmin(-s0, s1);
   }
+  contact_free(ct);
   if (!out->patch.flat || !out->chord_valid) {
     /* No flat patch on the edge line. A patch that exists but is too small still meets the edge
      * along a short segment: that rolls, it does not drop. */
@@ -348,18 +488,19 @@ balance_status_t balance_regime_classify(const model_mesh_t *mesh_link, const ba
 
 /* Margin at yaw psi: rotating the object by Rz(psi) is rotating the edge direction by -psi in
  * the frame of the unrotated patch. */
-static double yaw_margin(const balance_patch_t *patch, const double p[2], const double along[2],
+static double yaw_margin(const contact_t *ct, const double p[2], const double along[2],
                          double psi) {
   const double c = cos(psi), s = sin(psi);
   const double d[2] = {c * along[0] + s * along[1], -s * along[0] + c * along[1]};
-  return chord_margin(patch, p, d, NULL, NULL);
+  return chord_margin(ct, p, d, NULL, NULL);
 }
 
 static balance_status_t yaw_setup(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
                                   const double com_estimate_link_m[3], balance_edge_t edge,
                                   const double *out1, const double *out2,
-                                  const balance_regime_config_t *cfg, balance_patch_t *patch,
+                                  const balance_regime_config_t *cfg, contact_t **ct,
                                   double p[2], double along[2]) {
+  *ct = NULL;
   if (out1 == NULL || out2 == NULL || orientation_wxyz == NULL) return BALANCE_E_ARG;
   double normal[2];
   if (!edge_axes(edge, normal, along)) return BALANCE_E_ARG;
@@ -367,7 +508,7 @@ static balance_status_t yaw_setup(const model_mesh_t *mesh_link, const double or
   if (st != BALANCE_OK) return st;
   balance_pose_t pose = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
   memcpy(pose.orientation_wxyz, orientation_wxyz, sizeof pose.orientation_wxyz);
-  st = balance_patch_resting(mesh_link, &pose, cfg, patch);
+  st = contact_build(mesh_link, &pose, cfg, ct);
   if (st != BALANCE_OK) return st;
   double q[4], cw[3];
   balance_geom_quat_check(orientation_wxyz, q);
@@ -382,14 +523,13 @@ balance_status_t balance_yaw_margin(const model_mesh_t *mesh_link, const double 
                                     double yaw_rad, const balance_regime_config_t *cfg,
                                     double *margin_m) {
   if (!isfinite(yaw_rad)) return BALANCE_E_NONFINITE;
-  balance_patch_t *patch = malloc(sizeof *patch);
-  if (patch == NULL) return BALANCE_E_NOMEM;
+  contact_t *ct = NULL;
   double p[2], along[2];
   const double dummy = 0.0;
   balance_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m, edge, margin_m,
-                                  &dummy, cfg, patch, p, along);
-  if (st == BALANCE_OK) *margin_m = yaw_margin(patch, p, along, yaw_rad);
-  free(patch);
+                                  &dummy, cfg, &ct, p, along);
+  if (st == BALANCE_OK) *margin_m = yaw_margin(ct, p, along, yaw_rad);
+  if (ct != NULL) contact_free(ct);
   return st;
 }
 
@@ -397,21 +537,17 @@ balance_status_t balance_yaw_best(const model_mesh_t *mesh_link, const double or
                                   const double com_estimate_link_m[3], balance_edge_t edge,
                                   const balance_regime_config_t *cfg, double *yaw_rad,
                                   double *margin_m) {
-  balance_patch_t *patch = malloc(sizeof *patch);
-  if (patch == NULL) return BALANCE_E_NOMEM;
+  contact_t *ct = NULL;
   double p[2], along[2];
   balance_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m, edge, yaw_rad,
-                                  margin_m, cfg, patch, p, along);
-  if (st != BALANCE_OK) {
-    free(patch);
-    return st;
-  }
+                                  margin_m, cfg, &ct, p, along);
+  if (st != BALANCE_OK) return st;
   enum { STEPS = 360, GOLDEN_ITERS = 40 };
   const double pi = 3.14159265358979323846, step = pi / STEPS;
   int best = -1;
   double best_m = -HUGE_VAL;
   for (int i = 0; i < STEPS; ++i) {
-    const double m = yaw_margin(patch, p, along, step * i);
+    const double m = yaw_margin(ct, p, along, step * i);
     if (m > best_m) {
       best_m = m;
       best = i;
@@ -423,20 +559,20 @@ balance_status_t balance_yaw_best(const model_mesh_t *mesh_link, const double or
     const double g = 0.5 * (sqrt(5.0) - 1.0);
     double a = step * (best - 1), b = step * (best + 1);
     double x1 = b - g * (b - a), x2 = a + g * (b - a);
-    double f1 = yaw_margin(patch, p, along, x1), f2 = yaw_margin(patch, p, along, x2);
+    double f1 = yaw_margin(ct, p, along, x1), f2 = yaw_margin(ct, p, along, x2);
     for (int it = 0; it < GOLDEN_ITERS; ++it) {
       if (f1 < f2) {
         a = x1;
         x1 = x2;
         f1 = f2;
         x2 = a + g * (b - a);
-        f2 = yaw_margin(patch, p, along, x2);
+        f2 = yaw_margin(ct, p, along, x2);
       } else {
         b = x2;
         x2 = x1;
         f2 = f1;
         x1 = b - g * (b - a);
-        f1 = yaw_margin(patch, p, along, x1);
+        f1 = yaw_margin(ct, p, along, x1);
       }
     }
     best_psi = step * best;
@@ -448,6 +584,6 @@ balance_status_t balance_yaw_best(const model_mesh_t *mesh_link, const double or
   }
   *yaw_rad = best_psi;
   *margin_m = best_m;
-  free(patch);
+  contact_free(ct);
   return BALANCE_OK;
 }

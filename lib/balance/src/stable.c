@@ -39,13 +39,13 @@ static int cmp_face(const void *pa, const void *pb) {
   return 0;
 }
 
-/* Analyse the plane with outward unit normal n that supports the mesh. pts / hull: scratch for
- * nv + 1 points; used: nv bytes, zero on entry and exit. */
+/* Analyse the plane with outward unit normal n that supports the mesh. xy: scratch for nv plane
+ * coordinates; pts / hull: scratch for nv + 1 points; on: nv bytes, zero on entry and exit. */
 static balance_status_t face_analyse(const model_mesh_t *mesh, const double n[3],
                                      const double com[3], const balance_regime_config_t *cfg,
-                                     double (*pts)[2], double (*hull)[2], unsigned char *used,
-                                     balance_face_t *f) {
-  const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
+                                     double (*xy)[2], double (*pts)[2], double (*hull)[2],
+                                     unsigned char *on, balance_face_t *f) {
+  const size_t nv = mesh->vertex_count;
   memset(f, 0, sizeof *f);
   memcpy(f->normal_link, n, sizeof f->normal_link);
   double h = -HUGE_VAL;
@@ -59,8 +59,9 @@ static balance_status_t face_analyse(const model_mesh_t *mesh, const double n[3]
   size_t np = 0;
   for (size_t v = 0; v < nv; ++v) {
     if (h - dot3(n, mesh->vertices_m[v]) > cfg->plane_tol_m) continue;
-    pts[np][0] = dot3(u, mesh->vertices_m[v]);
-    pts[np][1] = dot3(w, mesh->vertices_m[v]);
+    on[v] = 1;
+    xy[v][0] = pts[np][0] = dot3(u, mesh->vertices_m[v]);
+    xy[v][1] = pts[np][1] = dot3(w, mesh->vertices_m[v]);
     ++np;
   }
   size_t nh = model_polygon_hull(pts, np, hull);
@@ -69,32 +70,15 @@ static balance_status_t face_analyse(const model_mesh_t *mesh, const double n[3]
   const double c2[2] = {dot3(u, com), dot3(w, com)};
   f->com_margin_m = model_polygon_margin((const double(*)[2])hull, nh, c2);
   f->candidate = f->com_margin_m >= cfg->min_com_margin_m;
-  /* The flat patch: mesh triangles in the plane. */
-  np = 0;
-  for (size_t t = 0; t < nt; ++t) {
-    const uint32_t *tri = mesh->triangles[t];
-    int in = 1;
-    for (int k = 0; k < 3; ++k) {
-      if (h - dot3(n, mesh->vertices_m[tri[k]]) > cfg->plane_tol_m) in = 0;
-    }
-    if (!in) continue;
-    ++f->face_count;
-    for (int k = 0; k < 3; ++k) {
-      if (used[tri[k]]) continue;
-      used[tri[k]] = 1;
-      pts[np][0] = dot3(u, mesh->vertices_m[tri[k]]);
-      pts[np][1] = dot3(w, mesh->vertices_m[tri[k]]);
-      ++np;
-    }
-  }
-  for (size_t t = 0; t < nt && f->face_count > 0; ++t) {
-    for (int k = 0; k < 3; ++k) used[mesh->triangles[t][k]] = 0;
-  }
-  if (f->face_count > 0) {
-    nh = model_polygon_hull(pts, np, hull);
-    f->patch_area_m2 = model_polygon_area((const double(*)[2])hull, nh);
-    f->patch_width_m = model_polygon_width((const double(*)[2])hull, nh);
-  }
+  /* The real contact: mesh triangles in the plane, grouped into regions. */
+  balance_geom_contact_t ct;
+  const balance_status_t st = balance_geom_contact(mesh, (const double(*)[2])xy, on, NULL, &ct);
+  for (size_t v = 0; v < nv; ++v) on[v] = 0;
+  if (st != BALANCE_OK) return st;
+  f->face_count = ct.triangle_count;
+  f->region_count = ct.region_count;
+  f->patch_area_m2 = ct.region_area_m2;
+  f->patch_width_m = ct.region_width_m;
   f->flat = f->patch_area_m2 >= cfg->min_patch_area_m2 && f->patch_width_m >= cfg->min_patch_width_m;
   return balance_orientation_resting(n, f->orientation_wxyz);
 }
@@ -124,10 +108,12 @@ balance_status_t balance_faces_find(const model_mesh_t *mesh_link, const double 
   facet_t *fac = malloc(nf * sizeof *fac);
   unsigned char *taken = calloc(nf, 1);
   unsigned char *used = calloc(nv, 1);
+  double(*xy)[2] = malloc(nv * sizeof *xy);
   double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
   double(*poly)[2] = malloc((nv + 1) * sizeof *poly);
   balance_face_t *tmp = malloc(nf * sizeof *tmp);
-  if (fac == NULL || taken == NULL || used == NULL || pts == NULL || poly == NULL || tmp == NULL) {
+  if (fac == NULL || taken == NULL || used == NULL || xy == NULL || pts == NULL || poly == NULL ||
+      tmp == NULL) {
     st = BALANCE_E_NOMEM;
     goto done;
   }
@@ -167,7 +153,7 @@ balance_status_t balance_faces_find(const model_mesh_t *mesh_link, const double 
     if (area < c.min_face_area_m2) continue;
     const double nl = sqrt(dot3(nsum, nsum));
     const double n[3] = {nsum[0] / nl, nsum[1] / nl, nsum[2] / nl};
-    st = face_analyse(mesh_link, n, com_guess_link_m, &c, pts, poly, used, &tmp[found]);
+    st = face_analyse(mesh_link, n, com_guess_link_m, &c, xy, pts, poly, used, &tmp[found]);
     if (st != BALANCE_OK) goto done;
     if (tmp[found].area_m2 >= c.min_face_area_m2) ++found;
   }
@@ -179,6 +165,7 @@ done:
   free(fac);
   free(taken);
   free(used);
+  free(xy);
   free(pts);
   free(poly);
   free(tmp);

@@ -73,15 +73,22 @@ void balance_regime_config_default(balance_regime_config_t *cfg);
 balance_status_t balance_regime_config_check(const balance_regime_config_t *cfg);
 
 /* The patch an object rests on in a pose: the mesh triangles lying in its support plane (the
- * horizontal plane through its lowest vertex), merged into their convex hull. */
+ * horizontal plane through its lowest vertex): the real contact. They may form several regions
+ * (two feet, the pads of a tripod) or one that is not convex (a ring); chords on an edge line are
+ * computed on the triangles themselves, never on a hull that would bridge the gaps. */
 typedef struct {
   double support_z_m;     /* world z of the lowest vertex */
   size_t touch_count;     /* mesh vertices within plane_tol_m of the support plane */
   size_t face_count;      /* mesh triangles with all three vertices within plane_tol_m */
-  double faces_area_m2;   /* sum of those triangles' areas */
-  double area_m2;         /* area of the convex hull of their vertices; 0 when face_count == 0 */
+  double faces_area_m2;   /* sum of those triangles' areas: the real contact area */
+  size_t region_count;    /* groups of those triangles that touch (share a vertex) */
+  double region_area_m2;  /* real area of the largest group */
+  double region_width_m;  /* smallest width of that group's convex hull */
+  int flat;               /* one region is a flat patch: region_area_m2 >= min_patch_area_m2 and
+                             region_width_m >= min_patch_width_m */
+  double area_m2;         /* area of the convex hull of all their vertices (an outline that spans
+                             gaps between regions); 0 when face_count == 0 */
   double width_m;         /* smallest width of that hull (0 when face_count == 0) */
-  int flat;               /* area_m2 >= min_patch_area_m2 and width_m >= min_patch_width_m */
   size_t vertex_count;    /* the hull, counter-clockwise seen from above, world x, y */
   double polygon_xy_m[BALANCE_PATCH_MAX_VERTICES][2];
 } balance_patch_t;
@@ -112,8 +119,13 @@ typedef enum {
  * (world y for BALANCE_EDGE_PX / NX, world x for PY / NY). */
 typedef struct {
   balance_patch_t patch;
-  int chord_valid;          /* the edge line crosses the patch polygon (a chord of length > 0) */
-  double chord_m[2];        /* the chord, along the edge: chord_m[0] < chord_m[1] */
+  int chord_valid;          /* the edge line meets the real contact (the in-plane triangles)
+                               along a positive length */
+  double chord_m[2];        /* the chord, along the edge: chord_m[0] < chord_m[1], the outermost
+                               points where the edge line meets the real contact. Between them
+                               the edge line bounds the support polygon (the convex hull of the
+                               contact on B's side) whatever gaps the contact has there; a line
+                               that crosses one of two feet gets that foot's chord only. */
   double com_along_m;       /* the CoM estimate's projection, along the edge */
   double com_beyond_m;      /* its signed distance beyond the edge line (outward normal); ~0 for
                                a pose from balance_pose_over_edge with that point */
@@ -166,10 +178,12 @@ typedef struct {
   double orientation_wxyz[4];   /* balance_orientation_resting(normal_link): rests on it, yaw 0 */
   double area_m2;               /* support polygon: convex hull of every mesh vertex on the plane */
   double width_m;               /* its smallest width */
-  size_t face_count;            /* mesh triangles lying in the plane (the flat patch) */
-  double patch_area_m2;         /* convex hull area of those triangles' vertices (0 if none) */
-  double patch_width_m;
-  int flat;                     /* the patch is a flat patch (min_patch_area_m2, min_patch_width_m) */
+  size_t face_count;            /* mesh triangles lying in the plane (the real contact) */
+  size_t region_count;          /* groups of them that touch (share a vertex) */
+  double patch_area_m2;         /* real area of the largest group (0 if none) */
+  double patch_width_m;         /* smallest width of that group's convex hull */
+  int flat;                     /* that group is a flat patch (min_patch_area_m2,
+                                   min_patch_width_m) */
   double com_margin_m;          /* CoM guess projected along the normal: signed distance to the
                                    support polygon's boundary, positive inside */
   int candidate;                /* com_margin_m >= min_com_margin_m: a stable-pose candidate */
