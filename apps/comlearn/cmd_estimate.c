@@ -38,6 +38,18 @@ static void usage(FILE *out) {
           "options:\n"
           "  --policy P         bisect | pba | paper-qtable | paper-mlp (default: bisect)\n"
           "  --resolution-mm R  search resolution in mm, 0.001..10 (default: 0.1)\n"
+          "  --start S          where the searches start: uniform (the mesh's uniform-density\n"
+          "                     CoM) | bbox (the bounding-box centre, the paper's state 0)\n"
+          "                     (default: uniform)\n"
+          "  --noise-mm S       the noise model: std. dev. of the placement error along the edge\n"
+          "                     normal, 0..100 mm; > 0 makes every interval a 95 %% interval\n"
+          "                     (default: --placement-noise-mm with --direct, else 0: noiseless,\n"
+          "                     intervals are bounds)\n"
+          "  --placement-noise-mm S  --direct: std. dev. of the horizontal release offset, as\n"
+          "                     comlearn-sim's option, 0..100 mm (default: 0)\n"
+          "  --pose-noise-mm S  --direct: std. dev. of the perceived settled position, 0..100 mm\n"
+          "                     (default: 0)\n"
+          "  --seed N           --direct: noise seed, as comlearn-sim --seed (default: 1)\n"
           "  --direct           run the trials in-process on lib/balance (no LCM, no arm)\n"
           "  --lcm-url URL      LCM URL of the YuMi controller and perception (comlearn-sim)\n"
           "                     (default: udpm://239.255.76.67:7667?ttl=0; with --spawn-sim:\n"
@@ -102,11 +114,19 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
   json_vec("com_m", r->com_m, 3);
   printf(", ");
   json_vec("halfwidth_m", r->halfwidth_m, 3);
-  printf(", \"found\": [%s, %s, %s], ", r->found[0] ? "true" : "false",
+  printf(", \"found\": [%s, %s, %s], \"reason\": [", r->found[0] ? "true" : "false",
          r->found[1] ? "true" : "false", r->found[2] ? "true" : "false");
+  for (int k = 0; k < 3; ++k) {
+    printf("%s", k ? ", " : "");
+    if (r->found[k]) printf("null");
+    else out_json_string(r->reason[k], 0);
+  }
+  printf("], \"interval\": \"%s\", ", r->noisy ? "95%" : "bound");
   printf("\"trials\": %zu, \"stable_trials\": %zu, \"edge_trials\": %zu, \"flagged_trials\": %zu, ",
          r->trial_count, r->stable_trials, r->trial_count - r->stable_trials, r->flagged_trials);
   json_vec("uniform_com_m", r->uniform_com_m, 3);
+  printf(", ");
+  json_vec("start_m", r->start_m, 3);
   printf(", \"rank\": %d, \"chi2\": ", r->rank);
   out_json_number(r->chi2);
   printf(", \"wall_s\": %.6f", wall_s);
@@ -150,7 +170,14 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
     out_json_number(s->c_m);
     printf(", \"halfwidth_m\": ");
     out_json_number(s->halfwidth_m);
-    printf(", \"trials\": %u, \"fed\": %s}", s->trials, s->fed ? "true" : "false");
+    printf(", \"bias_m\": ");
+    out_json_number(s->bias_m);
+    printf(", \"verified_margin_m\": ");
+    out_json_number(s->verified_margin_m);
+    printf(", \"trials\": %u, \"handover_trials\": %u, \"retest_of\": %d, \"fed\": %s, "
+           "\"note\": ", s->trials, s->handover_trials, s->retest_of, s->fed ? "true" : "false");
+    out_json_string(s->note, 0);
+    printf("}");
   }
   printf("], \"trial_log\": [");
   for (size_t i = 0; i < r->trial_count; ++i) {
@@ -178,13 +205,28 @@ static void print_table(const char *urdf, qlearn_policy_kind_t policy, const est
              r->found[k] ? 1e3 * (r->com_m[k] - truth->com_m[k]) : NAN);
     printf("\n");
   }
+  printf("intervals: %s\n", r->noisy ? "95 % under the noise model" : "bounds (noiseless)");
   for (size_t i = 0; i < r->search_count; ++i)
-    printf("search %zu: face %d, %u trials, %s\n", i, r->search[i].face, r->search[i].trials,
-           r->search[i].fed ? "fed to the solve" : "NOT fed (flagged or failed)");
-  if (r->msg[0]) printf("note: %s\n", r->msg);
+    printf("search %zu: face %d, %u trials, %s%s\n", i, r->search[i].face, r->search[i].trials,
+           r->search[i].fed ? "fed to the solve" : "not used: ", r->search[i].note);
+  for (int k = 0; k < 3; ++k)
+    if (!r->found[k]) printf("%c not found: %s\n", axis[k], r->reason[k]);
 }
 
 static int exit_for_model(model_status_t s) { return s == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE; }
+
+/* A length option in mm within [0, max_mm], into metres; -1 (message logged) when it is not. */
+static int parse_mm(const char *opt, const char *text, double max_mm, double *out_m) {
+  char *end;
+  errno = 0;
+  const double mm = strtod(text, &end);
+  if (end == text || *end != '\0' || errno != 0 || !isfinite(mm) || mm < 0.0 || mm > max_mm) {
+    LOG_E("--%s: '%s' is not a number in [0, %g]", opt, text, max_mm);
+    return -1;
+  }
+  *out_m = 1e-3 * mm;
+  return 0;
+}
 
 int cmd_estimate(int argc, char **argv) {
   static const struct option opts[] = {
@@ -193,11 +235,17 @@ int cmd_estimate(int argc, char **argv) {
       {"spawn-sim", no_argument, NULL, 's'},    {"link", required_argument, NULL, 'l'},
       {"json", no_argument, NULL, 'j'},         {"truth", no_argument, NULL, 't'},
       {"verbose", no_argument, NULL, 'v'},      {"quiet", no_argument, NULL, 'q'},
-      {"help", no_argument, NULL, 'h'},         {NULL, 0, NULL, 0}};
+      {"start", required_argument, NULL, 'S'},  {"noise-mm", required_argument, NULL, 'n'},
+      {"placement-noise-mm", required_argument, NULL, 'P'},
+      {"pose-noise-mm", required_argument, NULL, 'O'},
+      {"seed", required_argument, NULL, 'e'},   {"help", no_argument, NULL, 'h'},
+      {NULL, 0, NULL, 0}};
   estimate_config_t cfg;
   estimate_config_default(&cfg);
   const char *link = NULL, *lcm_url = NULL;
-  int direct = 0, spawn = 0, json = 0, truth = 0, quiet = 0, c;
+  int direct = 0, spawn = 0, json = 0, truth = 0, quiet = 0, c, noise_given = 0, sim_noise = 0;
+  double placement_noise_m = 0.0, pose_noise_m = 0.0;
+  uint64_t seed = 1;
   optind = 1;
   while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
     switch (c) {
@@ -217,6 +265,38 @@ int cmd_estimate(int argc, char **argv) {
           return EXIT_USAGE;
         }
         cfg.resolution_m = 1e-3 * mm;
+        break;
+      }
+      case 'S':
+        if (strcmp(optarg, "uniform") == 0) cfg.start = ESTIMATE_START_UNIFORM;
+        else if (strcmp(optarg, "bbox") == 0) cfg.start = ESTIMATE_START_BBOX;
+        else {
+          LOG_E("--start: '%s' is not one of uniform, bbox", optarg);
+          return EXIT_USAGE;
+        }
+        break;
+      case 'n':
+        if (parse_mm("noise-mm", optarg, 100.0, &cfg.noise_sigma_m) != 0) return EXIT_USAGE;
+        noise_given = 1;
+        break;
+      case 'P':
+        if (parse_mm("placement-noise-mm", optarg, 100.0, &placement_noise_m) != 0) return EXIT_USAGE;
+        sim_noise = 1;
+        break;
+      case 'O':
+        if (parse_mm("pose-noise-mm", optarg, 100.0, &pose_noise_m) != 0) return EXIT_USAGE;
+        sim_noise = 1;
+        break;
+      case 'e': {
+        char *end;
+        errno = 0;
+        const unsigned long long v = strtoull(optarg, &end, 0);
+        if (end == optarg || *end != '\0' || errno != 0 || optarg[0] == '-') {
+          LOG_E("--seed: '%s' is not a number in [0, 2^64 - 1]", optarg);
+          return EXIT_USAGE;
+        }
+        seed = (uint64_t)v;
+        sim_noise = 1;
         break;
       }
       case 'd': direct = 1; break;
@@ -247,6 +327,12 @@ int cmd_estimate(int argc, char **argv) {
     LOG_E("--direct runs in-process: it takes neither --spawn-sim nor --lcm-url");
     return EXIT_USAGE;
   }
+  if (sim_noise && !direct) {
+    LOG_E("--placement-noise-mm, --pose-noise-mm and --seed perturb the --direct trials; over LCM "
+          "the simulator's own options set the noise (comlearn-sim --placement-noise-mm ...)");
+    return EXIT_USAGE;
+  }
+  if (!noise_given) cfg.noise_sigma_m = placement_noise_m; /* the noise the trials will have */
 
   /* The estimator's view: geometry only. */
   model_error_t merr = {{0}};
@@ -265,6 +351,13 @@ int cmd_estimate(int argc, char **argv) {
   int rc;
   if (direct) {
     rc = estimate_direct_open(urdf, link, NULL, &sim, &backend, err, sizeof err);
+    if (rc == 0 && (placement_noise_m > 0.0 || pose_noise_m > 0.0) &&
+        estimate_direct_set_noise(sim, seed, placement_noise_m, pose_noise_m) != 0) {
+      snprintf(err, sizeof err, "noise out of range");
+      estimate_direct_close(sim);
+      sim = NULL;
+      rc = EXIT_USAGE;
+    }
   } else {
     if (spawn) {
       if (!lcm_url) {
@@ -339,9 +432,11 @@ int cmd_estimate(int argc, char **argv) {
     /* geometry that gives no flat face or no stable pose: the object does not suit the method */
     return es == ESTIMATE_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
   }
-  for (int k = 0; k < 3; ++k)
-    if (!res->found[k])
-      LOG_W("component %c not found: %s", "xyz"[k], res->msg[0] ? res->msg : "no usable plane");
+  int found = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (res->found[k]) ++found;
+    else LOG_W("component %c not found: %s", "xyz"[k], res->reason[k]);
+  }
 
   /* The truth, read after the estimate is final, for the report only. */
   model_mass_t tm;
@@ -358,5 +453,9 @@ int cmd_estimate(int argc, char **argv) {
   if (json) print_json(urdf, cfg.policy, cfg.resolution_m, backend.name, res, wall, tp);
   else print_table(urdf, cfg.policy, res, wall, tp);
   free(res);
+  if (found == 0) {
+    LOG_E("%s: no component could be estimated", urdf);
+    return EXIT_FAILURE;
+  }
   return EXIT_SUCCESS;
 }

@@ -99,8 +99,15 @@ typedef struct {
 
 /* ---- settings and results ----------------------------------------------------------------- */
 
+/* Where the searches start (qlearn's prior, "state 0"): the mesh's uniform-density CoM (default:
+ * the truth for an object of one material), or the bounding-box centre (the paper's reference
+ * point, McGovern et al. 2019: what a fair comparison with its walks uses). Planning (faces,
+ * yaws, chord margins) always uses the uniform-density CoM, moved by what was measured. */
+typedef enum { ESTIMATE_START_UNIFORM = 0, ESTIMATE_START_BBOX = 1 } estimate_start_t;
+
 typedef struct {
   qlearn_policy_kind_t policy; /* default QLEARN_POLICY_BISECT */
+  estimate_start_t start;      /* default ESTIMATE_START_UNIFORM */
   double resolution_m;         /* search resolution, default 1e-4; in [1e-6, 1e-2] */
   double max_halfwidth_m;      /* widest half width still called found; default 1e-3 */
   double z;                    /* half width = z * sigma; default 1.96 */
@@ -113,16 +120,28 @@ typedef struct {
   /* Faces whose normals are within this angle of the first face's do not count as "a second
    * face"; default 30 deg. */
   double min_face_angle_rad;
-  /* Outcome noise the PBA policy assumes: 0 (default) keeps lib/qlearn's default PBA model
-   * (probit, sigma 0.1 mm: the noiseless simulation's threshold scatter); > 0 selects
-   * QLEARN_NOISE_PROBIT with this sigma [m], in the search coordinate, i.e. the std. dev. of the
-   * placement error along the edge normal (comlearn-sim --placement-noise-mm). In [0, 0.1].
-   * A credible interval can shrink only as fast as the outcomes inform it, about
-   * 2 * 1.96 * sigma / sqrt(0.64 n) after n trials near the threshold: pick resolution_m near
-   * sigma (0.5 mm at sigma 0.5 mm: ~30 trials a search), not far below it (0.1 mm would need
-   * ~600 and stops at QLEARN_MAX_TRIALS). The other policies assume noiseless outcomes and
-   * ignore it. */
+  /* The noise model: the std. dev. [m] of the placement error along the edge normal (the
+   * robot's release offset, comlearn-sim --placement-noise-mm), in [0, 0.1]. 0 (default): the
+   * outcomes are noiseless and every reported interval is a worst-case bound (the bracket plus
+   * the regime's bias budget). > 0: every search ends with the posterior of its threshold under
+   * the probit model P(TIPS | c) = Phi((c - x) / sigma) from all its clear trials, and reports
+   * that posterior's 95 % credible interval; bisect and the paper walks run as published and
+   * then hand over to probabilistic bisection (PBA) until that interval is at most
+   * max(resolution_m, noise_sigma_m) wide or noise_max_trials more trials were run. PBA itself
+   * uses the probit model with this sigma from its first trial. An interval can shrink only as
+   * fast as the outcomes inform it, about 2 * 1.96 * sigma / sqrt(0.64 n) after n trials near the
+   * threshold. */
   double noise_sigma_m;
+  uint32_t noise_max_trials;   /* PBA trials after a noisy walk; default 48, in [1, 200] */
+  /* An interval is only as good as the physics of the trials that set it: an edge test measures
+   * the CoM where the real contact on the edge line spans the CoM sideways. After the solve, the
+   * deciding trials of every search are checked against the final estimate: their chord must
+   * span the estimate's interval box, seen along the edge, with this margin to spare (default
+   * 1 mm: the measured flat-patch bias does not grow down to a 1 mm margin, docs/physics.md; in
+   * [0, 0.02]). The search that fails worst is dropped and searched again with a yaw chosen at
+   * the estimate, until all hold (at most max_retests new searches; default 3, in [0, 6]). */
+  double verify_margin_m;
+  uint32_t max_retests;
   /* Called after every trial (may be NULL). */
   void (*progress)(void *ctx, size_t trial_index, const char *what);
   void *progress_ctx;
@@ -130,7 +149,13 @@ typedef struct {
 
 void estimate_config_default(estimate_config_t *cfg);
 
-enum { ESTIMATE_MAX_TRIALS = 512, ESTIMATE_MAX_SEARCHES = 6, ESTIMATE_MAX_FACES = 16 };
+enum {
+  ESTIMATE_MAX_TRIALS = 512,
+  ESTIMATE_MAX_SEARCHES = 12,
+  ESTIMATE_MAX_FACES = 16,
+  ESTIMATE_NOTE_SIZE = 160,
+  ESTIMATE_REASON_SIZE = 224
+};
 
 /* One placement, as logged. */
 typedef struct {
@@ -155,12 +180,27 @@ typedef struct {
   double yaw_rad;
   double dir_link[3];       /* the test direction (edge normal) in the link frame */
   double prior_m, range_lo_m, range_hi_m;
-  double c_m, halfwidth_m;  /* the policy's estimate along dir_link */
+  double c_m, halfwidth_m;  /* the threshold along dir_link and its half width: noiseless, the
+                               bracket of its trials (TIPS below, STAYS above); with a noise
+                               model, the 95 % credible interval of the posterior */
   uint32_t trials;          /* edge tests of this search */
-  int fed;                  /* its threshold plane went into the 3-D solve */
-  double plane_n_obj[3];    /* the plane fed: n_obj . c = plane_d_m */
+  uint32_t handover_trials; /* of which run by PBA after a noisy walk */
+  int fed;                  /* its threshold plane went into the final 3-D solve */
+  double plane_n_obj[3];    /* the plane: n_obj . c = plane_d_m (unit n_obj) */
   double plane_d_m;
+  double bias_m;            /* physics bias budget of its regime, added to the bound */
   double chord_margin_m;    /* planned margin at the chosen yaw */
+  double verified_margin_m; /* smallest chord margin of its deciding trials at the final
+                               estimate, less the interval box's extent along the edge (NaN:
+                               not checked); fed only when >= verify_margin_m */
+  int lo_trial, hi_trial;   /* indices into trial[] of the bracketing TIPS / STAYS (-1: none) */
+  int retest_of;            /* the search this one repeats with a new yaw, or -1 */
+  int retested;             /* a later search repeats this one (or none could) */
+  int flat_failed;          /* a trial that sets its threshold left the flat-patch regime */
+  int verified;             /* fed and its check at the final estimate passed; a fed search
+                               that the other planes cannot check stays fed for the solve but
+                               the components it influences are not claimed */
+  char note[ESTIMATE_NOTE_SIZE]; /* why it is not fed ("" when fed) */
 } estimate_search_t;
 
 typedef struct {
@@ -172,9 +212,16 @@ typedef struct {
 
 typedef struct {
   double uniform_com_m[3];  /* the prior: the mesh's uniform-density CoM, link frame */
+  double start_m[3];        /* where the searches started (estimate_config_t.start) */
   double com_m[3];          /* estimate, link frame */
-  double halfwidth_m[3];    /* INFINITY when not found */
-  int found[3];
+  double halfwidth_m[3];    /* INFINITY when not found. Noiseless (noise_sigma_m 0): a bound,
+                               sum_j |P_kj| (h_j + bias_j) over the fed planes j with P the
+                               solve's (pseudo-)inverse: the truth lies inside unless the physics
+                               left the modelled regimes. With a noise model: the 95 % interval
+                               1.96 sigma_k of the solve plus the same bias budget. */
+  int found[3];             /* determined by the fed planes with halfwidth_m <= max_halfwidth_m */
+  int noisy;                /* 1: 95 % intervals under the noise model; 0: bounds */
+  char reason[3][ESTIMATE_REASON_SIZE]; /* why a component is not found ("" when found) */
   int rank;
   double chi2;
   size_t trial_count;       /* all placements, stable checks included */
@@ -190,8 +237,8 @@ typedef struct {
 
 /* Estimate the CoM of the object whose link-frame geometry is mesh_link, running every trial
  * through backend. Fills *out (also on error, as far as it got). Returns ESTIMATE_OK when the
- * estimate ran (found[] may still hold 0s: a component without a usable second face is reported
- * missing, never invented), or an error. */
+ * estimate ran (found[] may still hold 0s, each with its reason[]: a component that the trials
+ * cannot determine honestly is reported missing, never invented), or an error. */
 estimate_status_t estimate_run(const model_mesh_t *mesh_link, const estimate_backend_t *backend,
                                const estimate_config_t *cfg, estimate_result_t *out);
 
