@@ -324,7 +324,8 @@ static size_t count_of(const char *hay, const char *needle) {
   return n;
 }
 
-/* Two rocks, bisect and paper-qtable, one noisy seed each: 2 x 2 x 2 runs. */
+/* Two rocks, bisect and paper-qtable; per rock and policy Table I (bbox start), the mesh-prior
+ * row and one noisy seed: 2 x 2 x 3 runs. */
 START_TEST(cli_experiments_outputs) {
   static char out[1 << 16];
   char cmd[2048], dir[512], r1[512], r2[512];
@@ -353,16 +354,20 @@ START_TEST(cli_experiments_outputs) {
   const char *end = js_value(js, 0);
   ck_assert_msg(end != NULL, "experiments.json does not parse");
   ck_assert_msg(*js_ws(end) == '\0', "trailing bytes after the JSON");
-  ck_assert_uint_eq(count_of(js, "{\"object\": "), 8);
-  ck_assert_uint_eq(count_of(js, "\"noisy\": false, \"seed\": null"), 4);
-  ck_assert_uint_eq(count_of(js, "\"noisy\": true, \"seed\": 1"), 4);
-  ck_assert_uint_eq(count_of(js, "\"com_before_m\": [["), 8);
+  ck_assert_uint_eq(count_of(js, "{\"object\": "), 12);
+  ck_assert_uint_eq(count_of(js, "\"noisy\": false, \"start\": \"bbox\", \"seed\": null"), 4);
+  ck_assert_uint_eq(count_of(js, "\"noisy\": false, \"start\": \"uniform\", \"seed\": null"), 4);
+  ck_assert_uint_eq(count_of(js, "\"noisy\": true, \"start\": \"bbox\", \"seed\": 1"), 4);
+  ck_assert_uint_eq(count_of(js, "\"com_before_m\": [["), 12);
+  /* noisy runs are told the noise model: every policy's noise_sigma_m is the placement noise */
+  ck_assert_uint_eq(count_of(js, "\"noise_sigma_m\": 0.0005,"), 4);
   /* bisect, noiseless: <= 0.2 mm against the URDF truth, which the JSON reports correctly */
   const char *const names[2] = {"rock_1_uneven", "rock_3_even"};
   const char *const paths[2] = {r1, r2};
   for (int i = 0; i < 2; ++i) {
     char pat[256];
-    snprintf(pat, sizeof pat, "{\"object\": \"%s\", \"policy\": \"bisect\", \"noisy\": false",
+    snprintf(pat, sizeof pat,
+             "{\"object\": \"%s\", \"policy\": \"bisect\", \"noisy\": false, \"start\": \"bbox\"",
              names[i]);
     const char *p = strstr(js, pat);
     ck_assert_msg(p != NULL, "no noiseless bisect run of %s", names[i]);
