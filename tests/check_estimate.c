@@ -456,6 +456,42 @@ START_TEST(cli_direct_json_truth) {
 }
 END_TEST
 
+/* --direct with comlearn-sim's noise options: the same draws as the in-process backend with that
+ * seed, the noise model taken from --placement-noise-mm, 95 % intervals with reasons. */
+START_TEST(cli_direct_noise) {
+  static char out[1 << 17];
+  char cmd[1024], urdf[512];
+  snprintf(urdf, sizeof urdf, "%s/rocks/rock_3_even.urdf", COMLEARN_ASSETS_DIR);
+  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct --json --truth --placement-noise-mm 0.5 "
+           "--pose-noise-mm 0.2 --seed 7 --start bbox", COMLEARN_BIN, urdf);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "\"interval\": \"95%\""));
+  ck_assert_ptr_nonnull(strstr(out, "\"reason\": [null, null, null]"));
+  double com[3], hw[3];
+  json_vec(out, "com_m", com);
+  json_vec(out, "halfwidth_m", hw);
+  estimate_config_t cfg;
+  estimate_config_default(&cfg);
+  cfg.noise_sigma_m = 0.5e-3;
+  cfg.start = ESTIMATE_START_BBOX;
+  estimate_result_t *r = malloc(sizeof *r);
+  ck_assert_ptr_nonnull(r);
+  model_mass_t truth;
+  estimate_urdf_noisy(urdf, &cfg, 7, 0.5e-3, 0.2e-3, r, &truth);
+  ck_assert_double_eq(json_num(out, "trials"), (double)r->trial_count);
+  for (int k = 0; k < 3; ++k) {
+    ck_assert_double_eq_tol(com[k], r->com_m[k], 1e-11);
+    ck_assert_double_eq_tol(hw[k], r->halfwidth_m[k], 1e-11);
+  }
+  /* an explicit --noise-mm overrides the default; 0 claims noiseless bounds (a user's choice) */
+  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct --json --placement-noise-mm 0.5 --seed 7 "
+           "--noise-mm 0 2>/dev/null", COMLEARN_BIN, urdf);
+  run(cmd, out, sizeof out);
+  ck_assert_ptr_nonnull(strstr(out, "\"interval\": \"bound\""));
+  free(r);
+}
+END_TEST
+
 START_TEST(cli_bad_input) {
   char cmd[2048], out[8192], urdf[512];
   snprintf(urdf, sizeof urdf, "%s/rocks/rock_1_even.urdf", COMLEARN_ASSETS_DIR);
@@ -472,6 +508,14 @@ START_TEST(cli_bad_input) {
       {"estimate URDF --direct --resolution-mm 0.1mm", 2},
       {"estimate URDF --direct --bogus", 2},
       {"estimate URDF --direct --spawn-sim", 2},
+      {"estimate URDF --seed 3", 2},
+      {"estimate URDF --placement-noise-mm 0.5", 2},
+      {"estimate URDF --direct --placement-noise-mm -1", 2},
+      {"estimate URDF --direct --pose-noise-mm inf", 2},
+      {"estimate URDF --direct --noise-mm nan", 2},
+      {"estimate URDF --direct --noise-mm 101", 2},
+      {"estimate URDF --direct --seed x", 2},
+      {"estimate URDF --direct --start middle", 2},
       {"estimate URDF --direct --help", 0},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
@@ -555,6 +599,7 @@ int main(void) {
   tcase_set_timeout(cli, 600);
   tcase_add_test(cli, cli_direct_json_truth);
   tcase_add_test(cli, cli_bad_input);
+  tcase_add_test(cli, cli_direct_noise);
   suite_add_tcase(s, cli);
   SRunner *sr = srunner_create(s);
   srunner_run_all(sr, CK_NORMAL);
