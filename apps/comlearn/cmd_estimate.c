@@ -147,6 +147,9 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
     json_vec("normal_link", f->normal_link, 3);
     printf(", \"area_m2\": ");
     out_json_number(f->area_m2);
+    printf(", \"contact_area_m2\": ");
+    out_json_number(f->contact_area_m2);
+    printf(", \"regions\": %zu", f->regions);
     printf(", \"com_margin_m\": ");
     out_json_number(f->com_margin_m);
     printf(", \"stable\": %s}", f->confirmed ? "true" : "false");

@@ -781,6 +781,8 @@ static int record_face(run_t *run, int fi) {
   estimate_face_t *f = &out->face[out->face_count];
   memcpy(f->normal_link, run->faces[fi].normal_link, sizeof f->normal_link);
   f->area_m2 = run->faces[fi].area_m2;
+  f->contact_area_m2 = run->faces[fi].patch_area_m2;
+  f->regions = run->faces[fi].region_count;
   f->com_margin_m = run->faces[fi].com_margin_m;
   f->confirmed = 0;
   run->face_src[out->face_count] = fi;

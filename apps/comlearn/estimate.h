@@ -205,7 +205,9 @@ typedef struct {
 
 typedef struct {
   double normal_link[3];
-  double area_m2;
+  double area_m2;           /* support polygon (hull of the mesh vertices on the plane) */
+  double contact_area_m2;   /* real area of its largest region of in-plane triangles */
+  size_t regions;           /* regions of in-plane triangles (two feet: 2) */
   double com_margin_m;
   int confirmed;            /* stable check stayed */
 } estimate_face_t;
