@@ -67,7 +67,10 @@ static int jacobi3(double a[3][3], double v[3][3]) {
   for (int sweep = 0; sweep < QLEARN_SOLVE_MAX_SWEEPS; ++sweep) {
     double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
     double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
-    if (off == 0.0 || off <= 1e-36 * diag) return 0;
+    /* Off-diagonal entries at rounding level of the matrix (1e-15 of its norm) are as small as
+     * rotations can make them: where eigenvalues are (near) null, as with one plane, the null
+     * block keeps entries ~1e-16 of the largest eigenvalue, and a relative 1e-18 never came. */
+    if (off == 0.0 || off <= 1e-30 * (diag + 2.0 * off)) return 0;
     for (int p = 0; p < 2; ++p) {
       for (int q = p + 1; q < 3; ++q) {
         if (a[p][q] == 0.0) continue;
