@@ -13,6 +13,7 @@
 
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "objfile.h"
 #include "rockgen.h"
 
 #ifndef COMLEARN_ASSETS_DIR
@@ -34,70 +35,15 @@ static int fail(const char *what, const char *path) {
 }
 
 static int make_dir(const char *path) {
-  if (mkdir(path, 0777) == 0 || errno == EEXIST) return 0;
-  return fail("cannot create", path);
+  return objfile_mkdir(path) == 0 ? 0 : fail("cannot create", path);
 }
 
 /* ---- writers ---------------------------------------------------------------------------------- */
 
-static void put_u32(unsigned char *b, uint32_t v) {
-  for (int i = 0; i < 4; ++i) b[i] = (unsigned char)(v >> (8 * i));
-}
-
-static void put_f32(unsigned char *b, float f) {
-  uint32_t u;
-  memcpy(&u, &f, sizeof u);
-  put_u32(b, u);
-}
-
-/* Binary STL, little-endian. The header must not start with "solid" (readers would try ASCII). */
 static int write_stl(const model_mesh_t *m, const char *path, const char *name) {
-  FILE *f = fopen(path, "wb");
-  if (f == NULL) return fail("cannot write", path);
-  unsigned char header[84];
-  memset(header, ' ', 80);
   char text[81];
   snprintf(text, sizeof text, "comlearn-rockgen %s, metres, float32", name);
-  memcpy(header, text, strlen(text));
-  put_u32(header + 80, (uint32_t)m->triangle_count);
-  int ok = fwrite(header, 1, sizeof header, f) == sizeof header;
-  for (size_t t = 0; ok && t < m->triangle_count; ++t) {
-    const double *a = m->vertices_m[m->triangles[t][0]], *b = m->vertices_m[m->triangles[t][1]],
-                 *c = m->vertices_m[m->triangles[t][2]];
-    double e1[3], e2[3], n[3];
-    for (int k = 0; k < 3; ++k) {
-      e1[k] = b[k] - a[k];
-      e2[k] = c[k] - a[k];
-    }
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    unsigned char rec[50];
-    for (int k = 0; k < 3; ++k) put_f32(rec + 4 * k, (float)(n[k] / len));
-    for (int i = 0; i < 3; ++i) {
-      for (int k = 0; k < 3; ++k) {
-        put_f32(rec + 12 + 12 * i + 4 * k, (float)m->vertices_m[m->triangles[t][i]][k]);
-      }
-    }
-    rec[48] = rec[49] = 0;
-    ok = fwrite(rec, 1, sizeof rec, f) == sizeof rec;
-  }
-  if (fclose(f) != 0) ok = 0;
-  return ok ? 0 : fail("cannot write", path);
-}
-
-static void put_inertial(FILE *f, const model_mass_t *m) {
-  const double(*i)[3] = (const double(*)[3])m->inertia_kg_m2;
-  fprintf(f, "    <inertial>\n");
-  fprintf(f, "      <origin xyz=\"%.17g %.17g %.17g\" rpy=\"0 0 0\"/>\n", m->com_m[0], m->com_m[1],
-          m->com_m[2]);
-  fprintf(f, "      <mass value=\"%.17g\"/>\n", m->mass_kg);
-  fprintf(f,
-          "      <inertia ixx=\"%.17g\" ixy=\"%.17g\" ixz=\"%.17g\" iyy=\"%.17g\" iyz=\"%.17g\" "
-          "izz=\"%.17g\"/>\n",
-          i[0][0], i[0][1], i[0][2], i[1][1], i[1][2], i[2][2]);
-  fprintf(f, "    </inertial>\n");
+  return objfile_write_stl(m, path, text) == 0 ? 0 : fail("cannot write", path);
 }
 
 /* The bundled rocks' provenance (two comment lines; the committed files depend on every byte). */
@@ -128,14 +74,10 @@ static int write_rock_urdf(const char *path, const char *origin, const rockgen_s
   fprintf(f, "     inertial below is exact for the mesh as stored, float32 vertices). -->\n");
   fprintf(f, "<robot name=\"%s_%s\">\n", spec->name, uneven ? "uneven" : "even");
   fprintf(f, "  <link name=\"%s\">\n", spec->name);
-  put_inertial(f, mass);
-  fprintf(f, "    <visual>\n      <geometry>\n        <mesh filename=\"meshes/%s.stl\"/>\n"
-             "      </geometry>\n      <material name=\"rock\">\n"
-             "        <color rgba=\"0.55 0.51 0.46 1\"/>\n      </material>\n    </visual>\n",
-          spec->name);
-  fprintf(f, "    <collision>\n      <geometry>\n        <mesh filename=\"meshes/%s.stl\"/>\n"
-             "      </geometry>\n    </collision>\n",
-          spec->name);
+  objfile_put_inertial(f, mass);
+  char mesh_rel[96];
+  snprintf(mesh_rel, sizeof mesh_rel, "meshes/%s.stl", spec->name);
+  objfile_put_mesh_geometry(f, mesh_rel, "rock", "0.55 0.51 0.46 1");
   fprintf(f, "  </link>\n</robot>\n");
   return fclose(f) == 0 ? 0 : fail("cannot write", path);
 }
@@ -159,7 +101,7 @@ static int write_base_urdf(const char *path) {
   fprintf(f, "     block fills z in [%.17g, 0]). %.17g kg/m^3 (wood); fixed in the world. -->\n",
           -s[2], kBaseDensity_kg_m3);
   fprintf(f, "<robot name=\"base\">\n  <link name=\"base\">\n");
-  put_inertial(f, &m);
+  objfile_put_inertial(f, &m);
   for (int c = 0; c < 2; ++c) {
     fprintf(f, "    <%s>\n      <origin xyz=\"0 0 %.17g\" rpy=\"0 0 0\"/>\n", c ? "collision" : "visual",
             -0.5 * s[2]);
