@@ -366,6 +366,55 @@ START_TEST(reduction_keeps_support) {
 }
 END_TEST
 
+/* Twelve contact points of a face near the +X edge line; the low end of its chord is two points
+ * 0.3 um apart along the line: id 7 at depth depth7, id 9 touching (1 um deep). */
+static void chord_end_points(balance_point_t p[12], double depth7) {
+  memset(p, 0, 12 * sizeof *p);
+  for (int i = 0; i < 12; i++) {
+    p[i].pos_m[0] = 0.15 - 0.002 * (i % 4);
+    p[i].pos_m[1] = -0.03 + 0.005 * i;
+    p[i].normal[2] = 1.0;
+    p[i].depth_m = 1e-6;
+    p[i].edge_plane = -1;
+    p[i].id = (uint32_t)(100 + i);
+  }
+  p[0].pos_m[0] = p[1].pos_m[0] = p[2].pos_m[0] = 0.15;
+  p[0].pos_m[1] = -0.0404;
+  p[0].depth_m = depth7;
+  p[0].id = 7;
+  p[1].pos_m[1] = -0.0404 + 3e-7;
+  p[1].id = 9;
+  p[2].pos_m[1] = 0.0368; /* the high end */
+  p[0].edge_plane = p[1].edge_plane = p[2].edge_plane = BALANCE_EDGE_PX;
+}
+
+static void reduced_has(balance_point_t p[12], int *has7, int *has9) {
+  const size_t n = balance_points_reduce(p, 12, 8);
+  ck_assert_uint_ge(n, 3);
+  *has7 = *has9 = 0;
+  for (size_t i = 0; i < n; i++) {
+    *has7 |= p[i].id == 7;
+    *has9 |= p[i].id == 9;
+  }
+}
+
+/* Where mesh edges cross an edge line microns apart, one crossing can be on the resting face
+ * (touching) and one on a steep side edge microns above the top (a gap). The chord's end must be
+ * the touching one: taking the gap by its lower id left that end of the line without support,
+ * and a faceted block tipped with its CoM 0.15 mm inside (bench_coverage, tilted_s111). */
+START_TEST(reduction_prefers_the_touching_end) {
+  balance_point_t p[12];
+  int has7, has9;
+  chord_end_points(p, -1.2e-6); /* id 7 is 1.2 um above the top */
+  reduced_has(p, &has7, &has9);
+  ck_assert(has9 && !has7);
+  /* equally deep (a flat face, nanometres apart): the tie still goes to the lower id */
+  chord_end_points(p, 1e-6 + 5e-9);
+  reduced_has(p, &has7, &has9);
+  ck_assert(has7 && !has9);
+}
+END_TEST
+
 /* Stepping the world with two objects: a box on a box stands (object-object contacts). */
 START_TEST(two_objects_step) {
   fixture_t f;
@@ -620,6 +669,7 @@ Suite *balance_trial_suite(void) {
   tcase_add_test(bad, bad_mesh);
   tcase_add_test(bad, zero_normal_contacts_dropped);
   tcase_add_test(bad, reduction_keeps_support);
+  tcase_add_test(bad, reduction_prefers_the_touching_end);
   suite_add_tcase(s, bad);
   return s;
 }

@@ -32,8 +32,15 @@
 /* Object-object contacts: hull faces a vertex lies this close to being behind count as candidates
  * for its normal. */
 #define BALANCE_PAIR_TIE_M 1e-5
-/* Reductions treat projections / depths this close as equal (then the lowest id wins). */
+/* Reductions treat projections / depths this close as equal (then the deeper point, then the
+ * lowest id wins). */
 #define BALANCE_REDUCE_TIE_M 1e-6
+/* Within a tie of an extreme key, a point this much deeper than the other wins: two points where
+ * mesh edges cross an edge line microns apart can be one on the face (touching) and one on a
+ * steep side edge microns above the top; taking the latter by id left that end of the chord
+ * without support (a box tipped with its CoM 0.15 mm inside, bench_coverage). Depths of a flat
+ * face's points differ by nanometres, so they still tie and go to the lowest id. */
+#define BALANCE_REDUCE_DEPTH_TIE_M 1e-7
 /* The fast path reselects its reduced contacts after this much motion of any point (m). */
 #define BALANCE_FAST_RESELECT_M 1e-6
 /* Fast contact candidates are rebuilt after this much motion since the last rebuild. */
@@ -224,8 +231,9 @@ size_t balance_points_from_ode(const dContactGeom *raw, size_t n, balance_point_
 /* Reduce n points in place to at most k (k >= 4) that keep the support: the two extreme points
  * along each top-edge line (edge_plane >= 0), the deepest point, then the extremes along eight
  * directions in the plane perpendicular to the mean normal. Near-ties (within
- * BALANCE_REDUCE_TIE_M) go to the lowest id, so that a flat face whose points are all equally
- * deep keeps the same contacts from step to step. Returns the new count. */
+ * BALANCE_REDUCE_TIE_M) go to the point deeper by more than BALANCE_REDUCE_DEPTH_TIE_M, else to
+ * the lowest id, so that a flat face whose points are all equally deep keeps the same contacts
+ * from step to step. Returns the new count. */
 size_t balance_points_reduce(balance_point_t *pts, size_t n, size_t k);
 
 #endif /* COMLEARN_BALANCE_INTERNAL_H */

@@ -266,8 +266,12 @@ size_t balance_points_reduce(balance_point_t *p, size_t n, size_t k) {
     for (int j = valid & 0xffu ? 0 : 8; j < NKEYS; j++) {
       if (!(valid >> j & 1u)) continue;
       const double kj = key[j];
-      if (kj > best[j] + BALANCE_REDUCE_TIE_M ||
-          (kj >= best[j] - BALANCE_REDUCE_TIE_M && id < pick_id[j])) {
+      int take = kj > best[j] + BALANCE_REDUCE_TIE_M;
+      if (!take && kj >= best[j] - BALANCE_REDUCE_TIE_M) { /* a tie: deeper, then lower id */
+        const double dd = p[i].depth_m - p[pick[j]].depth_m;
+        take = dd > BALANCE_REDUCE_DEPTH_TIE_M || (dd >= -BALANCE_REDUCE_DEPTH_TIE_M && id < pick_id[j]);
+      }
+      if (take) {
         pick[j] = i;
         pick_id[j] = id;
       }
