@@ -1,0 +1,430 @@
+/* bench_coverage: are the reported intervals honest on objects the estimator was not built for?
+ *
+ * Generates N shapes (tools/shapegen.h families in turn, plus tools/rockgen random rocks as one
+ * more family), each as an even and an uneven object (2N URDFs in a temporary folder), and
+ * estimates every object with every policy: once noiseless, and with placement and pose noise for
+ * seeds 1..K (the estimator told the noise model, so its intervals are 95 % intervals). The truth
+ * is read after each estimate, for the statistics only. Per policy and mode it prints, over the
+ * objects: how many the estimator refused (no component found, or an error), the components it
+ * claimed (found) of those asked, coverage (claimed components whose |error| <= the reported half
+ * width), the worst |error| in units of the reported half width, the mean half width and trials;
+ * then the same per family for the first policy. Optionally everything as JSON.
+ *
+ * Goals (issue 11): noiseless coverage 100 %, noisy coverage >= 95 % at the stated 95 % level.
+ *
+ * Usage: bench_coverage [--objects N] [--seed S] [--policies LIST] [--seeds K]
+ *                       [--placement-noise-mm P] [--pose-noise-mm Q] [--jobs J] [--json FILE]
+ *                       [--keep DIR] [--help]
+ * Wall time: a few minutes for the defaults on two cores. */
+#define _GNU_SOURCE
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "comlearn/model.h"
+#include "comlearn/model_inertial.h"
+#include "estimate.h"
+#include "estimate_direct.h"
+#include "objfile.h"
+#include "rockgen.h"
+#include "shapegen.h"
+
+enum { MAX_POLICIES = 4, MAX_JOBS = 16, FAMILIES = SHAPEGEN_FAMILY_COUNT + 1, ROCK = FAMILIES - 1 };
+
+typedef struct {
+  int objects, seeds, jobs, npol;
+  uint64_t seed;
+  qlearn_policy_kind_t pol[MAX_POLICIES];
+  double placement_m, pose_m;
+  const char *json, *keep;
+} opts_t;
+
+/* One estimate. */
+typedef struct {
+  int object;           /* index into the object list */
+  int policy;           /* index into opts.pol */
+  int seed;             /* 0: noiseless */
+  int status;           /* estimate_status_t */
+  int found[3];
+  double err_m[3], hw_m[3];
+  unsigned trials;
+} rec_t;
+
+typedef struct {
+  char urdf[4096];
+  char name[72];
+  int family;           /* shapegen family, or ROCK */
+  int uneven;
+} obj_t;
+
+static const char *family_name(int f) {
+  return f == ROCK ? "rock" : shapegen_family_name((shapegen_family_t)f);
+}
+
+/* ---- objects -------------------------------------------------------------------------------- */
+
+static int write_rock(uint64_t seed, const char *dir, char *name, size_t name_size) {
+  rockgen_spec_t spec;
+  model_mesh_t mesh = {0};
+  model_mass_t even, uneven;
+  model_halfspace_t region;
+  model_status_t st = rockgen_spec_random(seed, &spec);
+  if (st == MODEL_OK) st = rockgen_shape_build(&spec, &mesh);
+  if (st == MODEL_OK) st = rockgen_mass(&spec, &mesh, &even, &uneven, &region);
+  int rc = st == MODEL_OK ? 0 : -1;
+  char path[4096];
+  snprintf(name, name_size, "%s", spec.name);
+  snprintf(path, sizeof path, "%.1024s/meshes/%.64s.stl", dir, spec.name);
+  if (rc == 0) rc = objfile_write_stl(&mesh, path, "bench_coverage random rock");
+  for (int u = 0; u < 2 && rc == 0; ++u) {
+    snprintf(path, sizeof path, "%.1024s/%.64s_%s.urdf", dir, spec.name, u ? "uneven" : "even");
+    FILE *f = fopen(path, "w");
+    if (!f) {
+      rc = -1;
+      break;
+    }
+    fprintf(f, "<?xml version=\"1.0\"?>\n<robot name=\"%s\">\n  <link name=\"%s\">\n", spec.name,
+            spec.name);
+    objfile_put_inertial(f, u ? &uneven : &even);
+    char rel[96];
+    snprintf(rel, sizeof rel, "meshes/%s.stl", spec.name);
+    objfile_put_mesh_geometry(f, rel, "rock", "0.55 0.51 0.46 1");
+    fprintf(f, "  </link>\n</robot>\n");
+    rc = fclose(f) == 0 ? 0 : -1;
+  }
+  model_mesh_free(&mesh);
+  return rc;
+}
+
+/* Shape i: family i mod FAMILIES, seed S + i; both materials into objs[2i], objs[2i + 1]. */
+static int make_objects(const opts_t *o, const char *dir, obj_t *objs) {
+  char path[4096];
+  snprintf(path, sizeof path, "%.1024s/meshes", dir);
+  if (objfile_mkdir(path) != 0) return -1;
+  shapegen_object_t *so = malloc(sizeof *so);
+  if (!so) return -1;
+  for (int i = 0; i < o->objects; ++i) {
+    const int fam = i % FAMILIES;
+    const uint64_t seed = o->seed + (uint64_t)i;
+    char name[64], failed[4096] = "";
+    int rc;
+    if (fam == ROCK) {
+      rc = write_rock(seed, dir, name, sizeof name);
+    } else {
+      rc = shapegen_generate((shapegen_family_t)fam, seed, so) == MODEL_OK ? 0 : -1;
+      if (rc == 0) {
+        snprintf(name, sizeof name, "%s", so->spec.name);
+        rc = shapegen_write(so, dir, failed, sizeof failed);
+        shapegen_object_free(so);
+      }
+    }
+    if (rc != 0) {
+      fprintf(stderr, "bench_coverage: %s seed %llu: cannot generate or write %s\n",
+              family_name(fam), (unsigned long long)seed, failed);
+      free(so);
+      return -1;
+    }
+    for (int u = 0; u < 2; ++u) {
+      obj_t *ob = &objs[2 * i + u];
+      ob->family = fam;
+      ob->uneven = u;
+      snprintf(ob->name, sizeof ob->name, "%.56s_%s", name, u ? "uneven" : "even");
+      snprintf(ob->urdf, sizeof ob->urdf, "%.1024s/%.64s.urdf", dir, ob->name);
+    }
+  }
+  free(so);
+  return 0;
+}
+
+/* ---- estimates ------------------------------------------------------------------------------- */
+
+static void run_one(const opts_t *o, const obj_t *ob, int pi, int seed, estimate_result_t *res,
+                    rec_t *r) {
+  memset(r, 0, sizeof *r);
+  r->policy = pi;
+  r->seed = seed;
+  r->status = ESTIMATE_E_ARG;
+  model_object_t mo = {0};
+  model_error_t err = {{0}};
+  if (model_object_load(ob->urdf, NULL, &mo, &err) != MODEL_OK) return;
+  estimate_direct_t *sim = NULL;
+  estimate_backend_t backend;
+  char msg[512];
+  if (estimate_direct_open(ob->urdf, NULL, NULL, &sim, &backend, msg, sizeof msg) != 0) {
+    model_object_free(&mo);
+    return;
+  }
+  estimate_config_t cfg;
+  estimate_config_default(&cfg);
+  cfg.policy = o->pol[pi];
+  if (seed > 0) {
+    estimate_direct_set_noise(sim, (uint64_t)seed, o->placement_m, o->pose_m);
+    cfg.noise_sigma_m = o->placement_m;
+    cfg.seed = (uint64_t)seed;
+  }
+  r->status = estimate_run(&mo.mesh, &backend, &cfg, res);
+  estimate_direct_close(sim);
+  model_object_free(&mo);
+  model_mass_t truth; /* read after the estimate, for the statistics only */
+  if (model_inertial_load(ob->urdf, NULL, &truth, &err) != MODEL_OK) return;
+  r->trials = (unsigned)res->trial_count;
+  for (int k = 0; k < 3; ++k) {
+    r->found[k] = r->status == ESTIMATE_OK && res->found[k];
+    r->err_m[k] = r->found[k] ? res->com_m[k] - truth.com_m[k] : NAN;
+    r->hw_m[k] = r->found[k] ? res->halfwidth_m[k] : NAN;
+  }
+}
+
+/* Worker w of J: objects w, w + J, ... into file `path` (one rec_t per run). */
+static int worker(const opts_t *o, const obj_t *objs, int nobj, int w, const char *path) {
+  FILE *f = fopen(path, "wb");
+  estimate_result_t *res = malloc(sizeof *res);
+  if (!f || !res) return 1;
+  for (int i = w; i < nobj; i += o->jobs) {
+    for (int p = 0; p < o->npol; ++p) {
+      for (int s = 0; s <= o->seeds; ++s) {
+        rec_t r;
+        run_one(o, &objs[i], p, s, res, &r);
+        r.object = i;
+        if (fwrite(&r, sizeof r, 1, f) != 1) return 1;
+      }
+    }
+    if (w == 0 && isatty(STDERR_FILENO))
+      fprintf(stderr, "\rbench_coverage: object %d of %d", i + 1, nobj);
+  }
+  free(res);
+  return fclose(f) == 0 ? 0 : 1;
+}
+
+/* ---- statistics ------------------------------------------------------------------------------ */
+
+typedef struct {
+  int runs, refused, comps, found, covered;
+  double worst, hw_sum, trials_sum;
+} stat_t;
+
+static void add(stat_t *s, const rec_t *r) {
+  ++s->runs;
+  int any = 0;
+  for (int k = 0; k < 3; ++k) {
+    ++s->comps;
+    if (!r->found[k]) continue;
+    any = 1;
+    ++s->found;
+    const double q = fabs(r->err_m[k]) / r->hw_m[k];
+    s->covered += q <= 1.0;
+    if (q > s->worst) s->worst = q;
+    s->hw_sum += r->hw_m[k];
+  }
+  if (!any) ++s->refused;
+  s->trials_sum += r->trials;
+}
+
+static void row(FILE *f, const char *label, const char *mode, const stat_t *s) {
+  fprintf(f, "| %s | %s | %d | %d | %d of %d (%.0f %%) | %d of %d (%.1f %%) | %.2f | %.3f | %.1f |\n",
+          label, mode, s->runs, s->refused, s->found, s->comps,
+          s->comps ? 100.0 * s->found / s->comps : 0.0, s->covered, s->found,
+          s->found ? 100.0 * s->covered / s->found : 100.0, s->worst,
+          s->found ? 1e3 * s->hw_sum / s->found : NAN, s->runs ? s->trials_sum / s->runs : 0.0);
+}
+
+static const char kHeader[] =
+    "| %s | mode | runs | refused | components found | covered | worst \\|err\\| / hw | mean hw "
+    "(mm) | trials per run |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+
+static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *recs, size_t n) {
+  printf("# bench_coverage\n\n%d objects (%d shapes x even / uneven, families in turn, seeds %llu..), "
+         "noiseless and with placement %.3g mm / pose %.3g mm noise for seeds 1..%d; direct "
+         "backend.\n\n", nobj, o->objects, (unsigned long long)o->seed, 1e3 * o->placement_m,
+         1e3 * o->pose_m, o->seeds);
+  printf(kHeader, "policy");
+  for (int p = 0; p < o->npol; ++p)
+    for (int noisy = 0; noisy < 2; ++noisy) {
+      stat_t s = {0};
+      for (size_t i = 0; i < n; ++i)
+        if (recs[i].policy == p && (recs[i].seed > 0) == noisy) add(&s, &recs[i]);
+      if (s.runs) row(stdout, estimate_policy_name(o->pol[p]), noisy ? "noisy (95 %)" : "noiseless (bound)", &s);
+    }
+  printf("\nPer family, %s:\n\n", estimate_policy_name(o->pol[0]));
+  printf(kHeader, "family");
+  for (int fam = 0; fam < FAMILIES; ++fam)
+    for (int noisy = 0; noisy < 2; ++noisy) {
+      stat_t s = {0};
+      for (size_t i = 0; i < n; ++i)
+        if (recs[i].policy == 0 && objs[recs[i].object].family == fam && (recs[i].seed > 0) == noisy)
+          add(&s, &recs[i]);
+      if (s.runs) row(stdout, family_name(fam), noisy ? "noisy" : "noiseless", &s);
+    }
+  int shown = 0;
+  for (size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (recs[i].found[k] && fabs(recs[i].err_m[k]) > recs[i].hw_m[k] && recs[i].seed == 0) {
+        if (!shown++) printf("\nNoiseless components outside their bound:\n\n");
+        printf("- %s, %s, %c: |error| %.4f mm, bound %.4f mm\n", objs[recs[i].object].name,
+               estimate_policy_name(o->pol[recs[i].policy]), "xyz"[k],
+               1e3 * fabs(recs[i].err_m[k]), 1e3 * recs[i].hw_m[k]);
+      }
+}
+
+/* v[k] where found[k], else null, comma separated. */
+static void json_triple(FILE *f, const int found[3], const double v[3]) {
+  for (int k = 0; k < 3; ++k) {
+    if (k) fputs(", ", f);
+    if (found[k]) fprintf(f, "%.9g", v[k]);
+    else fputs("null", f);
+  }
+}
+
+static void write_json(const opts_t *o, const obj_t *objs, const rec_t *recs, size_t n) {
+  FILE *f = fopen(o->json, "w");
+  if (!f) {
+    fprintf(stderr, "bench_coverage: cannot write %s: %s\n", o->json, strerror(errno));
+    return;
+  }
+  fprintf(f, "{\"placement_noise_m\": %.9g, \"pose_noise_m\": %.9g, \"runs\": [", o->placement_m,
+          o->pose_m);
+  for (size_t i = 0; i < n; ++i) {
+    const rec_t *r = &recs[i];
+    fprintf(f, "%s\n{\"object\": \"%s\", \"family\": \"%s\", \"policy\": \"%s\", \"seed\": %d, "
+               "\"status\": %d, \"trials\": %u, \"found\": [%d, %d, %d], \"error_m\": [",
+            i ? "," : "", objs[r->object].name, family_name(objs[r->object].family),
+            estimate_policy_name(o->pol[r->policy]), r->seed, r->status, r->trials, r->found[0],
+            r->found[1], r->found[2]);
+    json_triple(f, r->found, r->err_m);
+    fprintf(f, "], \"halfwidth_m\": [");
+    json_triple(f, r->found, r->hw_m);
+    fprintf(f, "]}");
+  }
+  fprintf(f, "\n]}\n");
+  fclose(f);
+}
+
+/* ---- main ------------------------------------------------------------------------------------- */
+
+static void usage(FILE *f) {
+  fprintf(f, "usage: bench_coverage [options]\n"
+             "Coverage of the reported intervals on generated objects (tools/shapegen families and\n"
+             "random rocks, even and uneven), noiseless and noisy, per policy.\n"
+             "  --objects N             shapes, each as an even and an uneven object, 1..2000\n"
+             "                          (default: 112, i.e. 224 objects, 8 per family)\n"
+             "  --seed S                first seed (default: 1)\n"
+             "  --policies LIST         comma list of bisect, pba, paper-qtable, paper-mlp\n"
+             "                          (default: bisect,pba,paper-qtable)\n"
+             "  --seeds K               noisy runs per object and policy, 0..20 (default: 2)\n"
+             "  --placement-noise-mm P  noisy runs' placement noise (default: 0.5)\n"
+             "  --pose-noise-mm Q       noisy runs' pose noise (default: 0.2)\n"
+             "  --jobs J                worker processes, 1..%d (default: 2)\n"
+             "  --json FILE             every run as JSON (default: none)\n"
+             "  --keep DIR              write the objects into DIR and keep them (default: a\n"
+             "                          temporary folder, removed at the end)\n"
+             "  -h, --help              this text\n", MAX_JOBS);
+}
+
+static int parse_policies(const char *arg, opts_t *o) {
+  char buf[256];
+  snprintf(buf, sizeof buf, "%s", arg);
+  o->npol = 0;
+  char *save = NULL;
+  for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+    if (o->npol == MAX_POLICIES || estimate_policy_parse(t, &o->pol[o->npol]) != 0) return -1;
+    ++o->npol;
+  }
+  return o->npol > 0 ? 0 : -1;
+}
+
+static int parse_args(int argc, char **argv, opts_t *o) {
+  static const struct option opts[] = {
+      {"objects", required_argument, NULL, 'n'}, {"seed", required_argument, NULL, 's'},
+      {"policies", required_argument, NULL, 'p'}, {"seeds", required_argument, NULL, 'k'},
+      {"placement-noise-mm", required_argument, NULL, 'P'},
+      {"pose-noise-mm", required_argument, NULL, 'Q'}, {"jobs", required_argument, NULL, 'j'},
+      {"json", required_argument, NULL, 'J'}, {"keep", required_argument, NULL, 'K'},
+      {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+  int c;
+  while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+    char *end = NULL;
+    errno = 0;
+    switch (c) {
+      case 'n': o->objects = (int)strtol(optarg, &end, 10); if (o->objects < 1 || o->objects > 2000) return -1; break;
+      case 's': o->seed = strtoull(optarg, &end, 0); break;
+      case 'p': if (parse_policies(optarg, o) != 0) return -1; end = optarg + strlen(optarg); break;
+      case 'k': o->seeds = (int)strtol(optarg, &end, 10); if (o->seeds < 0 || o->seeds > 20) return -1; break;
+      case 'P': o->placement_m = 1e-3 * strtod(optarg, &end); if (!(o->placement_m >= 0 && o->placement_m <= 0.1)) return -1; break;
+      case 'Q': o->pose_m = 1e-3 * strtod(optarg, &end); if (!(o->pose_m >= 0 && o->pose_m <= 0.1)) return -1; break;
+      case 'j': o->jobs = (int)strtol(optarg, &end, 10); if (o->jobs < 1 || o->jobs > MAX_JOBS) return -1; break;
+      case 'J': o->json = optarg; end = optarg + strlen(optarg); break;
+      case 'K': o->keep = optarg; end = optarg + strlen(optarg); break;
+      case 'h': usage(stdout); exit(0);
+      default: return -1;
+    }
+    if (errno != 0 || end == optarg || *end != '\0') return -1;
+  }
+  return optind == argc ? 0 : -1;
+}
+
+int main(int argc, char **argv) {
+  opts_t o = {.objects = 112, .seeds = 2, .jobs = 2, .npol = 3, .seed = 1,
+              .pol = {QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA, QLEARN_POLICY_PAPER_QTABLE},
+              .placement_m = 0.5e-3, .pose_m = 0.2e-3};
+  if (parse_args(argc, argv, &o) != 0) {
+    usage(stderr);
+    return 2;
+  }
+  char dir[4096];
+  if (o.keep) {
+    snprintf(dir, sizeof dir, "%s", o.keep);
+    if (objfile_mkdir(dir) != 0) return 1;
+  } else {
+    snprintf(dir, sizeof dir, "/tmp/bench_coverage.XXXXXX");
+    if (!mkdtemp(dir)) return 1;
+  }
+  const int nobj = 2 * o.objects;
+  obj_t *objs = calloc((size_t)nobj, sizeof *objs);
+  if (!objs || make_objects(&o, dir, objs) != 0) return 1;
+  pid_t pid[MAX_JOBS];
+  for (int w = 0; w < o.jobs; ++w) {
+    char path[4200];
+    snprintf(path, sizeof path, "%s/runs.%d", dir, w);
+    pid[w] = fork();
+    if (pid[w] == 0) _exit(worker(&o, objs, nobj, w, path));
+    if (pid[w] < 0) return 1;
+  }
+  int failed = 0;
+  for (int w = 0; w < o.jobs; ++w) {
+    int ws = 0;
+    if (waitpid(pid[w], &ws, 0) < 0 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0) failed = 1;
+  }
+  if (isatty(STDERR_FILENO)) fprintf(stderr, "\n");
+  const size_t cap = (size_t)nobj * (size_t)o.npol * (size_t)(o.seeds + 1);
+  rec_t *recs = malloc(cap * sizeof *recs);
+  size_t n = 0;
+  for (int w = 0; w < o.jobs && recs; ++w) {
+    char path[4200];
+    snprintf(path, sizeof path, "%s/runs.%d", dir, w);
+    FILE *f = fopen(path, "rb");
+    if (!f) continue;
+    n += fread(recs + n, sizeof *recs, cap - n, f);
+    fclose(f);
+    remove(path);
+  }
+  if (!recs || n != cap || failed) {
+    fprintf(stderr, "bench_coverage: a worker failed (%zu of %zu runs)\n", n, cap);
+    return 1;
+  }
+  report(&o, objs, nobj, recs, n);
+  if (o.json) write_json(&o, objs, recs, n);
+  if (!o.keep) {
+    char cmd[4200];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0) fprintf(stderr, "bench_coverage: could not remove %s\n", dir);
+  }
+  free(recs);
+  free(objs);
+  return 0;
+}
