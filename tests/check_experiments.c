@@ -17,6 +17,7 @@
 #include "estimate.h"
 #include "estimate_direct.h"
 #include "cli_test_util.h"
+#include "file_test_util.h"
 
 static char tmpdir[256];
 
@@ -303,20 +304,6 @@ static const char *js_value(const char *p, int depth) {
   return end == p ? NULL : end;
 }
 
-static char *slurp(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  ck_assert_msg(f != NULL, "%s missing", path);
-  fseek(f, 0, SEEK_END);
-  long n = ftell(f);
-  fseek(f, 0, SEEK_SET);
-  char *buf = malloc((size_t)n + 1);
-  ck_assert_ptr_nonnull(buf);
-  ck_assert_uint_eq(fread(buf, 1, (size_t)n, f), (size_t)n);
-  buf[n] = '\0';
-  fclose(f);
-  if (size) *size = (size_t)n;
-  return buf;
-}
 
 static size_t count_of(const char *hay, const char *needle) {
   size_t n = 0;
@@ -345,12 +332,12 @@ START_TEST(cli_experiments_outputs) {
 
   char path[1024];
   snprintf(path, sizeof path, "%s/table.md", dir);
-  char *table = slurp(path, NULL);
+  char *table = test_slurp(path, NULL);
   ck_assert_ptr_nonnull(strstr(table, "| paper (McGovern et al., Table I"));
   free(table);
 
   snprintf(path, sizeof path, "%s/experiments.json", dir);
-  char *js = slurp(path, NULL);
+  char *js = test_slurp(path, NULL);
   const char *end = js_value(js, 0);
   ck_assert_msg(end != NULL, "experiments.json does not parse");
   ck_assert_msg(*js_ws(end) == '\0', "trailing bytes after the JSON");
@@ -390,7 +377,7 @@ START_TEST(cli_experiments_outputs) {
   for (int i = 0; i < 2; ++i) {
     size_t n = 0;
     snprintf(path, sizeof path, "%s/fig2_%s.svg", dir, names[i]);
-    char *svg = slurp(path, &n);
+    char *svg = test_slurp(path, &n);
     ck_assert_uint_lt(n, 100 * 1024);
     ck_assert_ptr_nonnull(strstr(svg, "<svg xmlns=\"http://www.w3.org/2000/svg\""));
     ck_assert_ptr_nonnull(strstr(svg, "</svg>"));

@@ -24,6 +24,7 @@
 #include "model_test_util.h"
 #include "rockgen.h"
 #include "stack.h"
+#include "file_test_util.h"
 
 enum { PATCHES_MAX = 16, SEEDS = 60 };
 
@@ -64,31 +65,6 @@ static int generate(const char *dir, const char *seed, const char *count) {
   return run_rockgen(argv);
 }
 
-/* The whole file into a malloc'd buffer; *size its length. */
-static unsigned char *slurp(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  ck_assert_msg(f != NULL, "%s: %s", path, strerror(errno));
-  ck_assert_int_eq(fseek(f, 0, SEEK_END), 0);
-  const long n = ftell(f);
-  ck_assert_int_ge(n, 0);
-  rewind(f);
-  unsigned char *buf = malloc((size_t)n + 1);
-  ck_assert_ptr_nonnull(buf);
-  ck_assert_uint_eq(fread(buf, 1, (size_t)n, f), (size_t)n);
-  buf[n] = 0;
-  fclose(f);
-  *size = (size_t)n;
-  return buf;
-}
-
-static int same_file(const char *a, const char *b) {
-  size_t na, nb;
-  unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
-  const int same = na == nb && memcmp(x, y, na) == 0;
-  free(x);
-  free(y);
-  return same;
-}
 
 /* ---- the spec ----------------------------------------------------------------------------- */
 
@@ -280,24 +256,24 @@ START_TEST(files_deterministic_and_loadable) {
   for (int r = 0; r < 3; ++r) {
     const unsigned seed = 1000u + (unsigned)r;
     snprintf(rel, sizeof rel, "meshes/rock_r%u.stl", seed);
-    ck_assert_msg(same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
+    ck_assert_msg(test_same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
                   "%s differs between two runs", rel);
     for (int k = 0; k < 2; ++k) {
       snprintf(rel, sizeof rel, "rock_r%u_%s.urdf", seed, kKinds[k]);
-      ck_assert_msg(same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
+      ck_assert_msg(test_same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
                     "%s differs between two runs", rel);
     }
   }
   /* Different seeds, different files. */
-  ck_assert(!same_file(mt_join(&a, "meshes/rock_r1000.stl", pa, sizeof pa),
+  ck_assert(!test_same_file(mt_join(&a, "meshes/rock_r1000.stl", pa, sizeof pa),
                        mt_join(&a, "meshes/rock_r1001.stl", pb, sizeof pb)));
-  ck_assert(!same_file(mt_join(&a, "rock_r1000_uneven.urdf", pa, sizeof pa),
+  ck_assert(!test_same_file(mt_join(&a, "rock_r1000_uneven.urdf", pa, sizeof pa),
                        mt_join(&a, "rock_r1001_uneven.urdf", pb, sizeof pb)));
   /* A seed written alone equals the same seed written in a batch. */
   mt_tmpdir_t c;
   mt_tmpdir_make(&c);
   ck_assert_int_eq(generate(c.path, "1001", "1"), 0);
-  ck_assert(same_file(mt_join(&a, "rock_r1001_uneven.urdf", pa, sizeof pa),
+  ck_assert(test_same_file(mt_join(&a, "rock_r1001_uneven.urdf", pa, sizeof pa),
                       mt_join(&c, "rock_r1001_uneven.urdf", pb, sizeof pb)));
 
   /* The files load with lib/model; the mesh is the generated one and the inertial is exact. */
@@ -451,7 +427,7 @@ START_TEST(stack_svg_side_view) {
   snprintf(tmp, sizeof tmp, "%s.tmp", path);
   ck_assert_int_eq(stack_svg_write(path, mp, pose, (const double(*)[3])com, 3, "A <&> \"B\""), 0);
   size_t size = 0;
-  char *svg = (char *)slurp(path, &size);
+  char *svg = test_slurp(path, &size);
   ck_assert_uint_lt(size, 400000);
   ck_assert_int_eq(strncmp(svg, "<?xml", 5), 0);
   ck_assert_ptr_nonnull(strstr(svg, "<svg xmlns=\"http://www.w3.org/2000/svg\""));
@@ -475,13 +451,13 @@ START_TEST(stack_svg_side_view) {
 
   /* No CoMs: no crosses. */
   ck_assert_int_eq(stack_svg_write(path, mp, pose, NULL, 3, NULL), 0);
-  svg = (char *)slurp(path, &size);
+  svg = test_slurp(path, &size);
   ck_assert_uint_eq(count_substr(svg, "stroke=\"#b3001b\""), 0);
   free(svg);
 
   /* Errors: EINVAL, and the previous file stays as it was. */
   ck_assert_int_eq(stack_svg_write(path, mp, pose, NULL, 3, "kept"), 0);
-  unsigned char *before = slurp(path, &size);
+  char *before = test_slurp(path, &size);
   const size_t before_size = size;
   errno = 0;
   ck_assert_int_eq(stack_svg_write(NULL, mp, pose, NULL, 3, "t"), -1);
@@ -516,7 +492,7 @@ START_TEST(stack_svg_side_view) {
   errno = 0;
   ck_assert_int_eq(stack_svg_write(path, with_null, pose, NULL, 3, "t"), -1);
   ck_assert_int_eq(errno, EINVAL);
-  unsigned char *after = slurp(path, &size);
+  char *after = test_slurp(path, &size);
   ck_assert_uint_eq(size, before_size);
   ck_assert_int_eq(memcmp(before, after, size), 0);
   free(before);

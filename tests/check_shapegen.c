@@ -27,6 +27,7 @@
 #include "comlearn/model_inertial.h"
 #include "model_test_util.h"
 #include "shapegen.h"
+#include "file_test_util.h"
 
 enum { SEEDS = 5 };
 static const double kPi = 3.14159265358979323846;
@@ -955,30 +956,7 @@ static int run_shapegen(char *const argv[], const char *out_path) {
   return WIFEXITED(ws) ? WEXITSTATUS(ws) : -1;
 }
 
-static unsigned char *slurp(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  ck_assert_msg(f != NULL, "%s: %s", path, strerror(errno));
-  ck_assert_int_eq(fseek(f, 0, SEEK_END), 0);
-  const long n = ftell(f);
-  ck_assert_int_ge(n, 0);
-  rewind(f);
-  unsigned char *buf = malloc((size_t)n + 1);
-  ck_assert_ptr_nonnull(buf);
-  ck_assert_uint_eq(fread(buf, 1, (size_t)n, f), (size_t)n);
-  buf[n] = 0;
-  fclose(f);
-  *size = (size_t)n;
-  return buf;
-}
 
-static int same_file(const char *a, const char *b) {
-  size_t na, nb;
-  unsigned char *x = slurp(a, &na), *y = slurp(b, &nb);
-  const int same = na == nb && memcmp(x, y, na) == 0;
-  free(x);
-  free(y);
-  return same;
-}
 
 static double max_abs(const double m[3][3]) {
   double r = 0.0;
@@ -1019,7 +997,7 @@ START_TEST(files_round_trip) {
   ck_assert_int_eq(run_shapegen(run_b, NULL), 0);
   /* one line per object, in order, each family once */
   size_t size = 0;
-  char *text = (char *)slurp(list, &size);
+  char *text = test_slurp(list, &size);
   char *line = text;
   for (int i = 0; i < BATCH; ++i) {
     const char *fam = shapegen_family_name((shapegen_family_t)i);
@@ -1038,20 +1016,20 @@ START_TEST(files_round_trip) {
   /* a seed written alone equals the same object in the batch */
   char *const run_c[] = {"g", "--family", "mug", "--seed", "107", "--out-dir", c.path, NULL};
   ck_assert_int_eq(run_shapegen(run_c, NULL), 0);
-  ck_assert(same_file(mt_join(&a, "mug_s107_uneven.urdf", pa, sizeof pa),
+  ck_assert(test_same_file(mt_join(&a, "mug_s107_uneven.urdf", pa, sizeof pa),
                       mt_join(&c, "mug_s107_uneven.urdf", pb, sizeof pb)));
-  ck_assert(same_file(mt_join(&a, "meshes/mug_s107.stl", pa, sizeof pa),
+  ck_assert(test_same_file(mt_join(&a, "meshes/mug_s107.stl", pa, sizeof pa),
                       mt_join(&c, "meshes/mug_s107.stl", pb, sizeof pb)));
   static const char *const kinds[2] = {"even", "uneven"};
   for (int i = 0; i < BATCH; ++i) {
     shapegen_object_t o;
     gen(i, (uint64_t)(FIRST + i), &o);
     snprintf(rel, sizeof rel, "meshes/%s.stl", o.spec.name);
-    ck_assert_msg(same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
+    ck_assert_msg(test_same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
                   "%s differs between two runs", rel);
     for (int k = 0; k < 2; ++k) {
       snprintf(rel, sizeof rel, "%s_%s.urdf", o.spec.name, kinds[k]);
-      ck_assert_msg(same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
+      ck_assert_msg(test_same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
                     "%s differs between two runs", rel);
       model_object_t obj;
       model_mass_t mass;
@@ -1067,7 +1045,7 @@ START_TEST(files_round_trip) {
       assert_mass_eq(rel, &again, &o.even);
       if (k) { /* the URDF comment documents the region */
         size_t n = 0;
-        char *u = (char *)slurp(pa, &n), want[128];
+        char *u = test_slurp(pa, &n), want[128];
         snprintf(want, sizeof want, "n = (%.17g, ", o.region.normal[0]);
         ck_assert_ptr_nonnull(strstr(u, want));
         free(u);
@@ -1103,7 +1081,7 @@ START_TEST(cli_usage) {
   char *const help[] = {"g", "--help", NULL};
   ck_assert_int_eq(run_shapegen(help, out), 0);
   size_t n = 0;
-  char *text = (char *)slurp(out, &n);
+  char *text = test_slurp(out, &n);
   static const char *const opts[] = {"--family", "--seed", "--count", "--out-dir", "--help",
                                      "--version", "(default: 1)", "Exit status"};
   for (size_t i = 0; i < sizeof opts / sizeof opts[0]; ++i) ck_assert_ptr_nonnull(strstr(text, opts[i]));
@@ -1113,7 +1091,7 @@ START_TEST(cli_usage) {
   free(text);
   char *const version[] = {"g", "--version", NULL};
   ck_assert_int_eq(run_shapegen(version, out), 0);
-  text = (char *)slurp(out, &n);
+  text = test_slurp(out, &n);
   ck_assert_int_eq(strncmp(text, "comlearn-shapegen ", 18), 0);
   ck_assert_uint_gt(n, 19);
   free(text);

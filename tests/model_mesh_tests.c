@@ -3,27 +3,11 @@
 
 #include "model_suites.h"
 #include "model_test_util.h"
+#include "file_test_util.h"
 
 /* ---- helpers --------------------------------------------------------------------------------- */
 
 static void rock(model_mesh_t *m) { mt_rock(m, 12, 24); }
-
-/* Read a whole file (malloc, NUL-terminated); *size gets its length. */
-static char *slurp(const char *path, size_t *size) {
-  FILE *f = fopen(path, "rb");
-  ck_assert_ptr_nonnull(f);
-  ck_assert_int_eq(fseek(f, 0, SEEK_END), 0);
-  long n = ftell(f);
-  ck_assert_int_ge(n, 0);
-  ck_assert_int_eq(fseek(f, 0, SEEK_SET), 0);
-  char *buf = malloc((size_t)n + 1);
-  ck_assert_ptr_nonnull(buf);
-  ck_assert_uint_eq(fread(buf, 1, (size_t)n, f), (size_t)n);
-  buf[n] = '\0';
-  fclose(f);
-  *size = (size_t)n;
-  return buf;
-}
 
 static void write_bytes(const char *path, const char *data, size_t n) {
   FILE *f = fopen(path, "wb");
@@ -35,7 +19,7 @@ static void write_bytes(const char *path, const char *data, size_t n) {
 /* Replace the first occurrence of `from` in file `path` by `to`; fails when absent. */
 static void edit_file(const char *src, const char *dst, const char *from, const char *to) {
   size_t n;
-  char *text = slurp(src, &n);
+  char *text = test_slurp(src, &n);
   char *at = strstr(text, from);
   ck_assert_msg(at != NULL, "'%s' not found in %s", from, src);
   FILE *f = fopen(dst, "wb");
@@ -340,7 +324,7 @@ START_TEST(test_roundtrip_formats) {
   model_error_t err = {{0}};
   ck_assert_msg(model_mesh_save(&src, path, fc->format, &err) == MODEL_OK, "%s", err.msg);
   size_t size;
-  char *bytes = slurp(path, &size);
+  char *bytes = test_slurp(path, &size);
   ck_assert_uint_gt(size, 100);
   if (fc->marker != NULL) {
     ck_assert_msg(strstr(bytes, fc->marker) != NULL, "%s lacks '%s'", fc->format, fc->marker);
@@ -381,7 +365,7 @@ START_TEST(test_stl_facets_joined) {
   mt_unit_cube(&cube);
   ck_assert_int_eq(model_mesh_save(&cube, path, "stl", NULL), MODEL_OK);
   size_t size;
-  char *text = slurp(path, &size);
+  char *text = test_slurp(path, &size);
   ck_assert_uint_eq(count_substr(text, "vertex "), 36);
   free(text);
   ck_assert_int_eq(model_mesh_load(path, NULL, &back, NULL, NULL), MODEL_OK);
@@ -614,7 +598,7 @@ START_TEST(test_load_unreadable_files) {
   ck_assert_int_eq(model_mesh_save(&m, full, "stlb", NULL), MODEL_OK);
   model_mesh_free(&m);
   size_t size;
-  char *bytes = slurp(full, &size);
+  char *bytes = test_slurp(full, &size);
   mt_join(&d, "truncated.stl", path, sizeof path);
   write_bytes(path, bytes, 84 + 5 * 50);
   free(bytes);

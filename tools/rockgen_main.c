@@ -15,6 +15,7 @@
 #include "comlearn/model_inertial.h"
 #include "objfile.h"
 #include "rockgen.h"
+#include "tool_args.h"
 
 #ifndef COMLEARN_ASSETS_DIR
 #define COMLEARN_ASSETS_DIR "assets"
@@ -336,17 +337,6 @@ static void usage(FILE *f) {
           RANDOM_COUNT_MAX, COMLEARN_ASSETS_DIR);
 }
 
-/* A whole decimal or 0x-hex unsigned 64-bit number (no sign, no trailing characters). */
-static int parse_u64(const char *text, uint64_t *out) {
-  if (text == NULL || text[0] < '0' || text[0] > '9') return -1;
-  char *end = NULL;
-  errno = 0;
-  const unsigned long long v = strtoull(text, &end, 0);
-  if (errno != 0 || end == text || *end != '\0') return -1;
-  *out = (uint64_t)v;
-  return 0;
-}
-
 int main(int argc, char **argv) {
   static const struct option opts[] = {{"out-dir", required_argument, NULL, 'o'},
                                        {"out", required_argument, NULL, 'o'},
@@ -363,14 +353,14 @@ int main(int argc, char **argv) {
     switch (c) {
       case 'o': out_dir = optarg; break;
       case 'r':
-        if (parse_u64(optarg, &seed) != 0) {
+        if (tool_parse_u64(optarg, &seed) != 0) {
           fprintf(stderr, "comlearn-rockgen: --random: not a seed: %s\n", optarg);
           return 2;
         }
         want_random = 1;
         break;
       case 'n':
-        if (parse_u64(optarg, &count) != 0 || count < 1 || count > RANDOM_COUNT_MAX) {
+        if (tool_parse_u64(optarg, &count) != 0 || count < 1 || count > RANDOM_COUNT_MAX) {
           fprintf(stderr, "comlearn-rockgen: --count: not in 1 .. %d: %s\n", RANDOM_COUNT_MAX,
                   optarg);
           return 2;

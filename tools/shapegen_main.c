@@ -12,6 +12,7 @@
 
 #include "objfile.h"
 #include "shapegen.h"
+#include "tool_args.h"
 
 #ifndef COMLEARN_VERSION
 #define COMLEARN_VERSION "unknown"
@@ -98,15 +99,6 @@ static void usage(FILE *f) {
           COUNT_MAX);
 }
 
-static int parse_u64(const char *text, uint64_t *out) {
-  if (text == NULL || text[0] < '0' || text[0] > '9') return -1;
-  char *end = NULL;
-  errno = 0;
-  const unsigned long long v = strtoull(text, &end, 0);
-  if (errno != 0 || end == text || *end != '\0') return -1;
-  *out = (uint64_t)v;
-  return 0;
-}
 
 int main(int argc, char **argv) {
   static const struct option opts[] = {{"family", required_argument, NULL, 'f'},
@@ -131,14 +123,14 @@ int main(int argc, char **argv) {
         have_family = 1;
         break;
       case 's':
-        if (parse_u64(optarg, &seed) != 0) {
+        if (tool_parse_u64(optarg, &seed) != 0) {
           fprintf(stderr, "comlearn-shapegen: --seed: not a seed: %s\n", optarg);
           return 2;
         }
         have_seed = 1;
         break;
       case 'n':
-        if (parse_u64(optarg, &count) != 0 || count < 1 || count > COUNT_MAX) {
+        if (tool_parse_u64(optarg, &count) != 0 || count < 1 || count > COUNT_MAX) {
           fprintf(stderr, "comlearn-shapegen: --count: not in 1 .. %d: %s\n", COUNT_MAX, optarg);
           return 2;
         }
