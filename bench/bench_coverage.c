@@ -227,7 +227,8 @@ static void add(stat_t *s, const rec_t *r) {
 }
 
 static void row(FILE *f, const char *label, const char *mode, const stat_t *s) {
-  fprintf(f, "| %s | %s | %d | %d | %d of %d (%.0f %%) | %d of %d (%.1f %%) | %.2f | %.3f | %.1f |\n",
+  fprintf(f,
+          "| %s | %s | %d | %d | %d of %d (%.0f %%) | %d of %d (%.1f %%) | %.2f | %.3f | %.1f |\n",
           label, mode, s->runs, s->refused, s->found, s->comps,
           s->comps ? 100.0 * s->found / s->comps : 0.0, s->covered, s->found,
           s->found ? 100.0 * s->covered / s->found : 100.0, s->worst,
@@ -239,7 +240,8 @@ static const char kHeader[] =
     "(mm) | trials per run |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
 
 static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *recs, size_t n) {
-  printf("# bench_coverage\n\n%d objects (%d shapes x even / uneven, families in turn, seeds %llu..), "
+  printf("# bench_coverage\n\n%d objects (%d shapes x even / uneven, families in turn, seeds "
+         "%llu..), "
          "noiseless and with placement %.3g mm / pose %.3g mm noise for seeds 1..%d; direct "
          "backend.\n\n", nobj, o->objects, (unsigned long long)o->seed, 1e3 * o->placement_m,
          1e3 * o->pose_m, o->seeds);
@@ -249,7 +251,9 @@ static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *re
       stat_t s = {0};
       for (size_t i = 0; i < n; ++i)
         if (recs[i].policy == p && (recs[i].seed > 0) == noisy) add(&s, &recs[i]);
-      if (s.runs) row(stdout, estimate_policy_name(o->pol[p]), noisy ? "noisy (95 %)" : "noiseless (bound)", &s);
+      if (s.runs)
+        row(stdout, estimate_policy_name(o->pol[p]), noisy ? "noisy (95 %)" : "noiseless (bound)",
+            &s);
     }
   printf("\nPer family, %s:\n\n", estimate_policy_name(o->pol[0]));
   printf(kHeader, "family");
@@ -257,7 +261,8 @@ static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *re
     for (int noisy = 0; noisy < 2; ++noisy) {
       stat_t s = {0};
       for (size_t i = 0; i < n; ++i)
-        if (recs[i].policy == 0 && objs[recs[i].object].family == fam && (recs[i].seed > 0) == noisy)
+        if (recs[i].policy == 0 && objs[recs[i].object].family == fam &&
+            (recs[i].seed > 0) == noisy)
           add(&s, &recs[i]);
       if (s.runs) row(stdout, family_name(fam), noisy ? "noisy" : "noiseless", &s);
     }
@@ -305,11 +310,12 @@ static void write_json(const opts_t *o, const obj_t *objs, const rec_t *recs, si
   fclose(f);
 }
 
-/* ---- main ------------------------------------------------------------------------------------- */
+/* ---- main ---------------------------------------------------------------------------------- */
 
 static void usage(FILE *f) {
   fprintf(f, "usage: bench_coverage [options]\n"
-             "Coverage of the reported intervals on generated objects (tools/shapegen families and\n"
+             "Coverage of the reported intervals on generated objects (tools/shapegen families\n"
+             "and "
              "random rocks, even and uneven), noiseless and noisy, per policy.\n"
              "  --objects N             shapes, each as an even and an uneven object, 1..2000\n"
              "                          (default: 112, i.e. 224 objects, 8 per family)\n"
@@ -338,6 +344,26 @@ static int parse_policies(const char *arg, opts_t *o) {
   return o->npol > 0 ? 0 : -1;
 }
 
+/* An integer option in [lo, hi]: 0, or -1. */
+static int int_arg(const char *text, int lo, int hi, int *out) {
+  char *end = NULL;
+  errno = 0;
+  const long v = strtol(text, &end, 10);
+  if (errno != 0 || end == text || *end != '\0' || v < lo || v > hi) return -1;
+  *out = (int)v;
+  return 0;
+}
+
+/* A length option in mm within [0, 100], into metres: 0, or -1. */
+static int mm_arg(const char *text, double *out_m) {
+  char *end = NULL;
+  errno = 0;
+  const double v = strtod(text, &end);
+  if (errno != 0 || end == text || *end != '\0' || !(v >= 0.0 && v <= 100.0)) return -1;
+  *out_m = 1e-3 * v;
+  return 0;
+}
+
 static int parse_args(int argc, char **argv, opts_t *o) {
   static const struct option opts[] = {
       {"objects", required_argument, NULL, 'n'}, {"seed", required_argument, NULL, 's'},
@@ -346,26 +372,29 @@ static int parse_args(int argc, char **argv, opts_t *o) {
       {"pose-noise-mm", required_argument, NULL, 'Q'}, {"jobs", required_argument, NULL, 'j'},
       {"json", required_argument, NULL, 'J'}, {"keep", required_argument, NULL, 'K'},
       {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
-  int c;
-  while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
-    char *end = NULL;
-    errno = 0;
+  int c, bad = 0;
+  while (!bad && (c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
     switch (c) {
-      case 'n': o->objects = (int)strtol(optarg, &end, 10); if (o->objects < 1 || o->objects > 2000) return -1; break;
-      case 's': o->seed = strtoull(optarg, &end, 0); break;
-      case 'p': if (parse_policies(optarg, o) != 0) return -1; end = optarg + strlen(optarg); break;
-      case 'k': o->seeds = (int)strtol(optarg, &end, 10); if (o->seeds < 0 || o->seeds > 20) return -1; break;
-      case 'P': o->placement_m = 1e-3 * strtod(optarg, &end); if (!(o->placement_m >= 0 && o->placement_m <= 0.1)) return -1; break;
-      case 'Q': o->pose_m = 1e-3 * strtod(optarg, &end); if (!(o->pose_m >= 0 && o->pose_m <= 0.1)) return -1; break;
-      case 'j': o->jobs = (int)strtol(optarg, &end, 10); if (o->jobs < 1 || o->jobs > MAX_JOBS) return -1; break;
-      case 'J': o->json = optarg; end = optarg + strlen(optarg); break;
-      case 'K': o->keep = optarg; end = optarg + strlen(optarg); break;
+      case 'n': bad = int_arg(optarg, 1, 2000, &o->objects); break;
+      case 's': {
+        char *end = NULL;
+        errno = 0;
+        o->seed = strtoull(optarg, &end, 0);
+        bad = errno != 0 || end == optarg || *end != '\0' || optarg[0] == '-';
+        break;
+      }
+      case 'p': bad = parse_policies(optarg, o); break;
+      case 'k': bad = int_arg(optarg, 0, 20, &o->seeds); break;
+      case 'P': bad = mm_arg(optarg, &o->placement_m); break;
+      case 'Q': bad = mm_arg(optarg, &o->pose_m); break;
+      case 'j': bad = int_arg(optarg, 1, MAX_JOBS, &o->jobs); break;
+      case 'J': o->json = optarg; break;
+      case 'K': o->keep = optarg; break;
       case 'h': usage(stdout); exit(0);
-      default: return -1;
+      default: bad = 1;
     }
-    if (errno != 0 || end == optarg || *end != '\0') return -1;
   }
-  return optind == argc ? 0 : -1;
+  return bad || optind != argc ? -1 : 0;
 }
 
 int main(int argc, char **argv) {

@@ -218,20 +218,90 @@ static void print_table(const char *urdf, qlearn_policy_kind_t policy, const est
 
 static int exit_for_model(model_status_t s) { return s == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE; }
 
-/* A length option in mm within [0, max_mm], into metres; -1 (message logged) when it is not. */
-static int parse_mm(const char *opt, const char *text, double max_mm, double *out_m) {
+/* A length option in mm within [min_mm, max_mm], into metres; -1 (message logged) when it is
+ * not. */
+static int parse_mm(const char *opt, const char *text, double min_mm, double max_mm,
+                    double *out_m) {
   char *end;
   errno = 0;
   const double mm = strtod(text, &end);
-  if (end == text || *end != '\0' || errno != 0 || !isfinite(mm) || mm < 0.0 || mm > max_mm) {
-    LOG_E("--%s: '%s' is not a number in [0, %g]", opt, text, max_mm);
+  if (end == text || *end != '\0' || errno != 0 || !isfinite(mm) || mm < min_mm || mm > max_mm) {
+    LOG_E("--%s: '%s' is not a number in [%g, %g]", opt, text, min_mm, max_mm);
     return -1;
   }
   *out_m = 1e-3 * mm;
   return 0;
 }
 
-int cmd_estimate(int argc, char **argv) {
+/* What the command line asks for. */
+typedef struct {
+  estimate_config_t cfg;
+  const char *urdf, *link, *lcm_url;
+  int direct, spawn, json, truth, quiet, noise_given, sim_noise;
+  double placement_noise_m, pose_noise_m;
+  uint64_t seed;
+} est_args_t;
+
+/* One option of est_args_t (c as getopt_long returns it): 0, or an exit status. */
+static int parse_option(int c, est_args_t *a) {
+  switch (c) {
+    case 'p':
+      if (estimate_policy_parse(optarg, &a->cfg.policy) == 0) return 0;
+      LOG_E("--policy: '%s' is not one of bisect, pba, paper-qtable, paper-mlp", optarg);
+      return EXIT_USAGE;
+    case 'r':
+      return parse_mm("resolution-mm", optarg, 0.001, 10.0, &a->cfg.resolution_m) ? EXIT_USAGE : 0;
+    case 'S':
+      if (strcmp(optarg, "uniform") == 0) a->cfg.start = ESTIMATE_START_UNIFORM;
+      else if (strcmp(optarg, "bbox") == 0) a->cfg.start = ESTIMATE_START_BBOX;
+      else {
+        LOG_E("--start: '%s' is not one of uniform, bbox", optarg);
+        return EXIT_USAGE;
+      }
+      return 0;
+    case 'n':
+      a->noise_given = 1;
+      return parse_mm("noise-mm", optarg, 0.0, 100.0, &a->cfg.noise_sigma_m) ? EXIT_USAGE : 0;
+    case 'P':
+      a->sim_noise = 1;
+      return parse_mm("placement-noise-mm", optarg, 0.0, 100.0, &a->placement_noise_m) ? EXIT_USAGE
+                                                                                        : 0;
+    case 'O':
+      a->sim_noise = 1;
+      return parse_mm("pose-noise-mm", optarg, 0.0, 100.0, &a->pose_noise_m) ? EXIT_USAGE : 0;
+    case 'e': {
+      char *end;
+      errno = 0;
+      const unsigned long long v = strtoull(optarg, &end, 0);
+      if (end == optarg || *end != '\0' || errno != 0 || optarg[0] == '-') {
+        LOG_E("--seed: '%s' is not a number in [0, 2^64 - 1]", optarg);
+        return EXIT_USAGE;
+      }
+      a->seed = (uint64_t)v;
+      a->sim_noise = 1;
+      return 0;
+    }
+    case 'd': a->direct = 1; return 0;
+    case 'u':
+      if (optarg[0]) {
+        a->lcm_url = optarg;
+        return 0;
+      }
+      LOG_E("--lcm-url: empty URL");
+      return EXIT_USAGE;
+    case 's': a->spawn = 1; return 0;
+    case 'l': a->link = optarg; return 0;
+    case 'j': a->json = 1; return 0;
+    case 't': a->truth = 1; return 0;
+    case 'v': log_set_level(LOG_DEBUG); return 0;
+    case 'q': a->quiet = 1; log_set_level(LOG_ERROR); return 0;
+    case 'h': usage(stdout); return -1; /* done: exit 0 */
+    default: usage(stderr); return EXIT_USAGE;
+  }
+}
+
+/* The command line into *a: 0 to go on, -1 for exit 0 (--help), else an exit status. */
+static int parse_args(int argc, char **argv, est_args_t *a) {
   static const struct option opts[] = {
       {"policy", required_argument, NULL, 'p'}, {"resolution-mm", required_argument, NULL, 'r'},
       {"direct", no_argument, NULL, 'd'},       {"lcm-url", required_argument, NULL, 'u'},
@@ -243,222 +313,187 @@ int cmd_estimate(int argc, char **argv) {
       {"pose-noise-mm", required_argument, NULL, 'O'},
       {"seed", required_argument, NULL, 'e'},   {"help", no_argument, NULL, 'h'},
       {NULL, 0, NULL, 0}};
-  estimate_config_t cfg;
-  estimate_config_default(&cfg);
-  const char *link = NULL, *lcm_url = NULL;
-  int direct = 0, spawn = 0, json = 0, truth = 0, quiet = 0, c, noise_given = 0, sim_noise = 0;
-  double placement_noise_m = 0.0, pose_noise_m = 0.0;
-  uint64_t seed = 1;
+  memset(a, 0, sizeof *a);
+  estimate_config_default(&a->cfg);
+  a->seed = 1;
+  int c;
   optind = 1;
   while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
-    switch (c) {
-      case 'p':
-        if (estimate_policy_parse(optarg, &cfg.policy) != 0) {
-          LOG_E("--policy: '%s' is not one of bisect, pba, paper-qtable, paper-mlp", optarg);
-          return EXIT_USAGE;
-        }
-        break;
-      case 'r': {
-        char *end;
-        errno = 0;
-        double mm = strtod(optarg, &end);
-        if (end == optarg || *end != '\0' || errno != 0 || !isfinite(mm) || mm < 0.001 ||
-            mm > 10.0) {
-          LOG_E("--resolution-mm: '%s' is not a number in [0.001, 10]", optarg);
-          return EXIT_USAGE;
-        }
-        cfg.resolution_m = 1e-3 * mm;
-        break;
-      }
-      case 'S':
-        if (strcmp(optarg, "uniform") == 0) cfg.start = ESTIMATE_START_UNIFORM;
-        else if (strcmp(optarg, "bbox") == 0) cfg.start = ESTIMATE_START_BBOX;
-        else {
-          LOG_E("--start: '%s' is not one of uniform, bbox", optarg);
-          return EXIT_USAGE;
-        }
-        break;
-      case 'n':
-        if (parse_mm("noise-mm", optarg, 100.0, &cfg.noise_sigma_m) != 0) return EXIT_USAGE;
-        noise_given = 1;
-        break;
-      case 'P':
-        if (parse_mm("placement-noise-mm", optarg, 100.0, &placement_noise_m) != 0) return EXIT_USAGE;
-        sim_noise = 1;
-        break;
-      case 'O':
-        if (parse_mm("pose-noise-mm", optarg, 100.0, &pose_noise_m) != 0) return EXIT_USAGE;
-        sim_noise = 1;
-        break;
-      case 'e': {
-        char *end;
-        errno = 0;
-        const unsigned long long v = strtoull(optarg, &end, 0);
-        if (end == optarg || *end != '\0' || errno != 0 || optarg[0] == '-') {
-          LOG_E("--seed: '%s' is not a number in [0, 2^64 - 1]", optarg);
-          return EXIT_USAGE;
-        }
-        seed = (uint64_t)v;
-        sim_noise = 1;
-        break;
-      }
-      case 'd': direct = 1; break;
-      case 'u':
-        if (!optarg[0]) {
-          LOG_E("--lcm-url: empty URL");
-          return EXIT_USAGE;
-        }
-        lcm_url = optarg;
-        break;
-      case 's': spawn = 1; break;
-      case 'l': link = optarg; break;
-      case 'j': json = 1; break;
-      case 't': truth = 1; break;
-      case 'v': log_set_level(LOG_DEBUG); break;
-      case 'q': quiet = 1; log_set_level(LOG_ERROR); break;
-      case 'h': usage(stdout); return EXIT_SUCCESS;
-      default: usage(stderr); return EXIT_USAGE;
-    }
+    const int rc = parse_option(c, a);
+    if (rc != 0) return rc;
   }
   if (optind != argc - 1) {
     LOG_E("estimate needs exactly one OBJECT.urdf");
     usage(stderr);
     return EXIT_USAGE;
   }
-  const char *urdf = argv[optind];
-  if (direct && (spawn || lcm_url)) {
+  a->urdf = argv[optind];
+  if (a->direct && (a->spawn || a->lcm_url)) {
     LOG_E("--direct runs in-process: it takes neither --spawn-sim nor --lcm-url");
     return EXIT_USAGE;
   }
-  if (sim_noise && !direct) {
+  if (a->sim_noise && !a->direct) {
     LOG_E("--placement-noise-mm, --pose-noise-mm and --seed perturb the --direct trials; over LCM "
           "the simulator's own options set the noise (comlearn-sim --placement-noise-mm ...)");
     return EXIT_USAGE;
   }
-  if (!noise_given) cfg.noise_sigma_m = placement_noise_m; /* the noise the trials will have */
+  if (!a->noise_given) a->cfg.noise_sigma_m = a->placement_noise_m; /* the trials' noise */
+  return 0;
+}
 
-  /* The estimator's view: geometry only. */
-  model_error_t merr = {{0}};
-  model_object_t obj = {0};
-  model_status_t ms = model_object_load(urdf, link, &obj, &merr);
-  if (ms != MODEL_OK) {
-    LOG_E("%s (%s)", merr.msg[0] ? merr.msg : urdf, model_status_str(ms));
-    return exit_for_model(ms);
-  }
-  char err[512] = "";
-  estimate_direct_t *sim = NULL;
-  estimate_lcm_t *lcmb = NULL;
-  pid_t child = -1;
-  char url_buf[128];
+/* The trial backend and what it owns. */
+typedef struct {
   estimate_backend_t backend;
-  int rc;
-  if (direct) {
-    rc = estimate_direct_open(urdf, link, NULL, &sim, &backend, err, sizeof err);
-    if (rc == 0 && (placement_noise_m > 0.0 || pose_noise_m > 0.0) &&
-        estimate_direct_set_noise(sim, seed, placement_noise_m, pose_noise_m) != 0) {
+  estimate_direct_t *sim;
+  estimate_lcm_t *lcm;
+  pid_t child;
+  char url[128];
+} est_backend_t;
+
+static void backend_close(est_backend_t *b) {
+  estimate_direct_close(b->sim);
+  estimate_lcm_close(b->lcm);
+  b->sim = NULL;
+  b->lcm = NULL;
+  if (b->child > 0) {
+    int ws = estimate_lcm_sim_stop(b->child, 2.0);
+    if (ws == -1 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0)
+      LOG_W("comlearn-sim (pid %d) did not exit cleanly (wait status %d)", (int)b->child, ws);
+  }
+  b->child = -1;
+}
+
+/* Open the backend a asks for: 0, or an exit status (message logged). */
+static int backend_open(const est_args_t *a, const model_object_t *obj, est_backend_t *b) {
+  char err[512] = "";
+  b->child = -1;
+  if (a->direct) {
+    int rc = estimate_direct_open(a->urdf, a->link, NULL, &b->sim, &b->backend, err, sizeof err);
+    if (rc == 0 && (a->placement_noise_m > 0.0 || a->pose_noise_m > 0.0) &&
+        estimate_direct_set_noise(b->sim, a->seed, a->placement_noise_m, a->pose_noise_m) != 0) {
       snprintf(err, sizeof err, "noise out of range");
-      estimate_direct_close(sim);
-      sim = NULL;
       rc = EXIT_USAGE;
     }
-  } else {
-    if (spawn) {
-      if (!lcm_url) {
-        snprintf(url_buf, sizeof url_buf, "udpm://239.255.76.67:%u?ttl=0",
-                 7700u + (unsigned)getpid() % 1000u);
-        lcm_url = url_buf;
-      }
-      const char *exe = getenv("COMLEARN_SIM");
-      if (!exe || !exe[0]) exe = COMLEARN_SIM_EXE;
-      child = estimate_lcm_sim_spawn(exe, lcm_url, err, sizeof err);
-      if (child < 0) {
-        LOG_E("--spawn-sim: %s", err);
-        model_object_free(&obj);
-        return EXIT_FAILURE;
-      }
-      LOG_I("started comlearn-sim (pid %d) on %s", (int)child, lcm_url);
+    if (rc != 0) {
+      LOG_E("%s", err);
+      backend_close(b);
     }
-    estimate_lcm_config_t lc;
-    estimate_lcm_config_default(&lc);
-    lc.lcm_url = lcm_url;
-    lc.urdf_path = urdf;
-    lc.mesh_link = &obj.mesh;
-    lc.yumi_urdf = COMLEARN_YUMI_URDF;
-    lc.policy = estimate_policy_name(cfg.policy);
-    lc.log = lcm_log;
-    rc = estimate_lcm_open(&lc, &lcmb, &backend, err, sizeof err);
-  }
-  if (rc != 0) {
-    LOG_E("%s", err);
-    if (child > 0) estimate_lcm_sim_stop(child, 2.0);
-    model_object_free(&obj);
     return rc;
   }
-  if (!quiet && isatty(STDERR_FILENO)) cfg.progress = progress;
+  const char *url = a->lcm_url;
+  if (a->spawn) {
+    if (!url) {
+      snprintf(b->url, sizeof b->url, "udpm://239.255.76.67:%u?ttl=0",
+               7700u + (unsigned)getpid() % 1000u);
+      url = b->url;
+    }
+    const char *exe = getenv("COMLEARN_SIM");
+    if (!exe || !exe[0]) exe = COMLEARN_SIM_EXE;
+    b->child = estimate_lcm_sim_spawn(exe, url, err, sizeof err);
+    if (b->child < 0) {
+      LOG_E("--spawn-sim: %s", err);
+      return EXIT_FAILURE;
+    }
+    LOG_I("started comlearn-sim (pid %d) on %s", (int)b->child, url);
+  }
+  estimate_lcm_config_t lc;
+  estimate_lcm_config_default(&lc);
+  lc.lcm_url = url;
+  lc.urdf_path = a->urdf;
+  lc.mesh_link = &obj->mesh;
+  lc.yumi_urdf = COMLEARN_YUMI_URDF;
+  lc.policy = estimate_policy_name(a->cfg.policy);
+  lc.log = lcm_log;
+  const int rc = estimate_lcm_open(&lc, &b->lcm, &b->backend, err, sizeof err);
+  if (rc != 0) {
+    LOG_E("%s", err);
+    backend_close(b);
+  }
+  return rc;
+}
 
-  estimate_result_t *res = malloc(sizeof *res);
-  if (!res) {
-    LOG_E("out of memory");
-    estimate_direct_close(sim);
-    estimate_lcm_close(lcmb);
-    if (child > 0) estimate_lcm_sim_stop(child, 2.0);
-    model_object_free(&obj);
-    return EXIT_FAILURE;
-  }
-  double t0 = out_now_s();
-  estimate_status_t es = estimate_run(&obj.mesh, &backend, &cfg, res);
-  double wall = out_now_s() - t0;
-  if (cfg.progress) fprintf(stderr, "\n");
-  if (lcmb) {
-    if (es == ESTIMATE_OK && estimate_lcm_publish_estimate(lcmb, res, cfg.resolution_m, 1) != 0)
-      LOG_W("publishing COM_ESTIMATE failed");
-    estimate_lcm_stats_t ls;
-    estimate_lcm_stats(lcmb, &ls);
-    LOG_D("lcm: %llu trials, %llu commands (%llu resent), %llu sim controls, %llu trial "
-          "restarts, %llu statuses, %llu object states, %llu undecodable",
-          (unsigned long long)ls.trials, (unsigned long long)ls.commands_sent,
-          (unsigned long long)ls.commands_resent, (unsigned long long)ls.controls_sent,
-          (unsigned long long)ls.trial_restarts, (unsigned long long)ls.statuses,
-          (unsigned long long)ls.object_states, (unsigned long long)ls.undecodable);
-  }
-  estimate_direct_close(sim);
-  estimate_lcm_close(lcmb);
-  if (child > 0) {
-    int ws = estimate_lcm_sim_stop(child, 2.0);
-    if (ws == -1 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0)
-      LOG_W("comlearn-sim (pid %d) did not exit cleanly (wait status %d)", (int)child, ws);
-  }
-  model_object_free(&obj);
-  if (es != ESTIMATE_OK) {
-    LOG_E("%s: %s%s%s", urdf, estimate_status_str(es), res->msg[0] ? ": " : "", res->msg);
-    free(res);
-    /* geometry that gives no flat face or no stable pose: the object does not suit the method */
-    return es == ESTIMATE_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
-  }
+/* After the run over LCM: COM_ESTIMATE, and the message counts in the debug log. */
+static void lcm_report(estimate_lcm_t *lcmb, estimate_status_t es, const estimate_result_t *res,
+                       double resolution_m) {
+  if (es == ESTIMATE_OK && estimate_lcm_publish_estimate(lcmb, res, resolution_m, 1) != 0)
+    LOG_W("publishing COM_ESTIMATE failed");
+  estimate_lcm_stats_t ls;
+  estimate_lcm_stats(lcmb, &ls);
+  LOG_D("lcm: %llu trials, %llu commands (%llu resent), %llu sim controls, %llu trial "
+        "restarts, %llu statuses, %llu object states, %llu undecodable",
+        (unsigned long long)ls.trials, (unsigned long long)ls.commands_sent,
+        (unsigned long long)ls.commands_resent, (unsigned long long)ls.controls_sent,
+        (unsigned long long)ls.trial_restarts, (unsigned long long)ls.statuses,
+        (unsigned long long)ls.object_states, (unsigned long long)ls.undecodable);
+}
+
+/* Print the result (the truth read now, after the estimate, when asked): the exit status. */
+static int report(const est_args_t *a, const char *backend_name, const estimate_result_t *res,
+                  double wall_s) {
   int found = 0;
   for (int k = 0; k < 3; ++k) {
     if (res->found[k]) ++found;
     else LOG_W("component %c not found: %s", "xyz"[k], res->reason[k]);
   }
-
-  /* The truth, read after the estimate is final, for the report only. */
   model_mass_t tm;
   const model_mass_t *tp = NULL;
-  if (truth) {
-    ms = model_inertial_load(urdf, link, &tm, &merr);
+  if (a->truth) {
+    model_error_t merr = {{0}};
+    const model_status_t ms = model_inertial_load(a->urdf, a->link, &tm, &merr);
     if (ms != MODEL_OK) {
-      LOG_E("--truth: %s (%s)", merr.msg[0] ? merr.msg : urdf, model_status_str(ms));
-      free(res);
+      LOG_E("--truth: %s (%s)", merr.msg[0] ? merr.msg : a->urdf, model_status_str(ms));
       return exit_for_model(ms);
     }
     tp = &tm;
   }
-  if (json) print_json(urdf, cfg.policy, cfg.resolution_m, backend.name, res, wall, tp);
-  else print_table(urdf, cfg.policy, res, wall, tp);
-  free(res);
+  if (a->json)
+    print_json(a->urdf, a->cfg.policy, a->cfg.resolution_m, backend_name, res, wall_s, tp);
+  else print_table(a->urdf, a->cfg.policy, res, wall_s, tp);
   if (found == 0) {
-    LOG_E("%s: no component could be estimated", urdf);
+    LOG_E("%s: no component could be estimated", a->urdf);
     return EXIT_FAILURE;
   }
   return EXIT_SUCCESS;
+}
+
+int cmd_estimate(int argc, char **argv) {
+  est_args_t a;
+  int rc = parse_args(argc, argv, &a);
+  if (rc != 0) return rc < 0 ? EXIT_SUCCESS : rc;
+  /* The estimator's view: geometry only. */
+  model_error_t merr = {{0}};
+  model_object_t obj = {0};
+  model_status_t ms = model_object_load(a.urdf, a.link, &obj, &merr);
+  if (ms != MODEL_OK) {
+    LOG_E("%s (%s)", merr.msg[0] ? merr.msg : a.urdf, model_status_str(ms));
+    return exit_for_model(ms);
+  }
+  est_backend_t b;
+  memset(&b, 0, sizeof b);
+  estimate_result_t *res = malloc(sizeof *res);
+  rc = res ? backend_open(&a, &obj, &b) : EXIT_FAILURE;
+  if (rc != 0) {
+    if (!res) LOG_E("out of memory");
+    free(res);
+    model_object_free(&obj);
+    return rc;
+  }
+  if (!a.quiet && isatty(STDERR_FILENO)) a.cfg.progress = progress;
+  const double t0 = out_now_s();
+  const estimate_status_t es = estimate_run(&obj.mesh, &b.backend, &a.cfg, res);
+  const double wall = out_now_s() - t0;
+  if (a.cfg.progress) fprintf(stderr, "\n");
+  if (b.lcm) lcm_report(b.lcm, es, res, a.cfg.resolution_m);
+  const char *name = b.backend.name;
+  backend_close(&b);
+  model_object_free(&obj);
+  if (es != ESTIMATE_OK) {
+    LOG_E("%s: %s%s%s", a.urdf, estimate_status_str(es), res->msg[0] ? ": " : "", res->msg);
+    free(res);
+    /* geometry that gives no flat face or no stable pose: the object does not suit the method */
+    return es == ESTIMATE_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
+  }
+  rc = report(&a, name, res, wall);
+  free(res);
+  return rc;
 }
