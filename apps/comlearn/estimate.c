@@ -550,6 +550,13 @@ static estimate_status_t search_run(run_t *run, int face_index, int log_face, do
   return ESTIMATE_OK;
 }
 
+/* A fed plane's sigma in the solve: the bracket's uniform spread h / sqrt 3 (noiseless) or the
+ * 95 % interval's h / 1.96 (noise model); at least 1 nm (a collapsed, knife-edge bracket). */
+static double plane_sigma(const run_t *run, const estimate_search_t *sr) {
+  const double sigma = run->noisy ? sr->halfwidth_m / 1.96 : sr->halfwidth_m / sqrt(3.0);
+  return sigma > 1e-9 ? sigma : 1e-9;
+}
+
 /* The 3-D solve over the fed planes. Each plane's sigma: the bracket's uniform spread h / sqrt 3
  * (noiseless) or the 95 % interval's h / 1.96 (noise model). Every component the planes
  * determine is reported (found[] here means determined; the caller applies the width limit). */
@@ -559,9 +566,8 @@ static estimate_status_t solve_all(run_t *run, qlearn_solve_result_t *res) {
   for (size_t i = 0; i < run->out->search_count; ++i) {
     const estimate_search_t *sr = &run->out->search[i];
     if (!sr->fed) continue;
-    double sigma = run->noisy ? sr->halfwidth_m / 1.96 : sr->halfwidth_m / sqrt(3.0);
-    if (!(sigma > 1e-9)) sigma = 1e-9; /* a collapsed (knife-edge) bracket */
-    qlearn_status_t qs = qlearn_solve_add_plane(solve, sr->plane_n_obj, sr->plane_d_m, sigma);
+    qlearn_status_t qs =
+        qlearn_solve_add_plane(solve, sr->plane_n_obj, sr->plane_d_m, plane_sigma(run, sr));
     if (qs != QLEARN_OK) {
       snprintf(run->out->msg, sizeof run->out->msg, "solve: %s", qlearn_status_str(qs));
       return ESTIMATE_E_LEARNER;
@@ -591,6 +597,18 @@ static int dir_determined(const qlearn_solve_result_t *res, const double a[3]) {
   return leak <= QLEARN_SOLVE_NULL_LEAK;
 }
 
+/* The coefficient of fed plane sr in the solve's estimate of a . c: p = w a . (A^+ n),
+ * w = 1 / sigma^2 (dimensionless: a . c = sum over planes of p d). */
+static double plane_coef(const run_t *run, const qlearn_solve_result_t *res, const double a[3],
+                         const estimate_search_t *sr) {
+  double p = 0.0;
+  for (int e = 3 - res->rank; e < 3; ++e)
+    p += dot3(res->eigenvector[e], a) * dot3(res->eigenvector[e], sr->plane_n_obj) /
+         res->eigenvalue[e];
+  const double sigma = plane_sigma(run, sr);
+  return p / (sigma * sigma);
+}
+
 /* The half width of a . c (a unit, link frame) that holds, INFINITY when the planes do not
  * determine it. The solve's estimate is linear in the planes' offsets, a . c = sum_j p_j d_j with
  * p_j = w_j a . (A^+ n_j) (A^+ the pseudo-inverse of the normal matrix over its non-null
@@ -609,31 +627,19 @@ static double dir_halfwidth(const run_t *run, const qlearn_solve_result_t *res, 
   for (size_t i = 0; i < run->out->search_count; ++i) {
     const estimate_search_t *sr = &run->out->search[i];
     if (!sr->fed) continue;
-    const double sigma = fmax(run->noisy ? sr->halfwidth_m / 1.96 : sr->halfwidth_m / sqrt(3.0),
-                              1e-9);
-    double p = 0.0;
-    for (int e = first; e < 3; ++e)
-      p += dot3(res->eigenvector[e], a) * dot3(res->eigenvector[e], sr->plane_n_obj) /
-           res->eigenvalue[e];
-    p *= 1.0 / (sigma * sigma);
+    const double p = plane_coef(run, res, a, sr);
     bound += fabs(p) * (sr->halfwidth_m + sr->bias_m);
     bias += fabs(p) * sr->bias_m;
   }
   return run->noisy ? run->cfg->z * sqrt(var) + bias : bound;
 }
 
-/* The first fed search that a . c depends on (|p_j| above rounding) but that is not verified,
- * or -1. */
+/* The first fed search that a . c depends on (a coefficient above rounding) but that is not
+ * verified, or -1. */
 static int dir_unverified(const run_t *run, const qlearn_solve_result_t *res, const double a[3]) {
-  const int first = 3 - res->rank;
   for (size_t i = 0; i < run->out->search_count; ++i) {
     const estimate_search_t *sr = &run->out->search[i];
-    if (!sr->fed || sr->verified) continue;
-    double p = 0.0;
-    for (int e = first; e < 3; ++e)
-      p += dot3(res->eigenvector[e], a) * dot3(res->eigenvector[e], sr->plane_n_obj) /
-           res->eigenvalue[e];
-    if (fabs(p) * sqrt(res->eigenvalue[2]) > 1e-9) return (int)i;
+    if (sr->fed && !sr->verified && fabs(plane_coef(run, res, a, sr)) > 1e-9) return (int)i;
   }
   return -1;
 }
@@ -645,9 +651,10 @@ static estimate_status_t update_guess(run_t *run, qlearn_solve_result_t *res) {
   if (s != ESTIMATE_OK) return s;
   run->last = *res;
   run->have_solve = 1;
-  for (int k = 0; k < 3; ++k) {
+  for (int k = 0; k < 3; ++k) { /* INFINITY while a component is not found */
     const double e[3] = {k == 0, k == 1, k == 2};
-    run->halfwidth_m[k] = dir_halfwidth(run, res, e);
+    const double hw = dir_halfwidth(run, res, e);
+    run->halfwidth_m[k] = hw <= run->cfg->max_halfwidth_m ? hw : INFINITY;
   }
   if (res->rank == 0) return ESTIMATE_OK;
   double *pts[2] = {run->guess_m, run->start_m};
