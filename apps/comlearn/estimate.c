@@ -303,6 +303,32 @@ static estimate_status_t edge_trial(run_t *run, const search_ctx_t *sc, double x
   return ESTIMATE_OK;
 }
 
+static int clear_outcome(const estimate_trial_t *t) {
+  return t->outcome == BALANCE_STAYS || t->outcome == BALANCE_TIPS;
+}
+
+/* Record a clear trial's outcome in a policy. */
+static qlearn_status_t observe_trial(qlearn_policy_t *pol, const estimate_trial_t *t) {
+  return qlearn_policy_observe(pol, t->x_m, t->outcome == BALANCE_STAYS ? QLEARN_STAYS : QLEARN_TIPS);
+}
+
+/* Does trial i (of search sr, clear) set the threshold? Noiseless: it is one of the two
+ * bracketing trials; with a noise model: it lies within c +- (h + 3 sigma). */
+static int deciding_trial(const run_t *run, const estimate_search_t *sr, size_t i) {
+  if (!run->noisy) return (int)i == sr->lo_trial || (int)i == sr->hi_trial;
+  return fabs(run->out->trial[i].x_m - sr->c_m) <= sr->halfwidth_m + 3.0 * run->cfg->noise_sigma_m;
+}
+
+/* The probit noise model of cfg->noise_sigma_m in a PBA config; its searches stop at
+ * max(resolution, sigma), at most the range. */
+static void probit_config(const run_t *run, qlearn_policy_config_t *pc) {
+  pc->noise = QLEARN_NOISE_PROBIT;
+  pc->sigma_m = run->cfg->noise_sigma_m;
+  pc->resolution_m = fmax(run->cfg->resolution_m, run->cfg->noise_sigma_m);
+  if (pc->resolution_m > pc->range_hi_m - pc->range_lo_m)
+    pc->resolution_m = pc->range_hi_m - pc->range_lo_m;
+}
+
 /* Run the trials `pol` asks for until it is done. An unclear outcome (INVALID: still moving at
  * the horizon, or SLIDES) says nothing about the CoM: it is logged, flagged and not observed; the
  * placement is retried a quarter of the resolution further on (at most ESTIMATE_RETRIES times; the
@@ -329,14 +355,14 @@ static estimate_status_t search_walk(run_t *run, const search_ctx_t *sc, qlearn_
       estimate_status_t s = edge_trial(run, sc, xa, &t);
       if (s != ESTIMATE_OK) return s;
       if (ran) ++*ran;
-      if (t->outcome == BALANCE_STAYS || t->outcome == BALANCE_TIPS) break;
+      if (clear_outcome(t)) break;
       t = NULL;
     }
     if (!t) {
       snprintf(stopped, stopped_size, "no clear outcome near x = %.3f mm", 1e3 * x);
       return ESTIMATE_OK;
     }
-    qs = qlearn_policy_observe(pol, t->x_m, t->outcome == BALANCE_STAYS ? QLEARN_STAYS : QLEARN_TIPS);
+    qs = observe_trial(pol, t);
     if (qs == QLEARN_E_RANGE) {
       snprintf(stopped, stopped_size,
                "outcome at x = %.3f mm contradicts the earlier ones (noise, or physics the "
@@ -352,10 +378,6 @@ static estimate_status_t search_walk(run_t *run, const search_ctx_t *sc, qlearn_
   return ESTIMATE_OK;
 }
 
-static int clear_outcome(const estimate_trial_t *t) {
-  return t->outcome == BALANCE_STAYS || t->outcome == BALANCE_TIPS;
-}
-
 /* Noisy walk: hand over to PBA with the probit noise model, starting from the posterior of every
  * clear trial the walk made, and run it until its interval is narrow enough. */
 static estimate_status_t search_handover(run_t *run, const search_ctx_t *sc,
@@ -367,10 +389,7 @@ static estimate_status_t search_handover(run_t *run, const search_ctx_t *sc,
   pc.range_lo_m = walk->range_lo_m;
   pc.range_hi_m = walk->range_hi_m;
   pc.prior_m = walk->prior_m;
-  pc.noise = QLEARN_NOISE_PROBIT;
-  pc.sigma_m = run->cfg->noise_sigma_m;
-  pc.resolution_m = fmax(run->cfg->resolution_m, run->cfg->noise_sigma_m);
-  if (pc.resolution_m > pc.range_hi_m - pc.range_lo_m) pc.resolution_m = pc.range_hi_m - pc.range_lo_m;
+  probit_config(run, &pc);
   pc.max_trials = QLEARN_MAX_TRIALS;
   qlearn_policy_t *pba = &run->handover;
   qlearn_status_t qs = qlearn_policy_init(pba, &pc);
@@ -378,7 +397,7 @@ static estimate_status_t search_handover(run_t *run, const search_ctx_t *sc,
   for (size_t i = 0; qs == QLEARN_OK && i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
     if (t->search != sc->si || !clear_outcome(t)) continue;
-    qs = qlearn_policy_observe(pba, t->x_m, t->outcome == BALANCE_STAYS ? QLEARN_STAYS : QLEARN_TIPS);
+    qs = observe_trial(pba, t);
     ++seen;
   }
   if (qs == QLEARN_E_DONE) qs = QLEARN_OK; /* already narrow enough */
@@ -402,7 +421,6 @@ static void search_plane(run_t *run, const search_ctx_t *sc) {
   estimate_result_t *out = run->out;
   estimate_search_t *sr = &out->search[sc->si];
   const double c = sr->c_m;
-  const double win = sr->halfwidth_m + 3.0 * run->cfg->noise_sigma_m;
   const int ends[2] = {sr->lo_trial, sr->hi_trial};
   double n_obj[3] = {0, 0, 0}, d = 0.0;
   int nb = 0;
@@ -428,8 +446,7 @@ static void search_plane(run_t *run, const search_ctx_t *sc) {
   for (size_t i = 0; i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
     if (t->search != sc->si || !clear_outcome(t)) continue;
-    const int deciding = run->noisy ? fabs(t->x_m - c) <= win : (int)i == ends[0] || (int)i == ends[1];
-    if (deciding && t->flagged) {
+    if (deciding_trial(run, sr, i) && t->flagged) {
       sr->flat_failed = 1;
       snprintf(sr->note, sizeof sr->note,
                "a trial that sets the threshold (x = %.3f mm) is not in the flat-patch regime "
@@ -522,11 +539,7 @@ static estimate_status_t search_run(run_t *run, int face_index, int log_face, do
   pc.prior_m = prior;
   pc.resolution_m = run->cfg->resolution_m;
   pc.seed = run->cfg->seed;
-  if (run->cfg->policy == QLEARN_POLICY_PBA && run->noisy) {
-    pc.noise = QLEARN_NOISE_PROBIT;
-    pc.sigma_m = run->cfg->noise_sigma_m;
-    pc.resolution_m = fmax(pc.resolution_m, run->cfg->noise_sigma_m);
-  }
+  if (run->cfg->policy == QLEARN_POLICY_PBA && run->noisy) probit_config(run, &pc);
   qlearn_policy_t *pol = &run->policy;
   qlearn_status_t qs = qlearn_policy_init(pol, &pc);
   if (qs != QLEARN_OK) {
@@ -890,14 +903,12 @@ static double search_verified_margin(run_t *run, int si, const qlearn_solve_resu
                                      int *bounded) {
   const estimate_result_t *out = run->out;
   const estimate_search_t *sr = &out->search[si];
-  const double sigma = run->cfg->noise_sigma_m, win = sr->halfwidth_m + 3.0 * sigma;
+  const double sigma = run->cfg->noise_sigma_m;
   double worst = HUGE_VAL;
   *bounded = 1;
   for (size_t i = 0; i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
-    if (t->search != si || !clear_outcome(t)) continue;
-    if (run->noisy ? !(fabs(t->x_m - sr->c_m) <= win) : (int)i != sr->lo_trial && (int)i != sr->hi_trial)
-      continue;
+    if (t->search != si || !clear_outcome(t) || !deciding_trial(run, sr, i)) continue;
     if (balance_regime_classify(run->mesh, &t->released, run->backend->base_size_m,
                                 BALANCE_EDGE_PX, run->guess_m, NULL, &run->regime) != BALANCE_OK ||
         !run->regime.patch.flat)
