@@ -317,6 +317,23 @@ START_TEST(two_feet_chord_is_the_real_contact) {
   ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, mid, BALANCE_EDGE_PX, 0.0, NULL, &at0),
                    BALANCE_OK);
   ck_assert(at0 == -HUGE_VAL);
+  /* The batch form gives what the single calls give, pair by pair. */
+  const double yaws[4] = {0.0, yaw, 1.0, 2.5};
+  const double pts[4][3] = {{0, 0, 0}, {0, 0, 0}, {0.02, 0.005, 0}, {-0.015, 0.01, 0}};
+  double batch[4];
+  ck_assert_int_eq(balance_yaw_margins(&m, kIdentity, BALANCE_EDGE_PX, NULL, 4, yaws, pts, batch),
+                   BALANCE_OK);
+  for (int i = 0; i < 4; ++i) {
+    double one = 0.0;
+    ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, pts[i], BALANCE_EDGE_PX, yaws[i], NULL, &one),
+                     BALANCE_OK);
+    ck_assert(batch[i] == one);
+  }
+  const double bad_yaws[2] = {0.0, NAN};
+  ck_assert_int_eq(balance_yaw_margins(&m, kIdentity, BALANCE_EDGE_PX, NULL, 2, bad_yaws, pts, batch),
+                   BALANCE_E_NONFINITE);
+  ck_assert_int_eq(balance_yaw_margins(&m, kIdentity, BALANCE_EDGE_PX, NULL, 0, NULL, NULL, NULL),
+                   BALANCE_OK);
   /* The hull face under the feet: real area of one foot, two regions. */
   balance_face_t f[16];
   size_t n = 0;

@@ -691,22 +691,23 @@ static estimate_status_t update_guess(run_t *run, qlearn_solve_result_t *res) {
  * patch that changes little; where the contact has gaps (two feet) a line that just crosses both
  * at the estimate but misses one a few mm away is not chosen. */
 static estimate_status_t yaw_margins(run_t *run, const balance_face_t *f, double m[YAW_STEPS]) {
+  enum { N = 3 * YAW_STEPS };
+  double yaw[N], com[N][3], mj[N];
   for (int k = 0; k < YAW_STEPS; ++k) {
     double q[4], u[3];
     balance_orientation_yawed(f->orientation_wxyz, k * PI / YAW_STEPS, q);
     dir_of(q, u);
     const double e = run->have_solve ? fmin(dir_halfwidth(run, &run->last, u), ESTIMATE_PLAN_OFFSET_M)
                                      : ESTIMATE_PLAN_OFFSET_M;
-    m[k] = HUGE_VAL;
-    for (int j = -1; j <= 1; ++j) {
-      double c[3], mj;
-      for (int i = 0; i < 3; ++i) c[i] = run->guess_m[i] + j * e * u[i];
-      balance_status_t bs = balance_yaw_margin(run->mesh, f->orientation_wxyz, c, BALANCE_EDGE_PX,
-                                               k * PI / YAW_STEPS, NULL, &mj);
-      if (bs != BALANCE_OK) return fail(run, ESTIMATE_E_GEOMETRY, balance_status_str(bs));
-      if (mj < m[k]) m[k] = mj;
+    for (int j = 0; j < 3; ++j) {
+      yaw[3 * k + j] = k * PI / YAW_STEPS;
+      for (int i = 0; i < 3; ++i) com[3 * k + j][i] = run->guess_m[i] + (j - 1) * e * u[i];
     }
   }
+  balance_status_t bs = balance_yaw_margins(run->mesh, f->orientation_wxyz, BALANCE_EDGE_PX, NULL,
+                                            N, yaw, (const double(*)[3])com, mj);
+  if (bs != BALANCE_OK) return fail(run, ESTIMATE_E_GEOMETRY, balance_status_str(bs));
+  for (int k = 0; k < YAW_STEPS; ++k) m[k] = fmin(mj[3 * k], fmin(mj[3 * k + 1], mj[3 * k + 2]));
   return ESTIMATE_OK;
 }
 

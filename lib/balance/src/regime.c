@@ -518,19 +518,45 @@ static balance_status_t yaw_setup(const model_mesh_t *mesh_link, const double or
   return BALANCE_OK;
 }
 
+balance_status_t balance_yaw_margins(const model_mesh_t *mesh_link,
+                                     const double orientation_wxyz[4], balance_edge_t edge,
+                                     const balance_regime_config_t *cfg, size_t n,
+                                     const double *yaw_rad, const double (*com_estimate_link_m)[3],
+                                     double *margin_m) {
+  if (n == 0) return BALANCE_OK;
+  if (yaw_rad == NULL || com_estimate_link_m == NULL) return BALANCE_E_ARG;
+  for (size_t i = 0; i < n; ++i) {
+    if (!isfinite(yaw_rad[i])) return BALANCE_E_NONFINITE;
+    const balance_status_t st = vec_check(com_estimate_link_m[i]);
+    if (st != BALANCE_OK) return st;
+  }
+  contact_t *ct = NULL;
+  double p[2], along[2];
+  const double dummy = 0.0;
+  /* the contact depends on the orientation only: built once for every (yaw, point) */
+  balance_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m[0], edge,
+                                  margin_m, &dummy, cfg, &ct, p, along);
+  if (st == BALANCE_OK) {
+    double q[4];
+    balance_geom_quat_check(orientation_wxyz, q);
+    for (size_t i = 0; i < n; ++i) {
+      double cw[3];
+      balance_geom_quat_rotate(q, com_estimate_link_m[i], cw);
+      const double pi[2] = {cw[0], cw[1]};
+      margin_m[i] = yaw_margin(ct, pi, along, yaw_rad[i]);
+    }
+  }
+  if (ct != NULL) contact_free(ct);
+  return st;
+}
+
 balance_status_t balance_yaw_margin(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
                                     const double com_estimate_link_m[3], balance_edge_t edge,
                                     double yaw_rad, const balance_regime_config_t *cfg,
                                     double *margin_m) {
-  if (!isfinite(yaw_rad)) return BALANCE_E_NONFINITE;
-  contact_t *ct = NULL;
-  double p[2], along[2];
-  const double dummy = 0.0;
-  balance_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m, edge, margin_m,
-                                  &dummy, cfg, &ct, p, along);
-  if (st == BALANCE_OK) *margin_m = yaw_margin(ct, p, along, yaw_rad);
-  if (ct != NULL) contact_free(ct);
-  return st;
+  if (com_estimate_link_m == NULL) return BALANCE_E_ARG;
+  return balance_yaw_margins(mesh_link, orientation_wxyz, edge, cfg, 1, &yaw_rad,
+                             (const double(*)[3])com_estimate_link_m, margin_m);
 }
 
 balance_status_t balance_yaw_best(const model_mesh_t *mesh_link, const double orientation_wxyz[4],

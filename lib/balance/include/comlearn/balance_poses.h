@@ -154,6 +154,16 @@ balance_status_t balance_yaw_margin(const model_mesh_t *mesh_link, const double 
                                     double yaw_rad, const balance_regime_config_t *cfg,
                                     double *margin_m);
 
+/* balance_yaw_margin for n (yaw, CoM estimate) pairs of one orientation at once: margin_m[i] for
+ * yaw_rad[i] and com_estimate_link_m[i]. The resting contact is built once (it depends on the
+ * orientation only), so a sweep costs one patch plus n chords. n == 0 does nothing. Errors as
+ * balance_yaw_margin (any yaw non-finite: BALANCE_E_NONFINITE). */
+balance_status_t balance_yaw_margins(const model_mesh_t *mesh_link,
+                                     const double orientation_wxyz[4], balance_edge_t edge,
+                                     const balance_regime_config_t *cfg, size_t n,
+                                     const double *yaw_rad, const double (*com_estimate_link_m)[3],
+                                     double *margin_m);
+
 /* The yaw in [0, pi) that maximises that chord margin (yaw + pi gives the same chord with the
  * object on the other side of the edge). Sweeps 0.5-degree steps, then refines by golden section
  * (40 iterations) around the best step: deterministic. *margin_m is -HUGE_VAL (and *yaw_rad 0)
