@@ -11,3 +11,7 @@ add_test(NAME estimate_no_inertial_symbols
          COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:comlearn_estimate>
                  -DANCHOR=estimate_run
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/no_inertial_symbols.cmake)
+# Every bundled rock's estimate, bit for bit, against tests/data/estimate_golden.txt (written
+# before the estimator moved into lib/estimate).
+comlearn_add_check(check_estimate_golden SOURCES check_estimate_golden.c
+  LIBS comlearn_estimate_direct comlearn_estimate comlearn_model_sim TIMEOUT 900)
