@@ -26,7 +26,7 @@
 #include <unistd.h>
 
 #include "comlearn/model.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
 

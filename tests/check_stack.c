@@ -92,7 +92,7 @@ static void rotate(const double q[4], const double v[3], double out[3]) {
   for (int i = 0; i < 3; ++i) out[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2];
 }
 
-static void world_com(const balance_pose_t *p, const double com[3], double out[3]) {
+static void world_com(const model_pose_t *p, const double com[3], double out[3]) {
   rotate(p->orientation_wxyz, com, out);
   for (int i = 0; i < 3; ++i) out[i] += p->position_m[i];
 }

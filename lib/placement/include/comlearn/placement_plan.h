@@ -133,7 +133,7 @@ typedef struct {
   unsigned ik_iterations;           /* summed over the three IK solves (diagnostics) */
 } placement_plan_t;
 
-/* Convert a position and a quaternion (w, x, y, z), e.g. a balance_pose_t's fields, to a pose.
+/* Convert a position and a quaternion (w, x, y, z), e.g. a model_pose_t's fields, to a pose.
  * The quaternion is normalised; PLACEMENT_E_ROTATION when its norm is off 1 by more than 1e-6,
  * PLACEMENT_E_NONFINITE, PLACEMENT_E_ARG (NULL). *out is unchanged on error. */
 placement_status_t placement_pose_from_wxyz(const double position_m[3],
