@@ -47,69 +47,70 @@ double model_mesh_bottom_z(const model_mesh_t *m, const double q_in[4]) {
   return lo;
 }
 
-/* Lowest z of the segment (s0, z0)-(s1, z1) of a vertical plane within |s| <= half (z is linear
- * along it: the lowest point is an end of the clipped segment); INFINITY if it misses. */
-static double clipped_low_z(double s0, double z0, double s1, double z1, double half) {
-  if (s1 < s0) {
-    double t = s0;
-    s0 = s1, s1 = t, t = z0, z0 = z1, z1 = t;
+static void keep_min(double z, int *found, double *best) {
+  if (!*found || z < *best) {
+    *best = z;
+    *found = 1;
   }
-  if (s1 < -half || s0 > half) return INFINITY;
-  if (!(s1 > s0)) return fmin(z0, z1);
-  const double a = fmax(s0, -half), b = fmin(s1, half);
-  return fmin(z0 + (a - s0) / (s1 - s0) * (z1 - z0), z0 + (b - s0) / (s1 - s0) * (z1 - z0));
 }
 
-/* Lowest world z, with the link origin at pos (z as given), of the part of the mesh that lies
- * over B as a solid box: vertices over the footprint |x| <= hx, |y| <= hy, and every triangle's
- * cut by the vertical planes x = +-hx, y = +-hy within the footprint's side there (B's top edge
- * lines, their ends the corners). INFINITY when no part of the mesh is over B. */
-static double solid_touch_z(const model_mesh_t *m, double r[3][3], const double pos[3],
-                            double hx, double hy) {
-  double lo = INFINITY;
-  for (size_t i = 0; i < m->vertex_count; i++) {
-    double v[3];
-    link_vertex_world(r, pos, m->vertices_m[i], v);
-    if (fabs(v[0]) <= hx && fabs(v[1]) <= hy) lo = fmin(lo, v[2]);
-  }
-  for (size_t t = 0; t < m->triangle_count; t++) {
-    double x[3][3];
-    for (int k = 0; k < 3; k++) link_vertex_world(r, pos, m->vertices_m[m->triangles[t][k]], x[k]);
-    for (int pl = 0; pl < 4; pl++) {
-      const int axis = pl < 2 ? 0 : 1, along = 1 - axis;
-      const double plane = (pl % 2 == 0 ? 1.0 : -1.0) * (axis == 0 ? hx : hy);
-      const double half = axis == 0 ? hy : hx;
-      double d[3];
-      for (int k = 0; k < 3; k++) d[k] = x[k][axis] - plane;
-      if ((d[0] > 0.0 && d[1] > 0.0 && d[2] > 0.0) || (d[0] < 0.0 && d[1] < 0.0 && d[2] < 0.0))
-        continue;
-      if (d[0] == 0.0 && d[1] == 0.0 && d[2] == 0.0) { /* the triangle lies in the plane */
-        for (int k = 0; k < 3; k++) {
-          const int j = (k + 1) % 3;
-          lo = fmin(lo, clipped_low_z(x[k][along], x[k][2], x[j][along], x[j][2], half));
-        }
-        continue;
-      }
-      /* Otherwise the triangle meets the plane in a segment (or a point): at most two points,
-       * its vertices on the plane and its edges' crossings. */
-      double s[2] = {0.0, 0.0}, z[2] = {0.0, 0.0};
-      int n = 0;
-      for (int k = 0; k < 3 && n < 2; k++) {
-        const int j = (k + 1) % 3;
-        if (d[k] == 0.0) {
-          s[n] = x[k][along];
-          z[n++] = x[k][2];
-        } else if (d[k] * d[j] < 0.0) {
-          const double u = d[k] / (d[k] - d[j]);
-          s[n] = x[k][along] + u * (x[j][along] - x[k][along]);
-          z[n++] = x[k][2] + u * (x[j][2] - x[k][2]);
-        }
-      }
-      if (n == 1) s[1] = s[0], z[1] = z[0];
-      if (n > 0) lo = fmin(lo, clipped_low_z(s[0], z[0], s[1], z[1], half));
+/* Where the segment p -> q crosses the line coordinate[axis] = c, with the other coordinate
+ * within +-half_other: the z there. */
+static void edge_crossing(const double p[3], const double q[3], int axis, double c,
+                          double half_other, int *found, double *best) {
+  const double dp = p[axis] - c, dq = q[axis] - c;
+  if ((dp > 0.0 && dq > 0.0) || (dp < 0.0 && dq < 0.0) || dp == dq) return;
+  const double t = dp / (dp - dq);
+  const int other = 1 - axis;
+  const double u = p[other] + t * (q[other] - p[other]);
+  if (fabs(u) > half_other) return;
+  keep_min(p[2] + t * (q[2] - p[2]), found, best);
+}
+
+int model_mesh_lowest_over_rect(const model_mesh_t *mesh, const double (*r)[3], double ox,
+                               double oy, double half_x, double half_y, double *z_m) {
+  int found = 0;
+  double best = 0.0;
+  for (size_t i = 0; i < mesh->vertex_count; ++i) {
+    const double *v = mesh->vertices_m[i];
+    const double x = r[0][0] * v[0] + r[0][1] * v[1] + r[0][2] * v[2] + ox;
+    const double y = r[1][0] * v[0] + r[1][1] * v[1] + r[1][2] * v[2] + oy;
+    if (fabs(x) <= half_x && fabs(y) <= half_y) {
+      keep_min(r[2][0] * v[0] + r[2][1] * v[1] + r[2][2] * v[2], &found, &best);
     }
   }
-  return lo;
+  const double corners[4][2] = {{-half_x, -half_y}, {half_x, -half_y}, {half_x, half_y},
+                                {-half_x, half_y}};
+  for (size_t t = 0; t < mesh->triangle_count; ++t) {
+    double w[3][3];
+    for (int k = 0; k < 3; ++k) {
+      const double *v = mesh->vertices_m[mesh->triangles[t][k]];
+      for (int a = 0; a < 3; ++a) w[k][a] = r[a][0] * v[0] + r[a][1] * v[1] + r[a][2] * v[2];
+      w[k][0] += ox;
+      w[k][1] += oy;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const double *p = w[k], *q = w[(k + 1) % 3];
+      edge_crossing(p, q, 0, -half_x, half_y, &found, &best);
+      edge_crossing(p, q, 0, half_x, half_y, &found, &best);
+      edge_crossing(p, q, 1, -half_y, half_x, &found, &best);
+      edge_crossing(p, q, 1, half_y, half_x, &found, &best);
+    }
+    /* Rectangle corners inside the projected triangle: barycentric z. */
+    const double e1x = w[1][0] - w[0][0], e1y = w[1][1] - w[0][1];
+    const double e2x = w[2][0] - w[0][0], e2y = w[2][1] - w[0][1];
+    const double det = e1x * e2y - e2x * e1y;
+    if (fabs(det) <= 1e-300) continue; /* vertical triangle: its edges were visited */
+    for (int c = 0; c < 4; ++c) {
+      const double dx = corners[c][0] - w[0][0], dy = corners[c][1] - w[0][1];
+      const double b1 = (dx * e2y - e2x * dy) / det;
+      const double b2 = (e1x * dy - dx * e1y) / det;
+      if (b1 < 0.0 || b2 < 0.0 || b1 + b2 > 1.0) continue;
+      keep_min(w[0][2] + b1 * (w[1][2] - w[0][2]) + b2 * (w[2][2] - w[0][2]), &found, &best);
+    }
+  }
+  if (found) *z_m = best;
+  return found;
 }
 
 model_status_t model_pose_over_edge(const model_mesh_t *m, const double base_size_m[3],
@@ -161,9 +162,10 @@ model_status_t model_pose_over_edge(const model_mesh_t *m, const double base_siz
     /* The lowest vertices are off B: lowered vertically, the mesh first touches B's top face
      * (a vertex over the footprint) or a top edge line (a triangle crossing the edge's vertical
      * plane within the edge's length; B's corners are the ends of those segments). */
-    p.position_m[2] = 0.0;
-    const double zlow = solid_touch_z(m, r, p.position_m, hx, hy);
-    if (!isfinite(zlow)) return MODEL_E_POSE;
+    double zlow = 0.0;
+    if (!model_mesh_lowest_over_rect(m, (const double(*)[3])r, p.position_m[0], p.position_m[1],
+                                     hx, hy, &zlow))
+      return MODEL_E_POSE;
     p.position_m[2] = -zlow - touch_depth_m;
   }
   *out = p;

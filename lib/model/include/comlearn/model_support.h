@@ -62,6 +62,16 @@ model_status_t model_mesh_usable(const model_mesh_t *mesh);
  * non-finite quaternion or one whose norm is off 1 by more than MODEL_QUAT_UNIT_TOL. */
 double model_mesh_bottom_z(const model_mesh_t *mesh_link, const double orientation_wxyz[4]);
 
+/* The lowest z of the mesh surface over the rectangle |x| <= half_x, |y| <= half_y (B's top
+ * face) with the mesh's link frame rotated by rot and its origin at (ox, oy, 0). Exact: the
+ * minimum of z over each triangle's part above the rectangle is attained at a vertex of that part
+ * (a triangle vertex inside the rectangle, a triangle edge crossing a side of the rectangle, or a
+ * rectangle corner inside the triangle's projection), and all three kinds are visited. Returns 1
+ * and *z_m when some of the mesh is over the rectangle, 0 when none is. O(triangles). The one
+ * resting height of the project: model_pose_over_edge and lib/placement's plans use it. */
+int model_mesh_lowest_over_rect(const model_mesh_t *mesh, const double (*rot)[3], double ox,
+                               double oy, double half_x, double half_y, double *z_m);
+
 /* The pose that sets the object (mesh_link) in `orientation_wxyz` down on a block B of size
  * base_size_m with the link-frame point point_link_m exactly over `edge` (normal . p = d in the
  * world), at `along_m` along the edge (the point's world y for the X edges, its world x for the Y
