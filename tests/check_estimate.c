@@ -125,7 +125,7 @@ START_TEST(rock_every_component) {
     ck_assert_msg(fabs(r->com_m[k] - truth.com_m[k]) <= r->halfwidth_m[k],
                   "%s component %d: error %.4f mm outside +-%.4f mm", rocks[_i], k,
                   1e3 * fabs(r->com_m[k] - truth.com_m[k]), 1e3 * r->halfwidth_m[k]);
-  /* DESIGN target: every component found, max error <= 0.2 mm */
+  /* docs/design.md target: every component found, max error <= 0.2 mm */
   ck_assert_msg(maxerr <= 2e-4, "%s: max error %.4f mm", rocks[_i], 1e3 * maxerr);
   /* two directions on the first face, one on a second, non-parallel face; all fed */
   ck_assert_uint_eq(r->search_count, 3);

@@ -71,8 +71,9 @@ typedef struct {
   double min_duration_s;          /* no segment shorter; default 0.1, [0, 60] */
   double gripper_speed_m_s;       /* opening speed (ABB's MAX_SPEED 25 mm/s); default 0.025, > 0 */
   double release_opening_m;       /* RELEASE width = grip width + this; default 0.01, [0, 0.05] */
-  double gripper_max_width_m;     /* largest opening; default 0.05 (2 x the URDF's 0.025 per
-                                     finger; ABB's software caps 25 mm: see docs) */
+  double gripper_max_width_m;     /* largest opening; default 0.05, comlearn-sim's limit (the
+                                     URDF's fingers travel 0.0125 m each, 0.025 m in all, ABB's
+                                     software cap: see docs/placement.md) */
   double clearance_m;             /* the gripper boxes must stay this far from B (B's box grown by
                                      it on every side); default 0.002, [0, 0.1] */
   unsigned approach_steps;        /* PREPLACE and RETREAT are solved along the straight tcp line
