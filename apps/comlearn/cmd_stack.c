@@ -1,8 +1,8 @@
 /*
  * cmd_stack.c - `comlearn stack OBJECT.urdf...`: believe a CoM for every object (learned with the
  * estimator, the bounding-box center, or the URDF truth as an oracle), plan a stack on those
- * beliefs from geometry only (stack_plan.c), then release it in simulation with the truth
- * (stack_sim.c) and report whether it stands.
+ * beliefs from geometry only (lib/stack), then release it in simulation with the truth
+ * (stack_simulate) and report whether it stands.
  */
 #define _GNU_SOURCE
 #include "cmd_stack.h"
@@ -18,12 +18,13 @@
 
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "comlearn/stack.h"
 #include "estimate.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
 #include "log.h"
 #include "out.h"
-#include "stack.h"
+#include "stack_svg.h"
 
 enum { EXIT_USAGE = 2 };
 

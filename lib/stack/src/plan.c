@@ -1,5 +1,5 @@
 /*
- * stack_plan.c - the planner of `comlearn stack` (library comlearn_stack): geometry and believed
+ * plan.c - the stack planner (lib/stack, library comlearn_stack): geometry and believed
  * CoMs in, an order and poses out. Never reads the URDF <inertial> (nm-checked).
  *
  * Contacts (docs/stack.md): every object rests with a face of its convex hull (coplanar hull
@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "stack.h"
+#include "comlearn/stack.h"
 
 enum { BEAM_WIDTH = 48, FULL_EVAL = 16, MAX_PER_SIGNATURE = 3, MAX_UPPER_FACES = 8, MAX_LOWER_FACETS = 12 };
 
