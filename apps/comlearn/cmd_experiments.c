@@ -21,14 +21,15 @@
 #include <sys/types.h>
 #include <unistd.h>
 
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "estimate.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
 #include "experiments_svg.h"
-#include "log.h"
-#include "out.h"
 
 enum { EXIT_USAGE = 2, MAX_POLICIES = 4, MAX_SEEDS = 1000 };
 
@@ -280,9 +281,9 @@ static int run_one(const exp_opts_t *o, const exp_rock_t *rock, const model_obje
   deco.ctx = rec;
   deco.run = recorder_run;
 
-  double t0 = out_now_s();
+  double t0 = cli_time_now_s();
   run->status = estimate_run(&obj->mesh, &deco, &cfg, res);
-  run->wall_s = out_now_s() - t0;
+  run->wall_s = cli_time_now_s() - t0;
   if (lcmb && run->status == ESTIMATE_OK &&
       estimate_lcm_publish_estimate(lcmb, res, cfg.resolution_m, 1) != 0)
     LOG_W("publishing COM_ESTIMATE failed");
@@ -503,51 +504,32 @@ static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, s
 
 /* ---- JSON --------------------------------------------------------------------------------------- */
 
-static void js_str(FILE *f, const char *v) {
-  fputc('"', f);
-  for (const unsigned char *p = (const unsigned char *)(v ? v : ""); *p; ++p) {
-    if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p);
-    else if (*p < 0x20) fprintf(f, "\\u%04x", *p);
-    else fputc(*p, f);
-  }
-  fputc('"', f);
-}
-
-static void js_num(FILE *f, double v) {
-  if (isfinite(v)) fprintf(f, "%.9g", v);
-  else fputs("null", f);
-}
-
 static void js_vec(FILE *f, const char *key, const double v[3]) {
-  fprintf(f, "\"%s\": [", key);
-  for (int k = 0; k < 3; ++k) {
-    if (k) fputs(", ", f);
-    js_num(f, v[k]);
-  }
-  fputc(']', f);
+  fprintf(f, "\"%s\": ", key);
+  cli_json_array(f, v, 3);
 }
 
 static void js_stats(FILE *f, const exp_stats_t *st) {
   fprintf(f, "{\"runs\": %zu, \"failed_runs\": %zu, \"components\": %zu, \"found\": %zu, "
              "\"mean_abs_error_m\": ",
           st->runs, st->failed, st->comps, st->found);
-  js_num(f, mean_of(st->err_sum, st->errs));
+  cli_json_number(f, mean_of(st->err_sum, st->errs));
   fputs(", \"sd_abs_error_m\": ", f);
-  js_num(f, sd_of(st->err_sum, st->err_sq, st->errs));
+  cli_json_number(f, sd_of(st->err_sum, st->err_sq, st->errs));
   fputs(", \"p95_abs_error_m\": ", f);
-  js_num(f, pct_of(st->err, st->errs, 0.95));
+  cli_json_number(f, pct_of(st->err, st->errs, 0.95));
   fputs(", \"max_abs_error_m\": ", f);
-  js_num(f, st->errs ? st->err_max : NAN);
+  cli_json_number(f, st->errs ? st->err_max : NAN);
   fputs(", \"mean_halfwidth_m\": ", f);
-  js_num(f, mean_of(st->hw_sum, st->errs));
+  cli_json_number(f, mean_of(st->hw_sum, st->errs));
   fputs(", \"coverage\": ", f);
-  js_num(f, st->errs ? (double)st->covered / (double)st->errs : NAN);
+  cli_json_number(f, st->errs ? (double)st->covered / (double)st->errs : NAN);
   fputs(", \"mean_trials\": ", f);
-  js_num(f, mean_of(st->trials_sum, st->runs));
+  cli_json_number(f, mean_of(st->trials_sum, st->runs));
   fputs(", \"sd_trials\": ", f);
-  js_num(f, sd_of(st->trials_sum, st->trials_sq, st->runs));
+  cli_json_number(f, sd_of(st->trials_sum, st->trials_sq, st->runs));
   fputs(", \"mean_wall_s\": ", f);
-  js_num(f, mean_of(st->wall_sum, st->runs));
+  cli_json_number(f, mean_of(st->wall_sum, st->runs));
   fputc('}', f);
 }
 
@@ -556,18 +538,18 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
   fprintf(f, "{\"settings\": {\"policies\": [");
   for (int p = 0; p < o->npolicies; ++p) {
     if (p) fputs(", ", f);
-    js_str(f, estimate_policy_name(o->policy[p]));
+    cli_json_string(f, estimate_policy_name(o->policy[p]), 0);
   }
   fprintf(f, "], \"seeds\": %d, \"placement_noise_m\": ", o->seeds);
-  js_num(f, o->placement_noise_m);
+  cli_json_number(f, o->placement_noise_m);
   fputs(", \"pose_noise_m\": ", f);
-  js_num(f, o->pose_noise_m);
+  cli_json_number(f, o->pose_noise_m);
   fputs(", \"resolution_m\": ", f);
-  js_num(f, o->resolution_m);
+  cli_json_number(f, o->resolution_m);
   fputs(", \"noiseless_backend\": ", f);
-  js_str(f, o->lcm_url ? "lcm" : "direct");
+  cli_json_string(f, o->lcm_url ? "lcm" : "direct", 0);
   fputs(", \"lcm_url\": ", f);
-  if (o->lcm_url) js_str(f, o->lcm_url);
+  if (o->lcm_url) cli_json_string(f, o->lcm_url, 0);
   else fputs("null", f);
   fprintf(f, "}, \"wall_s\": %.3f, \"paper\": {\"rocks\": %d, \"components\": %d, \"not_found\": %d, "
              "\"min_abs_error_m\": %.4g, \"max_abs_error_m\": %.4g, \"mean_abs_error_m\": %.4g, "
@@ -578,9 +560,9 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
   for (size_t i = 0; i < nrocks; ++i) {
     const exp_rock_t *r = &rocks[i];
     fprintf(f, "%s{\"name\": ", i ? ", " : "");
-    js_str(f, r->stem);
+    cli_json_string(f, r->stem, 0);
     fputs(", \"urdf\": ", f);
-    js_str(f, r->path);
+    cli_json_string(f, r->path, 0);
     fputs(", ", f);
     js_vec(f, "bbox_center_m", r->bbox_center_m);
     fputs(", ", f);
@@ -608,26 +590,26 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
   for (size_t i = 0; i < nruns; ++i) {
     const exp_run_t *r = &runs[i];
     fprintf(f, "%s\n{\"object\": ", i ? "," : "");
-    js_str(f, rocks[r->rock].stem);
+    cli_json_string(f, rocks[r->rock].stem, 0);
     fprintf(f, ", \"policy\": \"%s\", \"noisy\": %s, \"start\": \"%s\", \"seed\": ",
             estimate_policy_name(r->policy), r->noisy ? "true" : "false",
             r->kind == RUN_PRIOR ? "uniform" : "bbox");
     if (r->noisy) fprintf(f, "%llu", (unsigned long long)r->seed);
     else fputs("null", f);
     fputs(", \"placement_noise_m\": ", f);
-    js_num(f, r->noisy ? o->placement_noise_m : 0.0);
+    cli_json_number(f, r->noisy ? o->placement_noise_m : 0.0);
     fputs(", \"pose_noise_m\": ", f);
-    js_num(f, r->noisy ? o->pose_noise_m : 0.0);
+    cli_json_number(f, r->noisy ? o->pose_noise_m : 0.0);
     fputs(", \"backend\": ", f);
-    js_str(f, r->backend);
+    cli_json_string(f, r->backend, 0);
     fputs(", \"resolution_m\": ", f);
-    js_num(f, r->resolution_m);
+    cli_json_number(f, r->resolution_m);
     fputs(", \"noise_sigma_m\": ", f);
-    js_num(f, r->noise_sigma_m);
+    cli_json_number(f, r->noise_sigma_m);
     fputs(", \"status\": ", f);
-    js_str(f, estimate_status_str(r->status));
+    cli_json_string(f, estimate_status_str(r->status), 0);
     fputs(", \"note\": ", f);
-    js_str(f, r->note);
+    cli_json_string(f, r->note, 0);
     fprintf(f, ", \"trials\": %zu, \"stable_trials\": %zu, \"flagged_trials\": %zu, "
                "\"search_trials\": [",
             r->trials, r->stable_trials, r->flagged_trials);
@@ -658,30 +640,18 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
     }
     fputs("], \"com_before_m\": [", f);
     for (size_t t = 0; t < r->nsteps; ++t) {
-      fputs(t ? ", [" : "[", f);
-      for (int k = 0; k < 3; ++k) {
-        if (k) fputs(", ", f);
-        js_num(f, r->steps[t].com_before_m[k]);
-      }
-      fputc(']', f);
+      if (t) fputs(", ", f);
+      cli_json_array(f, r->steps[t].com_before_m, 3);
     }
     fputs("], \"target_link_m\": [", f);
     for (size_t t = 0; t < r->nsteps; ++t) {
-      fputs(t ? ", [" : "[", f);
-      for (int k = 0; k < 3; ++k) {
-        if (k) fputs(", ", f);
-        js_num(f, r->steps[t].target_link_m[k]);
-      }
-      fputc(']', f);
+      if (t) fputs(", ", f);
+      cli_json_array(f, r->steps[t].target_link_m, 3);
     }
     fputs("], \"halfwidth_before_m\": [", f);
     for (size_t t = 0; t < r->nsteps; ++t) {
-      fputs(t ? ", [" : "[", f);
-      for (int k = 0; k < 3; ++k) {
-        if (k) fputs(", ", f);
-        js_num(f, r->steps[t].halfwidth_before_m[k]);
-      }
-      fputc(']', f);
+      if (t) fputs(", ", f);
+      cli_json_array(f, r->steps[t].halfwidth_before_m, 3);
     }
     fputs("]}}", f);
   }
@@ -842,8 +812,8 @@ int cmd_experiments(int argc, char **argv) {
         o.out_dir = optarg;
         break;
       case 'j': o.json = 1; break;
-      case 'v': log_set_level(LOG_DEBUG); break;
-      case 'q': o.quiet = 1; log_set_level(LOG_ERROR); break;
+      case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
+      case 'q': o.quiet = 1; cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
       default: usage(stderr); return EXIT_USAGE;
     }
@@ -880,7 +850,7 @@ int cmd_experiments(int argc, char **argv) {
   estimate_result_t *res = malloc(sizeof *res);
   int rc = EXIT_SUCCESS;
   size_t nruns = 0;
-  double t_all = out_now_s();
+  double t_all = cli_time_now_s();
   if (!rocks || !runs || !scratch || !rec || !res) {
     LOG_E("out of memory");
     rc = EXIT_FAILURE;
@@ -942,7 +912,7 @@ int cmd_experiments(int argc, char **argv) {
       LOG_W("%s: no truth to compare with: %s (%s)", rk->path, merr.msg, model_status_str(ms));
     }
   }
-  double wall = out_now_s() - t_all;
+  double wall = cli_time_now_s() - t_all;
   if (rc != EXIT_SUCCESS) goto done;
   size_t done_rocks = nrocks;
   if (o.json) write_json(stdout, &o, rocks, done_rocks, runs, nruns, scratch, wall);

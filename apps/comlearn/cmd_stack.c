@@ -16,14 +16,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "comlearn/stack.h"
 #include "estimate.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
-#include "log.h"
-#include "out.h"
 #include "stack_svg.h"
 
 enum { EXIT_USAGE = 2 };
@@ -190,53 +191,53 @@ static void print_json(const belief_t *bel, size_t n, stack_com_source_t src, co
   size_t level[STACK_MAX_OBJECTS] = {0};
   for (size_t k = 0; k < n; ++k) level[plan->order[k]] = k;
   printf("{\"stands\": %s, \"seconds_standing\": ", sim->run.stands ? "true" : "false");
-  out_json_number(sim->run.seconds_standing);
+  cli_json_number(stdout, sim->run.seconds_standing);
   printf(", \"duration_s\": ");
-  out_json_number(duration_s);
+  cli_json_number(stdout, duration_s);
   printf(", \"com_source\": \"%s\", \"oracle\": %s, \"order\": [", stack_com_source_str(src),
          src == STACK_COM_TRUE ? "true" : "false");
   for (size_t k = 0; k < n; ++k) printf("%s%zu", k ? ", " : "", plan->order[k]);
   double mn = HUGE_VAL;
   for (size_t k = 0; k < n; ++k) mn = fmin(mn, plan->margin_m[k]);
   printf("], \"min_margin_m\": ");
-  out_json_number(mn);
+  cli_json_number(stdout, mn);
   printf(", \"objects\": [");
   for (size_t i = 0; i < n; ++i) {
     const belief_t *b = &bel[i];
     const size_t k = level[i];
     printf("%s{\"urdf\": ", i ? ", " : "");
-    out_json_string(b->urdf, 0);
+    cli_json_string(stdout, b->urdf, 0);
     printf(", \"level\": %zu, \"com_m\": ", k);
-    out_json_array(b->com_m, 3);
+    cli_json_array(stdout, b->com_m, 3);
     printf(", \"halfwidth_m\": ");
-    out_json_array(b->halfwidth_m, 3);
+    cli_json_array(stdout, b->halfwidth_m, 3);
     printf(", \"found\": [%s, %s, %s], \"trials\": %zu, \"mass_guess_kg\": ",
            b->found[0] ? "true" : "false", b->found[1] ? "true" : "false",
            b->found[2] ? "true" : "false", b->trials);
-    out_json_number(b->mass_kg);
+    cli_json_number(stdout, b->mass_kg);
     printf(", \"margin_m\": ");
-    out_json_number(plan->margin_m[k]);
+    cli_json_number(stdout, plan->margin_m[k]);
     printf(", \"tilt_rad\": ");
-    out_json_number(plan->tilt_rad[k]);
+    cli_json_number(stdout, plan->tilt_rad[k]);
     printf(", \"pose\": {\"position_m\": ");
-    out_json_array(plan->pose[i].position_m, 3);
+    cli_json_array(stdout, plan->pose[i].position_m, 3);
     printf(", \"orientation_wxyz\": ");
-    out_json_array(plan->pose[i].orientation_wxyz, 4);
+    cli_json_array(stdout, plan->pose[i].orientation_wxyz, 4);
     printf("}, \"moved_at_s\": ");
-    out_json_number(sim->object[i].moved_at_s);
+    cli_json_number(stdout, sim->object[i].moved_at_s);
     printf(", \"displacement_m\": ");
-    out_json_number(sim->object[i].displacement_m);
+    cli_json_number(stdout, sim->object[i].displacement_m);
     printf(", \"rotation_rad\": ");
-    out_json_number(sim->object[i].rotation_rad);
+    cli_json_number(stdout, sim->object[i].rotation_rad);
     printf("}");
   }
   printf("], \"rehearsals\": %d, \"rehearsal_stands\": %s, \"max_tilt_deg\": ", reh->tried,
          reh->stood ? "true" : "false");
-  out_json_number(reh->tilt_deg);
+  cli_json_number(stdout, reh->tilt_deg);
   printf(", \"learn_seconds\": %.6f, \"plan_seconds\": %.6f, \"rehearse_seconds\": %.6f, "
          "\"sim_seconds\": %.6f, \"sim_time_s\": ",
          learn_s, plan_s, reh->seconds, sim_s);
-  out_json_number(sim->run.sim_time_s);
+  cli_json_number(stdout, sim->run.sim_time_s);
   printf("}\n");
 }
 
@@ -337,8 +338,8 @@ int cmd_stack(int argc, char **argv) {
         rehearse = 0;
         break;
       case 'j': json = 1; break;
-      case 'v': log_set_level(LOG_DEBUG); break;
-      case 'q': log_set_level(LOG_ERROR); break;
+      case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
+      case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
       default: usage(stderr); return EXIT_USAGE;
     }
@@ -370,7 +371,7 @@ int cmd_stack(int argc, char **argv) {
     b->mass_kg = mm.mass_kg;
   }
   /* The beliefs. */
-  const double t_learn = out_now_s();
+  const double t_learn = cli_time_now_s();
   for (size_t i = 0; i < n && rc == 0; ++i) {
     belief_t *b = &bel[i];
     switch (src) {
@@ -400,7 +401,7 @@ int cmd_stack(int argc, char **argv) {
   }
   if (src == STACK_COM_TRUE && rc == 0)
     LOG_I("--com true: planning on the URDF truth (an oracle, not a measurement)");
-  const double learn_s = out_now_s() - t_learn;
+  const double learn_s = cli_time_now_s() - t_learn;
 
   stack_plan_t *plan = NULL;
   stack_sim_result_t *sim = NULL;
@@ -441,7 +442,7 @@ int cmd_stack(int argc, char **argv) {
       LOG_E("out of memory");
       rc = EXIT_FAILURE;
     }
-    const double t0 = out_now_s();
+    const double t0 = cli_time_now_s();
     double step = -4.0;
     const double steepest = fmin(45.0, tilt_deg + 12.0);
     for (double tilt = tilt_deg; rc == 0 && tilt >= 4.0 - 1e-9 && tilt <= steepest + 1e-9;
@@ -466,9 +467,9 @@ int cmd_stack(int argc, char **argv) {
         reh.tilt_deg = tilt;
       }
       if (!rehearse) break;
-      const double tr = out_now_s();
+      const double tr = cli_time_now_s();
       const stack_status_t rs = stack_rehearse(in, n, cand, NULL, &rsc, rr);
-      reh.seconds += out_now_s() - tr;
+      reh.seconds += cli_time_now_s() - tr;
       ++reh.tried;
       if (rs != STACK_OK) {
         LOG_W("rehearsal failed: %s: %s", stack_status_str(rs), rr->msg);
@@ -483,7 +484,7 @@ int cmd_stack(int argc, char **argv) {
         break;
       }
     }
-    plan_s = out_now_s() - t0 - reh.seconds;
+    plan_s = cli_time_now_s() - t0 - reh.seconds;
     if (rc == 0 && have && rehearse && !reh.stood)
       LOG_W("no plan stood in rehearsal; building the first one (contacts up to %.0f deg)",
             reh.tilt_deg);
@@ -495,7 +496,7 @@ int cmd_stack(int argc, char **argv) {
         printf("{\"stands\": false, \"planned\": false, \"seconds_standing\": 0, \"com_source\": "
                "\"%s\", \"error\": ",
                stack_com_source_str(src));
-        out_json_string(plan->msg, 0);
+        cli_json_string(stdout, plan->msg, 0);
         printf(", \"learn_seconds\": %.6f, \"plan_seconds\": %.6f}\n", learn_s, plan_s);
       }
       rc = st == STACK_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
@@ -508,9 +509,9 @@ int cmd_stack(int argc, char **argv) {
     balance_stack_config_default(&sc);
     sc.duration_s = duration_s;
     LOG_I("simulating the stack for %.2f s with the true mass properties", duration_s);
-    const double t0 = out_now_s();
+    const double t0 = cli_time_now_s();
     const stack_status_t st = stack_simulate(paths, n, plan, NULL, &sc, sim);
-    sim_s = out_now_s() - t0;
+    sim_s = cli_time_now_s() - t0;
     if (st != STACK_OK) {
       LOG_E("simulation: %s: %s", stack_status_str(st), sim->msg);
       rc = st == STACK_E_ARG ? EXIT_USAGE : EXIT_FAILURE;

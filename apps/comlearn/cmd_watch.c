@@ -19,11 +19,12 @@
 
 #include <lcm/lcm.h>
 
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/comlearn_com_estimate_t.h"
 #include "comlearn/comlearn_com_trial_t.h"
 #include "comlearn/msg.h"
-#include "log.h"
-#include "out.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -99,13 +100,13 @@ static const char *component_name(int8_t c) {
 
 static void json_str(const char *key, const char *v) {
   printf("\"%s\": ", key);
-  out_json_string(v, 1); /* bytes as Latin-1, like lcm-spy */
+  cli_json_string(stdout, v, 1); /* bytes as Latin-1, like lcm-spy */
   printf(", ");
 }
 
 static void json_vec(const char *key, const double *v, int n) {
   printf("\"%s\": ", key);
-  out_json_array(v, n);
+  cli_json_array(stdout, v, (size_t)n);
   printf(", ");
 }
 
@@ -153,28 +154,28 @@ static void on_trial(const lcm_recv_buf_t *rbuf, const char *channel, const void
            outcome_name(t->outcome));
     json_vec("edge_normal_world", t->edge_normal_world, 3);
     printf("\"edge_offset_m\": ");
-    out_json_number(t->edge_offset_m);
+    cli_json_number(stdout, t->edge_offset_m);
     printf(", ");
     json_vec("target_point_link_m", t->target_point_link_m, 3);
     printf("\"target_offset_m\": ");
-    out_json_number(t->target_offset_m);
+    cli_json_number(stdout, t->target_offset_m);
     printf(", ");
     json_vec("released_position_m", t->released_position_m, 3);
     json_vec("released_orientation_wxyz", t->released_orientation_wxyz, 4);
     json_vec("settled_position_m", t->settled_position_m, 3);
     json_vec("settled_orientation_wxyz", t->settled_orientation_wxyz, 4);
     printf("\"displacement_m\": ");
-    out_json_number(t->displacement_m);
+    cli_json_number(stdout, t->displacement_m);
     printf(", \"rotation_rad\": ");
-    out_json_number(t->rotation_rad);
+    cli_json_number(stdout, t->rotation_rad);
     printf(", \"flat_patch\": %s, \"sideways_margin_m\": ", t->flat_patch ? "true" : "false");
-    out_json_number(t->sideways_margin_m);
+    cli_json_number(stdout, t->sideways_margin_m);
     printf(", ");
     json_vec("com_estimated_m", t->com_estimated_m, 3);
     printf("\"halfwidth_m\": [");
     for (int k = 0; k < 3; ++k) {
       if (k) printf(", ");
-      out_json_number(t->halfwidth_m[k]);
+      cli_json_number(stdout, t->halfwidth_m[k]);
     }
     printf("]}\n");
   } else {
@@ -205,7 +206,7 @@ static void on_estimate(const lcm_recv_buf_t *rbuf, const char *channel, const v
     json_str("object", e->object_id);
     json_str("policy", e->policy);
     printf("\"resolution_m\": ");
-    out_json_number(e->resolution_m);
+    cli_json_number(stdout, e->resolution_m);
     printf(", ");
     json_vec("com_m", e->com_estimated_m, 3);
     json_vec("halfwidth_m", e->halfwidth_m, 3);
@@ -269,8 +270,8 @@ int cmd_watch(int argc, char **argv) {
         break;
       }
       case 'j': w.json = 1; break;
-      case 'v': log_set_level(LOG_DEBUG); break;
-      case 'q': log_set_level(LOG_ERROR); break;
+      case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
+      case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
       default: usage(stderr); return EXIT_USAGE;
     }
@@ -319,11 +320,11 @@ int cmd_watch(int argc, char **argv) {
 
   /* Tests and scripts wait for this line before they start publishing. */
   LOG_I("listening on %s for %s and %s", url, MSG_CHANNEL_COM_TRIAL, MSG_CHANNEL_COM_ESTIMATE);
-  const double t0 = out_now_s();
+  const double t0 = cli_time_now_s();
   int rc = EXIT_SUCCESS;
   while (!g_stop && !(w.once && w.done_seen)) {
     if (timeout_s > 0) {
-      const double left = timeout_s - (out_now_s() - t0);
+      const double left = timeout_s - (cli_time_now_s() - t0);
       if (left <= 0) {
         if (w.once) {
           LOG_E("no final COM_ESTIMATE on %s within %g s", url, timeout_s);
