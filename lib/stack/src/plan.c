@@ -264,6 +264,126 @@ static int tri_area_cmp(const void *a, const void *b) {
   return 0;
 }
 
+/* Area, unit outward normal and plane offset of every hull triangle (tri), and the same planes
+ * for the clearance checks (planes[t] = (n, d)). */
+static void hull_triangles(const model_mesh_t *hull, tri_t *tri, double (*planes)[4]) {
+  for (size_t t = 0; t < hull->triangle_count; ++t) {
+    const double *a = hull->vertices_m[hull->triangles[t][0]];
+    const double *b = hull->vertices_m[hull->triangles[t][1]];
+    const double *c = hull->vertices_m[hull->triangles[t][2]];
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                   e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = sqrt(dot3(n, n));
+    tri[t].area = 0.5 * len;
+    for (int k = 0; k < 3 && len > 0.0; ++k) n[k] /= len;
+    memcpy(tri[t].n, n, sizeof n);
+    tri[t].d = dot3(n, a);
+    tri[t].group = -1;
+    for (int k = 0; k < 3; ++k) planes[t][k] = n[k];
+    planes[t][3] = tri[t].d;
+  }
+}
+
+/* Sort tri by area, largest first, with each triangle's vertex indices alongside in tv; every
+ * group reset to -1 (no face yet). */
+static void tris_sort_by_area(const model_mesh_t *hull, tri_t *tri, uint32_t (*tv)[3]) {
+  const size_t nt = hull->triangle_count;
+  for (size_t t = 0; t < nt; ++t) tri[t].group = (int)t;
+  qsort(tri, nt, sizeof *tri, tri_area_cmp);
+  for (size_t t = 0; t < nt; ++t) memcpy(tv[t], hull->triangles[tri[t].group], sizeof tv[t]);
+  for (size_t t = 0; t < nt; ++t) tri[t].group = -1;
+}
+
+/* The face seeded by triangle t (the largest not yet in a face): every later triangle within
+ * 2e-4 rad of its normal whose vertices lie within 1 um of its plane joins group t. *f: the
+ * area-weighted normal, the offset of the outermost vertex and the in-plane basis. */
+static void face_merge(const model_mesh_t *hull, tri_t *tri, const uint32_t (*tv)[3], size_t t,
+                       face_t *f) {
+  const size_t nt = hull->triangle_count;
+  const int g = (int)t;
+  double nsum[3] = {0, 0, 0};
+  for (size_t s = t; s < nt; ++s) {
+    if (tri[s].group >= 0 || dot3(tri[s].n, tri[t].n) < kMergeCos) continue;
+    int on = 1;
+    for (int k = 0; k < 3 && on; ++k)
+      on = fabs(dot3(tri[t].n, hull->vertices_m[tv[s][k]]) - tri[t].d) <= kPlaneTol;
+    if (!on) continue;
+    tri[s].group = g;
+    for (int k = 0; k < 3; ++k) nsum[k] += tri[s].area * tri[s].n[k];
+  }
+  memset(f, 0, sizeof *f);
+  const double len = sqrt(dot3(nsum, nsum));
+  for (int k = 0; k < 3; ++k) f->n[k] = nsum[k] / len;
+  f->d = -HUGE_VAL;
+  for (size_t s = t; s < nt; ++s)
+    if (tri[s].group == g)
+      for (int k = 0; k < 3; ++k) {
+        const double dd = dot3(f->n, hull->vertices_m[tv[s][k]]);
+        if (dd > f->d) f->d = dd;
+      }
+  model_plane_basis(f->n, f->u, f->v);
+}
+
+/* The mesh vertices within 1 um of f's plane: link frame into pts3, (u.x, v.x) into pts2.
+ * Returns their count. */
+static size_t face_points(const model_mesh_t *mesh, const face_t *f, double (*pts3)[3],
+                          double (*pts2)[2]) {
+  size_t np = 0;
+  for (size_t i = 0; i < mesh->vertex_count; ++i) {
+    if (fabs(dot3(f->n, mesh->vertices_m[i]) - f->d) > kPlaneTol) continue;
+    memcpy(pts3[np], mesh->vertices_m[i], sizeof pts3[np]);
+    pts2[np][0] = dot3(f->u, mesh->vertices_m[i]);
+    pts2[np][1] = dot3(f->v, mesh->vertices_m[i]);
+    ++np;
+  }
+  return np;
+}
+
+/* f's outline from its np >= 3 points: convex hull, area, inradius and center; a face at least
+ * 2 mm wide keeps copies of the points. Returns 1 (kept: f owns poly, pts3, pts2), 0 (too
+ * narrow, nothing kept) or -1 (out of memory, nothing kept). */
+static int face_outline(face_t *f, size_t np, const double (*pts3)[3], const double (*pts2)[2]) {
+  double(*sorted)[2] = malloc(np * sizeof *sorted);
+  double(*poly)[2] = malloc((np + 1) * sizeof *poly);
+  if (!sorted || !poly) {
+    free(sorted);
+    free(poly);
+    return -1;
+  }
+  memcpy(sorted, pts2, np * sizeof *sorted);
+  f->npoly = model_polygon_hull(sorted, np, poly);
+  free(sorted);
+  f->area_m2 = model_polygon_area((const double(*)[2])poly, f->npoly);
+  /* inradius <= 2 area / perimeter: most hull facets are too small to need the search */
+  double perim = 0.0;
+  for (size_t i = 0; i < f->npoly; ++i) {
+    const double *next = poly[(i + 1) % f->npoly];
+    perim += hypot(next[0] - poly[i][0], next[1] - poly[i][1]);
+  }
+  f->inradius_m = f->npoly >= 3 && 2.0 * f->area_m2 >= kMinInradius * perim
+                      ? poly_center((const double(*)[2])poly, f->npoly, f->center)
+                      : 0.0;
+  if (f->npoly < 3 || !(f->inradius_m >= kMinInradius)) {
+    free(poly);
+    return 0;
+  }
+  f->poly = poly;
+  f->npts = np;
+  f->pts3 = malloc(np * sizeof *f->pts3);
+  f->pts2 = malloc(np * sizeof *f->pts2);
+  if (!f->pts3 || !f->pts2) {
+    free(f->pts3);
+    free(f->pts2);
+    free(poly);
+    return -1;
+  }
+  memcpy(f->pts3, pts3, np * sizeof *f->pts3);
+  memcpy(f->pts2, pts2, np * sizeof *f->pts2);
+  return 1;
+}
+
 /* The hull faces of one object: hull facets merged when their normals are within 2e-4 rad and
  * their vertices within 1 um of the plane; each face gets every mesh vertex within 1 um. */
 static stack_status_t faces_build(obj_t *o, char *msg, size_t msg_size, size_t index) {
@@ -286,102 +406,22 @@ static stack_status_t faces_build(obj_t *o, char *msg, size_t msg_size, size_t i
     st = STACK_E_NOMEM;
     goto done;
   }
-  for (size_t t = 0; t < nt; ++t) {
-    const double *a = hull.vertices_m[hull.triangles[t][0]], *b = hull.vertices_m[hull.triangles[t][1]],
-                 *c = hull.vertices_m[hull.triangles[t][2]];
-    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                   e1[0] * e2[1] - e1[1] * e2[0]};
-    const double len = sqrt(dot3(n, n));
-    tri[t].area = 0.5 * len;
-    for (int k = 0; k < 3 && len > 0.0; ++k) n[k] /= len;
-    memcpy(tri[t].n, n, sizeof n);
-    tri[t].d = dot3(n, a);
-    tri[t].group = -1;
-    for (int k = 0; k < 3; ++k) o->hull_planes[t][k] = n[k];
-    o->hull_planes[t][3] = tri[t].d;
-  }
+  hull_triangles(&hull, tri, o->hull_planes);
   o->nplanes = nt;
-  /* Sort by area, keeping each triangle's vertices alongside. */
-  for (size_t t = 0; t < nt; ++t) tri[t].group = (int)t;
-  qsort(tri, nt, sizeof *tri, tri_area_cmp);
-  for (size_t t = 0; t < nt; ++t) memcpy(tv[t], hull.triangles[tri[t].group], sizeof tv[t]);
-  for (size_t t = 0; t < nt; ++t) tri[t].group = -1;
+  tris_sort_by_area(&hull, tri, tv);
   size_t nface = 0;
-  for (size_t t = 0; t < nt; ++t) {
+  for (size_t t = 0; t < nt && st == STACK_OK; ++t) {
     if (tri[t].group >= 0 || tri[t].area <= 0.0) continue;
-    const int g = (int)t;
-    double nsum[3] = {0, 0, 0};
-    for (size_t s = t; s < nt; ++s) {
-      if (tri[s].group >= 0 || dot3(tri[s].n, tri[t].n) < kMergeCos) continue;
-      int on = 1;
-      for (int k = 0; k < 3 && on; ++k)
-        on = fabs(dot3(tri[t].n, hull.vertices_m[tv[s][k]]) - tri[t].d) <= kPlaneTol;
-      if (!on) continue;
-      tri[s].group = g;
-      for (int k = 0; k < 3; ++k) nsum[k] += tri[s].area * tri[s].n[k];
-    }
     face_t f;
-    memset(&f, 0, sizeof f);
-    const double len = sqrt(dot3(nsum, nsum));
-    for (int k = 0; k < 3; ++k) f.n[k] = nsum[k] / len;
-    f.d = -HUGE_VAL;
-    for (size_t s = t; s < nt; ++s)
-      if (tri[s].group == g)
-        for (int k = 0; k < 3; ++k) {
-          const double dd = dot3(f.n, hull.vertices_m[tv[s][k]]);
-          if (dd > f.d) f.d = dd;
-        }
-    model_plane_basis(f.n, f.u, f.v);
-    size_t np = 0;
-    for (size_t i = 0; i < mesh->vertex_count; ++i) {
-      if (fabs(dot3(f.n, mesh->vertices_m[i]) - f.d) > kPlaneTol) continue;
-      memcpy(buf3[np], mesh->vertices_m[i], sizeof buf3[np]);
-      buf2[np][0] = dot3(f.u, mesh->vertices_m[i]);
-      buf2[np][1] = dot3(f.v, mesh->vertices_m[i]);
-      ++np;
-    }
+    face_merge(&hull, tri, (const uint32_t(*)[3])tv, t, &f);
+    const size_t np = face_points(mesh, &f, buf3, buf2);
     if (np < 3) continue;
-    double(*sorted)[2] = malloc(np * sizeof *sorted);
-    double(*poly)[2] = malloc((np + 1) * sizeof *poly);
-    if (!sorted || !poly) {
-      free(sorted);
-      free(poly);
-      st = STACK_E_NOMEM;
-      goto done;
-    }
-    memcpy(sorted, buf2, np * sizeof *sorted);
-    f.npoly = model_polygon_hull(sorted, np, poly);
-    free(sorted);
-    f.area_m2 = model_polygon_area((const double(*)[2])poly, f.npoly);
-    /* inradius <= 2 area / perimeter: most hull facets are too small to need the search */
-    double perim = 0.0;
-    for (size_t i = 0; i < f.npoly; ++i)
-      perim += hypot(poly[(i + 1) % f.npoly][0] - poly[i][0], poly[(i + 1) % f.npoly][1] - poly[i][1]);
-    f.inradius_m = f.npoly >= 3 && 2.0 * f.area_m2 >= kMinInradius * perim
-                       ? poly_center((const double(*)[2])poly, f.npoly, f.center)
-                       : 0.0;
-    if (f.npoly < 3 || !(f.inradius_m >= kMinInradius)) {
-      free(poly);
-      continue;
-    }
-    f.poly = poly;
-    f.npts = np;
-    f.pts3 = malloc(np * sizeof *f.pts3);
-    f.pts2 = malloc(np * sizeof *f.pts2);
-    if (!f.pts3 || !f.pts2) {
-      free(f.pts3);
-      free(f.pts2);
-      free(poly);
-      st = STACK_E_NOMEM;
-      goto done;
-    }
-    memcpy(f.pts3, buf3, np * sizeof *f.pts3);
-    memcpy(f.pts2, buf2, np * sizeof *f.pts2);
-    o->face[nface++] = f;
+    const int kept = face_outline(&f, np, (const double(*)[3])buf3, (const double(*)[2])buf2);
+    if (kept < 0) st = STACK_E_NOMEM;
+    else if (kept) o->face[nface++] = f;
   }
-  o->nface = nface;
+  o->nface = nface; /* also on failure: faces_free releases what was kept */
+  if (st != STACK_OK) goto done;
   qsort(o->face, nface, sizeof *o->face, face_cmp);
   if (nface == 0) {
     snprintf(msg, msg_size, "object %zu: no hull face at least %.0f mm wide to rest on", index,
