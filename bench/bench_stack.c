@@ -609,8 +609,7 @@ int main(int argc, char **argv) {
       reply_t rep;
       const int parsed = r.status == 0 && reply_parse(r.out, r.out_len, &rep) == 0;
       if (parsed && strcmp(rep.com_source, kSources[s]) != 0) {
-        LOG_E("triple %zu: asked --com %s, reply says \"%s\"", i,
-                kSources[s], rep.com_source);
+        LOG_E("triple %zu: asked --com %s, reply says \"%s\"", i, kSources[s], rep.com_source);
       }
       if (!parsed) {
         ++S->failed;
