@@ -16,14 +16,10 @@
 #include <time.h>
 
 #include "comlearn/balance.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
-
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 typedef struct {
   const char *name;
@@ -62,7 +58,7 @@ static int run_case(bench_case_t *c, int ntrials, int verbose, bench_result_t *r
   if (balance_world_create(&cfg, &w) != BALANCE_OK) return -1;
   balance_status_t st = balance_object_create(w, &c->mesh, &c->mass, &o);
   if (st != BALANCE_OK) {
-    fprintf(stderr, "%s: %s\n", c->name, balance_status_str(st));
+    LOG_E("%s: %s", c->name, balance_status_str(st));
     balance_world_destroy(w);
     return -1;
   }
@@ -86,7 +82,7 @@ static int run_case(bench_case_t *c, int ntrials, int verbose, bench_result_t *r
   r->bias_m = 0.5 * (lo + hi);
   static const double offs[8] = {1e-6, -1e-6, 3e-6, -3e-6, 1e-5, -1e-5, 3e-5, -3e-5};
   unsigned long steps = 0;
-  const double t0 = now_s();
+  const double t0 = cli_time_now_s();
   for (int i = 0; i < ntrials; i++) {
     balance_trial_result_t res;
     const double s = offs[i % 8];
@@ -95,7 +91,7 @@ static int run_case(bench_case_t *c, int ntrials, int verbose, bench_result_t *r
     const balance_outcome_t want = s > 0 ? BALANCE_STAYS : BALANCE_TIPS;
     if (res.outcome != want) r->wrong++;
   }
-  const double dt = now_s() - t0;
+  const double dt = cli_time_now_s() - t0;
   r->trials = ntrials;
   r->trials_per_s = ntrials / dt;
   r->us_per_step = 1e6 * dt / (double)steps;
@@ -105,6 +101,7 @@ static int run_case(bench_case_t *c, int ntrials, int verbose, bench_result_t *r
 }
 
 int main(int argc, char **argv) {
+  cli_log_init("bench_balance");
   int ntrials = 400, json = 0, verbose = 0;
   const char *rock = COMLEARN_ASSETS_DIR "/rocks/rock_1_even.urdf";
   for (int i = 1; i < argc; i++) {
@@ -133,12 +130,12 @@ int main(int argc, char **argv) {
   model_object_t obj;
   model_error_t err;
   if (model_object_load(rock, NULL, &obj, &err) != MODEL_OK) {
-    fprintf(stderr, "%s\n", err.msg);
+    LOG_E("%s", err.msg);
     return 1;
   }
   model_mass_t rm;
   if (model_inertial_load(rock, NULL, &rm, &err) != MODEL_OK) {
-    fprintf(stderr, "%s\n", err.msg);
+    LOG_E("%s", err.msg);
     return 1;
   }
   for (int k = 1; k < 3; k++) {

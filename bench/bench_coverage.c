@@ -27,6 +27,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "estimate_backend.h"
@@ -125,7 +127,7 @@ static int make_objects(const opts_t *o, const char *dir, obj_t *objs) {
       }
     }
     if (rc != 0) {
-      fprintf(stderr, "bench_coverage: %s seed %llu: cannot generate or write %s\n",
+      LOG_E("%s seed %llu: cannot generate or write %s",
               family_name(fam), (unsigned long long)seed, failed);
       free(so);
       return -1;
@@ -281,26 +283,26 @@ static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *re
 static void json_triple(FILE *f, const int found[3], const double v[3]) {
   for (int k = 0; k < 3; ++k) {
     if (k) fputs(", ", f);
-    if (found[k]) fprintf(f, "%.9g", v[k]);
-    else fputs("null", f);
+    cli_json_number(f, found[k] ? v[k] : NAN);
   }
 }
 
 static void write_json(const opts_t *o, const obj_t *objs, const rec_t *recs, size_t n) {
   FILE *f = fopen(o->json, "w");
   if (!f) {
-    fprintf(stderr, "bench_coverage: cannot write %s: %s\n", o->json, strerror(errno));
+    LOG_E("cannot write %s: %s", o->json, strerror(errno));
     return;
   }
   fprintf(f, "{\"placement_noise_m\": %.9g, \"pose_noise_m\": %.9g, \"runs\": [", o->placement_m,
           o->pose_m);
   for (size_t i = 0; i < n; ++i) {
     const rec_t *r = &recs[i];
-    fprintf(f, "%s\n{\"object\": \"%s\", \"family\": \"%s\", \"policy\": \"%s\", \"seed\": %d, "
-               "\"status\": %d, \"trials\": %u, \"found\": [%d, %d, %d], \"error_m\": [",
-            i ? "," : "", objs[r->object].name, family_name(objs[r->object].family),
-            estimate_policy_name(o->pol[r->policy]), r->seed, r->status, r->trials, r->found[0],
-            r->found[1], r->found[2]);
+    fprintf(f, "%s\n{\"object\": ", i ? "," : "");
+    cli_json_string(f, objs[r->object].name, 0);
+    fprintf(f, ", \"family\": \"%s\", \"policy\": \"%s\", \"seed\": %d, \"status\": %d, "
+               "\"trials\": %u, \"found\": [%d, %d, %d], \"error_m\": [",
+            family_name(objs[r->object].family), estimate_policy_name(o->pol[r->policy]), r->seed,
+            r->status, r->trials, r->found[0], r->found[1], r->found[2]);
     json_triple(f, r->found, r->err_m);
     fprintf(f, "], \"halfwidth_m\": [");
     json_triple(f, r->found, r->hw_m);
@@ -398,6 +400,7 @@ static int parse_args(int argc, char **argv, opts_t *o) {
 }
 
 int main(int argc, char **argv) {
+  cli_log_init("bench_coverage");
   opts_t o = {.objects = 112, .seeds = 2, .jobs = 2, .npol = 3, .seed = 1,
               .pol = {QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA, QLEARN_POLICY_PAPER_QTABLE},
               .placement_m = 0.5e-3, .pose_m = 0.2e-3};
@@ -443,7 +446,7 @@ int main(int argc, char **argv) {
     remove(path);
   }
   if (!recs || n != cap || failed) {
-    fprintf(stderr, "bench_coverage: a worker failed (%zu of %zu runs)\n", n, cap);
+    LOG_E("a worker failed (%zu of %zu runs)", n, cap);
     return 1;
   }
   report(&o, objs, nobj, recs, n);
@@ -451,7 +454,7 @@ int main(int argc, char **argv) {
   if (!o.keep) {
     char cmd[4200];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    if (system(cmd) != 0) fprintf(stderr, "bench_coverage: could not remove %s\n", dir);
+    if (system(cmd) != 0) LOG_E("could not remove %s", dir);
   }
   free(recs);
   free(objs);

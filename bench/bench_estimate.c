@@ -25,6 +25,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "estimate_backend.h"
 #include "estimate_direct.h"
@@ -34,12 +36,6 @@ static const char *const all_rocks[] = {"rock_1_even", "rock_1_uneven", "rock_2_
                                         "rock_2_uneven", "rock_3_even", "rock_3_uneven"};
 #define N_ROCKS (sizeof all_rocks / sizeof all_rocks[0])
 #define MAX_REPS 100
-
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 static int cmp_double(const void *a, const void *b) {
   double x = *(const double *)a, y = *(const double *)b;
@@ -63,18 +59,18 @@ static double run_direct(const char *urdf, const model_mesh_t *mesh, estimate_re
   char msg[512] = "";
   estimate_direct_t *d = NULL;
   estimate_backend_t b;
-  const double t0 = now_s();
+  const double t0 = cli_time_now_s();
   if (estimate_direct_open(urdf, NULL, NULL, &d, &b, msg, sizeof msg) != 0) {
-    fprintf(stderr, "bench_estimate: direct %s: %s\n", urdf, msg);
+    LOG_E("direct %s: %s", urdf, msg);
     return -1.0;
   }
   estimate_config_t cfg;
   estimate_config_default(&cfg);
   const estimate_status_t s = estimate_run(mesh, &b, &cfg, r);
-  const double dt = now_s() - t0;
+  const double dt = cli_time_now_s() - t0;
   estimate_direct_close(d);
   if (s != ESTIMATE_OK) {
-    fprintf(stderr, "bench_estimate: direct %s: %s: %s\n", urdf, estimate_status_str(s), r->msg);
+    LOG_E("direct %s: %s: %s", urdf, estimate_status_str(s), r->msg);
     return -1.0;
   }
   return dt;
@@ -86,10 +82,10 @@ static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_resul
                       double *open_s, estimate_lcm_stats_t *st) {
   char url[128], msg[512] = "";
   unique_url(url, sizeof url);
-  const double t0 = now_s();
+  const double t0 = cli_time_now_s();
   const pid_t pid = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, msg, sizeof msg);
   if (pid <= 0) {
-    fprintf(stderr, "bench_estimate: %s\n", msg);
+    LOG_E("%s", msg);
     return -1.0;
   }
   estimate_lcm_config_t lc;
@@ -102,25 +98,25 @@ static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_resul
   estimate_lcm_t *l = NULL;
   estimate_backend_t b;
   if (estimate_lcm_open(&lc, &l, &b, msg, sizeof msg) != 0) {
-    fprintf(stderr, "bench_estimate: %s (udpm needs a multicast route, scripts/setup.sh)\n", msg);
+    LOG_E("%s (udpm needs a multicast route, scripts/setup.sh)", msg);
     estimate_lcm_sim_stop(pid, 2.0);
     return -1.0;
   }
-  const double t1 = now_s();
+  const double t1 = cli_time_now_s();
   *open_s = t1 - t0;
   estimate_config_t cfg;
   estimate_config_default(&cfg);
   const estimate_status_t s = estimate_run(mesh, &b, &cfg, r);
-  const double dt = now_s() - t1;
+  const double dt = cli_time_now_s() - t1;
   estimate_lcm_stats(l, st);
   estimate_lcm_close(l);
   const int ws = estimate_lcm_sim_stop(pid, 2.0);
   if (s != ESTIMATE_OK) {
-    fprintf(stderr, "bench_estimate: lcm %s: %s: %s\n", urdf, estimate_status_str(s), r->msg);
+    LOG_E("lcm %s: %s: %s", urdf, estimate_status_str(s), r->msg);
     return -1.0;
   }
   if (ws == -1 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0)
-    fprintf(stderr, "bench_estimate: comlearn-sim exit status %d\n", ws);
+    LOG_E("comlearn-sim exit status %d", ws);
   return dt;
 }
 
@@ -130,6 +126,7 @@ static void usage(FILE *f) {
 }
 
 int main(int argc, char **argv) {
+  cli_log_init("bench_estimate");
   int reps = 3;
   const char *only = NULL;
   static const struct option opts[] = {{"reps", required_argument, NULL, 'r'},
@@ -158,7 +155,7 @@ int main(int argc, char **argv) {
 
   estimate_result_t *rd = malloc(sizeof *rd), *rl = malloc(sizeof *rl);
   if (!rd || !rl) {
-    fprintf(stderr, "bench_estimate: out of memory\n");
+    LOG_E("out of memory");
     return 1;
   }
   printf("Full estimate (bisect, 0.1 mm, noiseless), median of %d; LCM against a spawned "
@@ -176,7 +173,7 @@ int main(int argc, char **argv) {
     model_object_t obj = {0};
     model_error_t err = {{0}};
     if (model_object_load(urdf, NULL, &obj, &err) != MODEL_OK) {
-      fprintf(stderr, "bench_estimate: %s: %s\n", urdf, err.msg);
+      LOG_E("%s: %s", urdf, err.msg);
       failed = 1;
       continue;
     }

@@ -15,13 +15,11 @@
 #include <string.h>
 #include <time.h>
 
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/placement.h"
 
-static double now_us(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec * 1e6 + (double)ts.tv_nsec * 1e-3;
-}
+static double now_us(void) { return 1e6 * cli_time_now_s(); }
 
 static uint64_t rng_next(uint64_t *s) {
   uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
@@ -89,6 +87,7 @@ static void usage(FILE *f) {
 }
 
 int main(int argc, char **argv) {
+  cli_log_init("bench_ik");
   long poses = 10000;
   uint64_t seed = 1;
   const char *urdf = COMLEARN_ASSETS_DIR "/yumi/yumi.urdf";
@@ -118,7 +117,7 @@ int main(int argc, char **argv) {
   placement_pose_t *targets = malloc(n * sizeof *targets);
   double *it_buf = malloc(n * sizeof *it_buf), *us_buf = malloc(n * sizeof *us_buf);
   if (targets == NULL || it_buf == NULL || us_buf == NULL) {
-    fprintf(stderr, "bench_ik: out of memory\n");
+    LOG_E("out of memory");
     return 1;
   }
   if (json) {
@@ -128,7 +127,7 @@ int main(int argc, char **argv) {
     placement_arm_t arm;
     placement_error_t err;
     if (placement_arm_load_yumi(&arm, urdf, (placement_side_t)side, &err) != PLACEMENT_OK) {
-      fprintf(stderr, "bench_ik: %s\n", err.msg);
+      LOG_E("%s", err.msg);
       return 1;
     }
     uint64_t rng = seed + (uint64_t)side;

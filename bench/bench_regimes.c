@@ -19,6 +19,7 @@
 
 #include "comlearn/balance.h"
 #include "comlearn/balance_poses.h"
+#include "comlearn/cli_log.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 
@@ -56,8 +57,8 @@ static double bisect(balance_world_t *w, balance_object_t *o, const double q[4],
   const int a = trial(w, o, q, com, lo), b = trial(w, o, q, com, hi);
   *trials = 2;
   if (a != 0 || b != 1) {
-    fprintf(stderr, "no bracket: d=-%gmm -> %d, d=+%gmm -> %d (1 stays, 0 tips, -1 error)\n",
-            range * 1e3, a, range * 1e3, b);
+    LOG_E("no bracket: d=-%gmm -> %d, d=+%gmm -> %d (1 stays, 0 tips, -1 error)", range * 1e3, a,
+          range * 1e3, b);
     return NAN;
   }
   for (int i = 0; i < 40 && hi - lo > 1e-6; ++i) {
@@ -112,6 +113,7 @@ static int rock(int which, int uneven, model_object_t *obj, model_mass_t *truth,
 }
 
 int main(void) {
+  cli_log_init("bench_regimes");
   balance_config_t cfg;
   balance_config_default(&cfg);
   printf("| case | regime (planned) | chord margin mm | bias um | innermost not-stay mm | invalid "

@@ -33,6 +33,10 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
+
 #ifndef COMLEARN_BIN
 #define COMLEARN_BIN "comlearn"
 #endif
@@ -216,12 +220,6 @@ static int reply_parse(const char *text, size_t len, reply_t *out) {
 
 /* ---- running a command ------------------------------------------------------------------- */
 
-static double now_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
 typedef struct {
   int status;        /* exit status, 128 + signal, or -1 (could not run / timed out) */
   int timed_out;
@@ -247,7 +245,7 @@ static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
   }
   fflush(stdout);
   fflush(stderr);
-  const double t0 = now_s();
+  const double t0 = cli_time_now_s();
   const pid_t pid = fork();
   if (pid < 0) {
     close(po[0]);
@@ -264,7 +262,7 @@ static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
     close(po[1]);
     close(pe[1]);
     execv(argv[0], argv);
-    fprintf(stderr, "cannot run %s: %s\n", argv[0], strerror(errno));
+    LOG_E("cannot run %s: %s", argv[0], strerror(errno));
     _exit(127);
   }
   close(po[1]);
@@ -274,7 +272,7 @@ static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
   int open_fds = 2;
   struct pollfd fds[2] = {{po[0], POLLIN, 0}, {pe[0], POLLIN, 0}};
   while (open_fds > 0) {
-    const double left = timeout_s - (now_s() - t0);
+    const double left = timeout_s - (cli_time_now_s() - t0);
     if (left <= 0.0) {
       kill(pid, SIGKILL);
       res->timed_out = 1;
@@ -313,7 +311,7 @@ static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
   int ws_ = 0;
   while (waitpid(pid, &ws_, 0) < 0 && errno == EINTR) {
   }
-  res->wall_s = now_s() - t0;
+  res->wall_s = cli_time_now_s() - t0;
   res->out[res->out_len] = '\0';
   if (!res->timed_out) {
     res->status = WIFEXITED(ws_) ? WEXITSTATUS(ws_) : 128 + (WIFSIGNALED(ws_) ? WTERMSIG(ws_) : 0);
@@ -420,7 +418,7 @@ static void usage(FILE *f) {
 static int parse_file(const char *path) {
   FILE *f = fopen(path, "rb");
   if (f == NULL) {
-    fprintf(stderr, "bench_stack: %s: %s\n", path, strerror(errno));
+    LOG_E("%s: %s", path, strerror(errno));
     return 1;
   }
   char *buf = malloc(MAX_OUT + 1);
@@ -435,7 +433,7 @@ static int parse_file(const char *path) {
   const int rc = reply_parse(buf, n, &r);
   free(buf);
   if (rc != 0) {
-    fprintf(stderr, "bench_stack: %s: not a `comlearn stack --json` reply\n", path);
+    LOG_E("%s: not a `comlearn stack --json` reply", path);
     return 1;
   }
   printf("stands %s\nseconds_standing %.17g\ncom_source %s\nlevels %zu\n",
@@ -444,15 +442,8 @@ static int parse_file(const char *path) {
   return 0;
 }
 
-static void json_num(double x) {
-  if (isfinite(x)) {
-    printf("%.6g", x);
-  } else {
-    printf("null");
-  }
-}
-
 int main(int argc, char **argv) {
+  cli_log_init("bench_stack");
   static const struct option opts[] = {{"count", required_argument, NULL, 'n'},
                                        {"seed-base", required_argument, NULL, 'b'},
                                        {"com", required_argument, NULL, 'c'},
@@ -501,7 +492,7 @@ int main(int argc, char **argv) {
             if (strcmp(t, kSources[i]) == 0) use[i] = found = 1;
           }
           if (!found) {
-            fprintf(stderr, "bench_stack: --com: unknown source %s\n", t);
+            LOG_E("--com: unknown source %s", t);
             return 2;
           }
         }
@@ -532,7 +523,7 @@ int main(int argc, char **argv) {
   }
   const size_t n = (size_t)n_triples, rocks = 3 * n;
   if (seed_base > UINT64_MAX - rocks) {
-    fprintf(stderr, "bench_stack: --seed-base too large\n");
+    LOG_E("--seed-base too large");
     return 2;
   }
   const int progress = !verbose && !dry && isatty(2);
@@ -541,7 +532,7 @@ int main(int argc, char **argv) {
   if (dry) {
     snprintf(dir, sizeof dir, "SCRATCH");
   } else if (make_scratch(dir, sizeof dir) != 0) {
-    fprintf(stderr, "bench_stack: cannot create a scratch folder: %s\n", strerror(errno));
+    LOG_E("cannot create a scratch folder: %s", strerror(errno));
     return 1;
   }
   char seed_s[32], count_s[32];
@@ -554,7 +545,7 @@ int main(int argc, char **argv) {
   } else {
     run_t g;
     if (run_cmd(gen_argv, 600.0, &g) != 0 || g.status != 0) {
-      fprintf(stderr, "bench_stack: %s failed (%d): %s\n", rockgen, g.status, g.err_tail);
+      LOG_E("%s failed (%d): %s", rockgen, g.status, g.err_tail);
       free(g.out);
       remove_scratch(dir, seed_base, rocks);
       return 1;
@@ -569,20 +560,20 @@ int main(int argc, char **argv) {
     st[s].min_margin_m = malloc(n * sizeof(double));
     st[s].wall_s = malloc(n * sizeof(double));
     if (!st[s].fallen_s || !st[s].min_margin_m || !st[s].wall_s) {
-      fprintf(stderr, "bench_stack: out of memory\n");
+      LOG_E("out of memory");
       return 1;
     }
   }
   char svg_saved[4096] = "", svg_tmp[4096] = "";
   if (svg_dir != NULL) {
     if (!dry && mkdir(svg_dir, 0777) != 0 && errno != EEXIST) {
-      fprintf(stderr, "bench_stack: cannot create %s: %s\n", svg_dir, strerror(errno));
+      LOG_E("cannot create %s: %s", svg_dir, strerror(errno));
       return 1;
     }
     snprintf(svg_tmp, sizeof svg_tmp, "%s/.bench_stack_candidate.svg", svg_dir);
   }
 
-  const double t_start = now_s();
+  const double t_start = cli_time_now_s();
   size_t ok_calls = 0, calls = 0;
   for (size_t i = 0; i < n; ++i) {
     char urdf[3][4200];
@@ -609,7 +600,7 @@ int main(int argc, char **argv) {
       run_t r;
       ++calls;
       if (run_cmd(cmd, timeout_s, &r) != 0) {
-        fprintf(stderr, "bench_stack: cannot run %s: %s\n", comlearn, strerror(errno));
+        LOG_E("cannot run %s: %s", comlearn, strerror(errno));
         free(r.out);
         return 1;
       }
@@ -618,8 +609,7 @@ int main(int argc, char **argv) {
       reply_t rep;
       const int parsed = r.status == 0 && reply_parse(r.out, r.out_len, &rep) == 0;
       if (parsed && strcmp(rep.com_source, kSources[s]) != 0) {
-        fprintf(stderr, "bench_stack: triple %zu: asked --com %s, reply says \"%s\"\n", i,
-                kSources[s], rep.com_source);
+        LOG_E("triple %zu: asked --com %s, reply says \"%s\"", i, kSources[s], rep.com_source);
       }
       if (!parsed) {
         ++S->failed;
@@ -647,7 +637,7 @@ int main(int argc, char **argv) {
             snprintf(svg_saved, sizeof svg_saved, "%s/stack_learned_r%llu_r%llu_r%llu.svg",
                      svg_dir, seed_base + 3 * i, seed_base + 3 * i + 1, seed_base + 3 * i + 2);
             if (rename(svg_tmp, svg_saved) != 0) {
-              fprintf(stderr, "bench_stack: %s: %s\n", svg_saved, strerror(errno));
+              LOG_E("%s: %s", svg_saved, strerror(errno));
               svg_saved[0] = '\0';
             }
           } else {
@@ -660,7 +650,8 @@ int main(int argc, char **argv) {
                 parsed ? (rep.stands ? "stands" : "falls") : "FAILED", r.wall_s,
                 parsed ? "" : ": ", parsed ? "" : r.err_tail);
       } else if (progress) {
-        fprintf(stderr, "\rbench_stack: triple %zu/%zu, %.0f s", i + 1, n, now_s() - t_start);
+        fprintf(stderr, "\rbench_stack: triple %zu/%zu, %.0f s", i + 1, n,
+                cli_time_now_s() - t_start);
       }
       free(r.out);
     }
@@ -694,17 +685,17 @@ int main(int argc, char **argv) {
       printf("%s\n  {\"com\": \"%s\", \"runs\": %zu, \"simulated\": %zu, \"stands\": %zu, "
              "\"rate\": ",
              first ? "" : ",", kSources[s], S->runs, S->simulated, S->stands);
-      json_num(rate);
+      cli_json_number(stdout, rate);
       printf(", \"wilson95\": [%.4f, %.4f], \"failed\": %zu, \"failed_exit\": {\"1\": %zu, "
              "\"2\": %zu, \"other\": %zu, \"timeout_or_bad_json\": %zu}, "
              "\"median_seconds_standing_fallen\": ",
              lo, hi, S->failed, S->exit_hist[0], S->exit_hist[1], S->exit_hist[2],
              S->exit_hist[3]);
-      json_num(mf);
+      cli_json_number(stdout, mf);
       printf(", \"median_min_margin_m\": ");
-      json_num(mm);
+      cli_json_number(stdout, mm);
       printf(", \"median_wall_s\": ");
-      json_num(mw);
+      cli_json_number(stdout, mw);
       printf("}");
     } else {
       printf("| %s | %zu/%zu | %.2f [%.2f, %.2f] | %zu (%zu / %zu / %zu / %zu) | ", kSources[s],
@@ -731,9 +722,9 @@ int main(int argc, char **argv) {
     } else {
       printf("null");
     }
-    printf(", \"wall_s\": %.1f}\n", now_s() - t_start);
+    printf(", \"wall_s\": %.1f}\n", cli_time_now_s() - t_start);
   } else {
-    printf("\nWall time %.0f s for %zu calls.", now_s() - t_start, calls);
+    printf("\nWall time %.0f s for %zu calls.", cli_time_now_s() - t_start, calls);
     if (svg_saved[0] != '\0') printf(" Side view: %s.", svg_saved);
     printf("\n");
     for (int s = 0; s < SOURCES; ++s) {

@@ -5,7 +5,6 @@
 #include <limits.h>
 #include <math.h>
 #include <signal.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,26 +12,13 @@
 
 #include <lcm/lcm.h>
 
+#include "comlearn/cli_log.h"
 #include "comlearn/msg.h"
 #include "sim.h"
 
 #ifndef COMLEARN_YUMI_URDF
 #define COMLEARN_YUMI_URDF "assets/yumi/yumi.urdf"
 #endif
-
-enum { LOG_ERROR = 0, LOG_WARN = 1, LOG_INFO = 2, LOG_DEBUG = 3 };
-static int log_level = LOG_INFO;
-
-static void logf_(int level, const char *fmt, ...) {
-  if (level > log_level) return;
-  static const char *const names[] = {"error", "warn", "info", "debug"};
-  fprintf(stderr, "comlearn-sim: %s: ", names[level]);
-  va_list ap;
-  va_start(ap, fmt);
-  vfprintf(stderr, fmt, ap);
-  va_end(ap);
-  fputc('\n', stderr);
-}
 
 static volatile sig_atomic_t stop_flag = 0;
 static void on_signal(int sig) {
@@ -113,7 +99,7 @@ static int parse_options(int argc, char **argv, options_t *o) {
       errno = 0;
       unsigned long long v = strtoull(optarg, &end, 0);
       if (errno != 0 || end == optarg || *end != '\0' || optarg[0] == '-') {
-        fprintf(stderr, "comlearn-sim: --seed: not an unsigned integer: '%s'\n", optarg);
+        LOG_E("--seed: not an unsigned integer: '%s'", optarg);
         return 2;
       }
       o->seed = (uint64_t)v;
@@ -122,34 +108,34 @@ static int parse_options(int argc, char **argv, options_t *o) {
     case 'P':
     case 'N':
       if (parse_double(optarg, 0.0, 100.0, c == 'P' ? &o->placement_noise_mm : &o->pose_noise_mm)) {
-        fprintf(stderr, "comlearn-sim: --%s: need a number in [0, 100], got '%s'\n",
-                c == 'P' ? "placement-noise-mm" : "pose-noise-mm", optarg);
+        LOG_E("--%s: need a number in [0, 100], got '%s'",
+              c == 'P' ? "placement-noise-mm" : "pose-noise-mm", optarg);
         return 2;
       }
       break;
     case 'd':
       if (parse_double(optarg, 0.0, 1.0, &o->drop_rate)) {
-        fprintf(stderr, "comlearn-sim: --drop-rate: need a number in [0, 1], got '%s'\n", optarg);
+        LOG_E("--drop-rate: need a number in [0, 1], got '%s'", optarg);
         return 2;
       }
       break;
     case 'c': o->prefix = optarg; break;
     case 'y': o->yumi_urdf = optarg; break;
-    case 'v': log_level = LOG_DEBUG; break;
-    case 'q': log_level = LOG_ERROR; break;
+    case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
+    case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
     case 'h': usage(stdout); return -1;
     default:
       if (optopt != 0 && optopt != '?')
-        fprintf(stderr, "comlearn-sim: option needs a value or is unknown: -%c\n", optopt);
+        LOG_E("option needs a value or is unknown: -%c", optopt);
       else
-        fprintf(stderr, "comlearn-sim: unknown option or missing value: %s\n", argv[optind - 1]);
+        LOG_E("unknown option or missing value: %s", argv[optind - 1]);
       fprintf(stderr, "try 'comlearn-sim --help'\n");
       return 2;
     }
   }
   if (optind < argc) {
-    fprintf(stderr, "comlearn-sim: unexpected argument '%s'\ntry 'comlearn-sim --help'\n",
-            argv[optind]);
+    LOG_E("unexpected argument '%s'", argv[optind]);
+    fprintf(stderr, "try 'comlearn-sim --help'\n");
     return 2;
   }
   return 0;
@@ -193,7 +179,7 @@ static int receive(daemon_t *d, const lcm_recv_buf_t *rbuf, const char *channel,
   msg_status_t st = msg_decode(type, rbuf->data, rbuf->data_size, msg, &d->stats);
   if (st != MSG_OK) {
     sim_undecodable(&d->sim, channel, msg_status_str(st));
-    logf_(LOG_DEBUG, "undecodable buffer on %s (%u bytes): %s", channel, rbuf->data_size,
+    LOG_D("undecodable buffer on %s (%u bytes): %s", channel, rbuf->data_size,
           msg_status_str(st));
     return 0;
   }
@@ -206,7 +192,7 @@ static void on_command_raw(const lcm_recv_buf_t *rbuf, const char *channel, void
   comlearn_yumi_command_t cmd;
   if (!receive(d, rbuf, channel, comlearn_yumi_command_t_get_type_info(), &cmd)) return;
   int32_t r = sim_command(&d->sim, &cmd);
-  if (r != 0) logf_(LOG_DEBUG, "%s", d->sim.error_text);
+  if (r != 0) LOG_D("%s", d->sim.error_text);
   comlearn_yumi_command_t_decode_cleanup(&cmd);
   d->publish_now = 1;
 }
@@ -216,9 +202,10 @@ static void on_control_raw(const lcm_recv_buf_t *rbuf, const char *channel, void
   comlearn_sim_control_t sc;
   if (!receive(d, rbuf, channel, comlearn_sim_control_t_get_type_info(), &sc)) return;
   int32_t r = sim_control(&d->sim, &sc);
-  logf_(r == 0 ? LOG_INFO : LOG_WARN, "SIM_CONTROL seq %lld action %d object '%s': result %d",
-        (long long)sc.seq, (int)sc.action, sc.object_id, (int)r);
-  if (r == COMLEARN_OBJECT_STATE_T_SIM_CONTROL_ERR_LOAD) logf_(LOG_WARN, "%s", d->sim.error_text);
+  cli_log_msg(r == 0 ? CLI_LOG_INFO : CLI_LOG_WARN,
+              "SIM_CONTROL seq %lld action %d object '%s': result %d", (long long)sc.seq,
+              (int)sc.action, sc.object_id, (int)r);
+  if (r == COMLEARN_OBJECT_STATE_T_SIM_CONTROL_ERR_LOAD) LOG_W("%s", d->sim.error_text);
   comlearn_sim_control_t_decode_cleanup(&sc);
   d->publish_now = 1;
 }
@@ -229,13 +216,13 @@ static void publish(daemon_t *d) {
   if (drop(d))
     d->dropped_out++;
   else if (comlearn_yumi_status_t_publish(d->lcm, d->ch_status, &st) != 0)
-    logf_(LOG_WARN, "publish %s failed", d->ch_status);
+    LOG_W("publish %s failed", d->ch_status);
   comlearn_object_state_t os;
   sim_object_fill(&d->sim, &os);
   if (drop(d))
     d->dropped_out++;
   else if (comlearn_object_state_t_publish(d->lcm, d->ch_object, &os) != 0)
-    logf_(LOG_WARN, "publish %s failed", d->ch_object);
+    LOG_W("publish %s failed", d->ch_object);
 }
 
 static int64_t wall_us(void) {
@@ -279,7 +266,7 @@ static int run(daemon_t *d, int realtime) {
     }
     if (rc < 0 && !stop_flag) {
       if (++failures > 100) {
-        logf_(LOG_ERROR, "lcm_handle_timeout keeps failing; giving up");
+        LOG_E("lcm_handle_timeout keeps failing; giving up");
         return 1;
       }
     } else {
@@ -309,6 +296,7 @@ static int run(daemon_t *d, int realtime) {
 }
 
 int main(int argc, char **argv) {
+  cli_log_init("comlearn-sim");
   options_t o = {.lcm_url = MSG_LCM_URL_DEFAULT, .seed = 1, .prefix = "",
                  .yumi_urdf = COMLEARN_YUMI_URDF};
   int prc = parse_options(argc, argv, &o);
@@ -335,13 +323,13 @@ int main(int argc, char **argv) {
                       .pose_noise_m = o.pose_noise_mm * 1e-3};
   char err[512];
   if (sim_init(&d.sim, &cfg, err, sizeof err) != 0) {
-    logf_(LOG_ERROR, "%s", err);
+    LOG_E("%s", err);
     return 1;
   }
   d.lcm = lcm_create(o.lcm_url);
   if (d.lcm == NULL) {
-    logf_(LOG_ERROR, "cannot open LCM at '%s' (udpm needs a multicast route: "
-                     "ip route add 224.0.0.0/4 dev lo, as root; scripts/setup.sh does it)",
+    LOG_E("cannot open LCM at '%s' (udpm needs a multicast route: "
+          "ip route add 224.0.0.0/4 dev lo, as root; scripts/setup.sh does it)",
           o.lcm_url);
     sim_fini(&d.sim);
     return 1;
@@ -349,19 +337,18 @@ int main(int argc, char **argv) {
   lcm_subscription_t *s1 = lcm_subscribe(d.lcm, d.ch_command, on_command_raw, &d);
   lcm_subscription_t *s2 = lcm_subscribe(d.lcm, d.ch_control, on_control_raw, &d);
   if (s1 == NULL || s2 == NULL) {
-    logf_(LOG_ERROR, "lcm_subscribe failed");
+    LOG_E("lcm_subscribe failed");
     lcm_destroy(d.lcm);
     sim_fini(&d.sim);
     return 1;
   }
   /* Latest command only: a backlog of old commands is worth nothing. */
   lcm_subscription_set_queue_capacity(s1, 100);
-  logf_(LOG_INFO, "running on %s (%s), channels %s %s -> %s %s", o.lcm_url,
+  LOG_I("running on %s (%s), channels %s %s -> %s %s", o.lcm_url,
         o.realtime ? "realtime" : "as fast as possible", d.ch_command, d.ch_control, d.ch_status,
         d.ch_object);
   int rc = run(&d, o.realtime);
-  logf_(LOG_INFO,
-        "stopping at sim time %.3f s: %lld received, %lld rejected, %lld undecodable, "
+  LOG_I("stopping at sim time %.3f s: %lld received, %lld rejected, %lld undecodable, "
         "%llu dropped in, %llu dropped out",
         (double)d.sim.utime * 1e-6, (long long)d.sim.n_received, (long long)d.sim.n_rejected,
         (long long)d.sim.n_undecodable, (unsigned long long)d.dropped_in,

@@ -302,7 +302,10 @@ static int32_t refuse(sim_t *s, int32_t code, const char *fmt, const char *detai
   return code;
 }
 
-int32_t sim_command(sim_t *s, const comlearn_yumi_command_t *c) {
+/* The checks of a command before it is accepted, in order: sequence, expiry, mode, joint limits
+ * and gripper widths, velocity scale, the stop latch. Returns 0, or the refusal's code (counted
+ * and explained by refuse()). */
+static int32_t command_check(sim_t *s, const comlearn_yumi_command_t *c) {
   char d[SIM_TEXT_MAX];
   if (c->seq <= s->last_seq) {
     snprintf(d, sizeof d, "seq %lld <= last accepted %lld", (long long)c->seq,
@@ -348,27 +351,28 @@ int32_t sim_command(sim_t *s, const comlearn_yumi_command_t *c) {
              (long long)c->seq);
     return refuse(s, ERR(ERR_STOPPED), "command refused: %s", d);
   }
-  /* Accepted: it replaces whatever was executing (latest command only). */
-  s->last_seq = c->seq;
-  s->last_seq_utime = c->utime;
-  clear_error(s);
-  (void)mode_str;
-  if (c->mode != COMLEARN_YUMI_COMMAND_T_MODE_POSITION) {
-    hold_here(s);
-    s->active_expire_utime = INT64_MAX;
-    if (c->mode == COMLEARN_YUMI_COMMAND_T_MODE_STOP) {
-      s->stop_latched = 1;
-      s->state = ERR(STATE_STOPPED);
-    } else {
-      s->stop_latched = 0;
-      s->state = ERR(STATE_HOLD);
-    }
-    return 0;
+  return 0;
+}
+
+/* HOLD or STOP (accepted): hold the current pose; STOP latches until a HOLD. */
+static void command_hold(sim_t *s, const comlearn_yumi_command_t *c) {
+  hold_here(s);
+  s->active_expire_utime = INT64_MAX;
+  if (c->mode == COMLEARN_YUMI_COMMAND_T_MODE_STOP) {
+    s->stop_latched = 1;
+    s->state = ERR(STATE_STOPPED);
+  } else {
+    s->stop_latched = 0;
+    s->state = ERR(STATE_HOLD);
   }
+}
+
+/* POSITION (accepted): one straight line in joint and gripper space, timed by the slowest axis at
+ * its limit x velocity_scale: every axis arrives together (the plan's linear joint
+ * interpolation). A zero-length motion is in position at once. */
+static void command_motion_start(sim_t *s, const comlearn_yumi_command_t *c) {
   s->state = ERR(STATE_POSITION);
   s->active_expire_utime = c->expire_utime;
-  /* One straight line in joint and gripper space, timed by the slowest axis at its limit x
-   * velocity_scale: every axis arrives together (the plan's linear joint interpolation). */
   double t = 0.0;
   for (int a = 0; a < 2; a++) {
     for (int k = 0; k < PLACEMENT_JOINTS; k++) {
@@ -379,7 +383,8 @@ int32_t sim_command(sim_t *s, const comlearn_yumi_command_t *c) {
     }
     s->width_start[a] = s->width[a];
     s->width_target[a] = c->gripper_width_commanded_m[a];
-    t = fmax(t, fabs(s->width_target[a] - s->width[a]) / (SIM_GRIPPER_SPEED_M_S * c->velocity_scale));
+    t = fmax(t, fabs(s->width_target[a] - s->width[a]) /
+                    (SIM_GRIPPER_SPEED_M_S * c->velocity_scale));
   }
   s->motion_t0 = s->utime;
   s->motion_us = (int64_t)ceil(t * 1e6);
@@ -393,6 +398,18 @@ int32_t sim_command(sim_t *s, const comlearn_yumi_command_t *c) {
     s->motion_us = -1;
     s->in_position = 1;
   }
+}
+
+int32_t sim_command(sim_t *s, const comlearn_yumi_command_t *c) {
+  const int32_t refused = command_check(s, c);
+  if (refused != 0) return refused;
+  /* Accepted: it replaces whatever was executing (latest command only). */
+  s->last_seq = c->seq;
+  s->last_seq_utime = c->utime;
+  clear_error(s);
+  (void)mode_str;
+  if (c->mode != COMLEARN_YUMI_COMMAND_T_MODE_POSITION) command_hold(s, c);
+  else command_motion_start(s, c);
   return 0;
 }
 

@@ -35,11 +35,10 @@ add_test(NAME assets_reproducible
 set_tests_properties(assets_reproducible PROPERTIES TIMEOUT 120)
 
 # Random rocks (rockgen_spec_random, comlearn-rockgen --random) and the stack picture
-# (apps/comlearn/stack_svg.c, compiled in so the test does not need the rest of comlearn_stack).
+# (apps/comlearn/stack_svg.c, target comlearn_stack_svg).
 comlearn_add_check(check_rockgen_random
-  SOURCES check_rockgen_random.c ${CMAKE_SOURCE_DIR}/apps/comlearn/stack_svg.c
-  LIBS comlearn_rockgen comlearn_balance comlearn_model_sim TIMEOUT 300)
-target_include_directories(check_rockgen_random PRIVATE ${CMAKE_SOURCE_DIR}/apps/comlearn)
+  SOURCES check_rockgen_random.c
+  LIBS comlearn_stack_svg comlearn_rockgen comlearn_balance comlearn_model_sim TIMEOUT 300)
 target_compile_definitions(check_rockgen_random PRIVATE
   COMLEARN_ROCKGEN="$<TARGET_FILE:comlearn-rockgen>")
 add_dependencies(check_rockgen_random comlearn-rockgen)

@@ -1,6 +1,6 @@
 /* check_rockgen_random: random rocks (rockgen_spec_random, `comlearn-rockgen --random`) and the
- * stack picture (stack_svg_write, apps/comlearn/stack_svg.c, compiled into this test so that it
- * does not need the rest of comlearn_stack).
+ * stack picture (stack_svg_write, apps/comlearn/stack_svg.c, target comlearn_stack_svg, linked so
+ * that the test does not need the rest of comlearn).
  *
  * Requirements (docs/assets.md, "Random rocks"): a seed names one rock, byte for byte; every spec
  * is drawn within the documented ranges; every accepted rock is a closed mesh whose largest planar
@@ -23,7 +23,7 @@
 #include "comlearn/model_inertial.h"
 #include "model_test_util.h"
 #include "rockgen.h"
-#include "stack.h"
+#include "stack_svg.h"
 #include "file_test_util.h"
 
 enum { PATCHES_MAX = 16, SEEDS = 60 };

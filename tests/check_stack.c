@@ -13,7 +13,7 @@
 #include "cli_test_util.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
-#include "stack.h"
+#include "comlearn/stack.h"
 
 #ifndef COMLEARN_BIN
 #error "COMLEARN_BIN must name the comlearn executable"

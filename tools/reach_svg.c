@@ -17,6 +17,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/placement.h"
 #include "comlearn/placement_plan.h"
@@ -76,7 +78,7 @@ static int arms_load(const char *urdf, placement_arm_t arms[ARMS]) {
   for (int a = 0; a < ARMS; ++a) {
     placement_error_t err = {{0}};
     if (placement_arm_load_yumi(&arms[a], urdf, (placement_side_t)a, &err) != PLACEMENT_OK) {
-      fprintf(stderr, "comlearn-reach-svg: %s\n", err.msg);
+      LOG_E("%s", err.msg);
       return 1;
     }
   }
@@ -298,7 +300,7 @@ static int write_svg(const char *path, const placement_plan_config_t *cfg, const
                      const sweep_t *sw) {
   FILE *f = fopen(path, "w");
   if (!f) {
-    fprintf(stderr, "comlearn-reach-svg: cannot write %s\n", path);
+    LOG_E("cannot write %s", path);
     return 1;
   }
   const double w = 760.0;
@@ -325,13 +327,14 @@ static int write_svg(const char *path, const placement_plan_config_t *cfg, const
   svg_sweep(f, 60.0, kTopY + ARMS * (kPanelH + kGapY) + 40.0, cfg, sw);
   fprintf(f, "</svg>\n");
   if (fclose(f) != 0) {
-    fprintf(stderr, "comlearn-reach-svg: error writing %s\n", path);
+    LOG_E("error writing %s", path);
     return 1;
   }
   return 0;
 }
 
 int main(int argc, char **argv) {
+  cli_log_init("comlearn-reach-svg");
   options_t o = {COMLEARN_ASSETS_DIR "/yumi/yumi.urdf", NULL, NAN, NAN, NAN, NAN, 0};
   static const struct option longopts[] = {
       {"urdf", required_argument, NULL, 'u'},    {"out", required_argument, NULL, 'o'},
@@ -353,7 +356,7 @@ int main(int argc, char **argv) {
                       : c == 'z' ? &o.block_z_m
                                  : &o.max_step_rad;
         if (parse_double(optarg, dst) != 0) {
-          fprintf(stderr, "comlearn-reach-svg: bad number '%s'\n", optarg);
+          LOG_E("bad number '%s'", optarg);
           return 2;
         }
         break;
@@ -374,18 +377,16 @@ int main(int argc, char **argv) {
   if (isfinite(o.block_z_m)) cfg.block_in_base.pos_m[2] = o.block_z_m;
   if (isfinite(o.max_step_rad)) cfg.max_joint_step_rad = o.max_step_rad;
   if (placement_plan_config_check(&cfg) != PLACEMENT_OK) {
-    fprintf(stderr, "comlearn-reach-svg: option out of range\n");
+    LOG_E("option out of range");
     return 2;
   }
   static placement_arm_t arms[ARMS];
   if (arms_load(o.urdf, arms) != 0) return 1;
   if (!isatty(STDERR_FILENO)) o.quiet = 1;
   static reach_t reach;
-  struct timespec t0, t1;
-  clock_gettime(CLOCK_MONOTONIC, &t0);
+  const double t0 = cli_time_now_s();
   if (compute(arms, &cfg, 1, 1, o.quiet, &reach) != 0) return 1;
-  clock_gettime(CLOCK_MONOTONIC, &t1);
-  const double wall_s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+  const double wall_s = cli_time_now_s() - t0;
   printf("B top centre (%.3f, %.3f, %.3f) m in yumi_body; %d positions x %d yaws per edge\n",
          cfg.block_in_base.pos_m[0], cfg.block_in_base.pos_m[1], cfg.block_in_base.pos_m[2],
          ALONG_N, YAW_N);

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/cli_log.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "rockgen.h"
@@ -214,7 +215,7 @@ static int render(const char *assets_dir, FILE *f) {
       st = model_inertial_load(path, NULL, &uneven, &err);
     }
     if (st != MODEL_OK) {
-      fprintf(stderr, "comlearn-rocks-svg: %s: %s\n", path, err.msg);
+      LOG_E("%s: %s", path, err.msg);
       model_object_free(&obj);
       return 1;
     }
@@ -223,7 +224,7 @@ static int render(const char *assets_dir, FILE *f) {
     st = rockgen_mass(spec, &obj.mesh, &prior, NULL, &region);
     if (st == MODEL_OK) st = rockgen_patches_find(&obj.mesh, 1e-4, patches, PATCHES_MAX, &np);
     if (st != MODEL_OK) {
-      fprintf(stderr, "comlearn-rocks-svg: %s: %s\n", spec->name, model_status_str(st));
+      LOG_E("%s: %s", spec->name, model_status_str(st));
       model_object_free(&obj);
       return 1;
     }
@@ -272,6 +273,7 @@ static void usage(FILE *f) {
 }
 
 int main(int argc, char **argv) {
+  cli_log_init("comlearn-rocks-svg");
   static const struct option opts[] = {{"assets-dir", required_argument, NULL, 'a'},
                                        {"out", required_argument, NULL, 'o'},
                                        {"help", no_argument, NULL, 'h'},

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "comlearn/cli_log.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "objfile.h"
@@ -31,7 +32,7 @@ enum { PATCHES_MAX = 16, RANDOM_COUNT_MAX = 100000 };
 static const double kMinPatchArea_m2 = 1e-4;
 
 static int fail(const char *what, const char *path) {
-  fprintf(stderr, "comlearn-rockgen: %s %s: %s\n", what, path, strerror(errno));
+  LOG_E("%s %s: %s", what, path, strerror(errno));
   return 1;
 }
 
@@ -136,7 +137,7 @@ static int generate(const char *out_dir) {
     model_halfspace_t region;
     if (st == MODEL_OK) st = rockgen_mass(spec, &mesh, &even, &uneven, &region);
     if (st != MODEL_OK) {
-      fprintf(stderr, "comlearn-rockgen: %s: %s\n", spec->name, model_status_str(st));
+      LOG_E("%s: %s", spec->name, model_status_str(st));
       model_mesh_free(&mesh);
       return 1;
     }
@@ -176,7 +177,7 @@ static int generate_random(const char *out_dir, uint64_t seed, uint64_t count) {
     if (st == MODEL_OK) st = rockgen_shape_build(&spec, &mesh);
     if (st == MODEL_OK) st = rockgen_mass(&spec, &mesh, &even, &uneven, &region);
     if (st != MODEL_OK) {
-      fprintf(stderr, "comlearn-rockgen: seed %llu: %s\n", (unsigned long long)s,
+      LOG_E("seed %llu: %s", (unsigned long long)s,
               model_status_str(st));
       model_mesh_free(&mesh);
       return 1;
@@ -224,7 +225,7 @@ static int load_rock(const char *dir, const char *name, const char *kind, model_
   model_status_t st = obj != NULL ? model_object_load(path, NULL, obj, &err) : MODEL_OK;
   if (st == MODEL_OK) st = model_inertial_load(path, NULL, mass, &err);
   if (st != MODEL_OK) {
-    fprintf(stderr, "comlearn-rockgen: %s: %s\n", path, err.msg);
+    LOG_E("%s: %s", path, err.msg);
     return 1;
   }
   return 0;
@@ -252,7 +253,7 @@ static int table(const char *dir) {
       st = rockgen_patches_find(&obj.mesh, kMinPatchArea_m2, patches, PATCHES_MAX, &count);
     }
     if (st != MODEL_OK) {
-      fprintf(stderr, "comlearn-rockgen: %s: %s\n", spec->name, model_status_str(st));
+      LOG_E("%s: %s", spec->name, model_status_str(st));
       model_object_free(&obj);
       return 1;
     }
@@ -298,7 +299,7 @@ static int table(const char *dir) {
   model_status_t st = model_object_load(path, NULL, &base, &err);
   if (st == MODEL_OK) st = model_inertial_load(path, NULL, &base_mass, &err);
   if (st != MODEL_OK) {
-    fprintf(stderr, "comlearn-rockgen: %s: %s\n", path, err.msg);
+    LOG_E("%s: %s", path, err.msg);
     model_object_free(&base);
     return 1;
   }
@@ -338,6 +339,7 @@ static void usage(FILE *f) {
 }
 
 int main(int argc, char **argv) {
+  cli_log_init("comlearn-rockgen");
   static const struct option opts[] = {{"out-dir", required_argument, NULL, 'o'},
                                        {"out", required_argument, NULL, 'o'},
                                        {"random", required_argument, NULL, 'r'},
@@ -354,14 +356,14 @@ int main(int argc, char **argv) {
       case 'o': out_dir = optarg; break;
       case 'r':
         if (tool_parse_u64(optarg, &seed) != 0) {
-          fprintf(stderr, "comlearn-rockgen: --random: not a seed: %s\n", optarg);
+          LOG_E("--random: not a seed: %s", optarg);
           return 2;
         }
         want_random = 1;
         break;
       case 'n':
         if (tool_parse_u64(optarg, &count) != 0 || count < 1 || count > RANDOM_COUNT_MAX) {
-          fprintf(stderr, "comlearn-rockgen: --count: not in 1 .. %d: %s\n", RANDOM_COUNT_MAX,
+          LOG_E("--count: not in 1 .. %d: %s", RANDOM_COUNT_MAX,
                   optarg);
           return 2;
         }
@@ -379,7 +381,7 @@ int main(int argc, char **argv) {
     return 2;
   }
   if (want_random && count - 1 > UINT64_MAX - seed) {
-    fprintf(stderr, "comlearn-rockgen: --random %llu --count %llu: seeds past 2^64-1\n",
+    LOG_E("--random %llu --count %llu: seeds past 2^64-1",
             (unsigned long long)seed, (unsigned long long)count);
     return 2;
   }

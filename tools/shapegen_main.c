@@ -10,6 +10,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "comlearn/cli_log.h"
+
 #include "objfile.h"
 #include "shapegen.h"
 #include "tool_args.h"
@@ -21,7 +23,7 @@
 enum { COUNT_MAX = 100000 };
 
 static int fail(const char *what, const char *path) {
-  fprintf(stderr, "comlearn-shapegen: %s %s: %s\n", what, path, strerror(errno));
+  LOG_E("%s %s: %s", what, path, strerror(errno));
   return 1;
 }
 
@@ -39,7 +41,7 @@ static int generate(const char *dir, int all, shapegen_family_t family, uint64_t
   const int progress = isatty(2);
   shapegen_object_t *o = malloc(sizeof *o);
   if (o == NULL) {
-    fprintf(stderr, "comlearn-shapegen: out of memory\n");
+    LOG_E("out of memory");
     return 1;
   }
   int rc = 0;
@@ -53,7 +55,7 @@ static int generate(const char *dir, int all, shapegen_family_t family, uint64_t
     }
     const model_status_t st = shapegen_generate(fam, s, o);
     if (st != MODEL_OK) {
-      fprintf(stderr, "comlearn-shapegen: %s seed %llu: %s\n", shapegen_family_name(fam),
+      LOG_E("%s seed %llu: %s", shapegen_family_name(fam),
               (unsigned long long)s, model_status_str(st));
       rc = 1;
       break;
@@ -101,6 +103,7 @@ static void usage(FILE *f) {
 
 
 int main(int argc, char **argv) {
+  cli_log_init("comlearn-shapegen");
   static const struct option opts[] = {{"family", required_argument, NULL, 'f'},
                                        {"seed", required_argument, NULL, 's'},
                                        {"count", required_argument, NULL, 'n'},
@@ -117,21 +120,21 @@ int main(int argc, char **argv) {
       case 'f':
         all = strcmp(optarg, "all") == 0;
         if (!all && shapegen_family_parse(optarg, &family) != 0) {
-          fprintf(stderr, "comlearn-shapegen: --family: unknown family: %s\n", optarg);
+          LOG_E("--family: unknown family: %s", optarg);
           return 2;
         }
         have_family = 1;
         break;
       case 's':
         if (tool_parse_u64(optarg, &seed) != 0) {
-          fprintf(stderr, "comlearn-shapegen: --seed: not a seed: %s\n", optarg);
+          LOG_E("--seed: not a seed: %s", optarg);
           return 2;
         }
         have_seed = 1;
         break;
       case 'n':
         if (tool_parse_u64(optarg, &count) != 0 || count < 1 || count > COUNT_MAX) {
-          fprintf(stderr, "comlearn-shapegen: --count: not in 1 .. %d: %s\n", COUNT_MAX, optarg);
+          LOG_E("--count: not in 1 .. %d: %s", COUNT_MAX, optarg);
           return 2;
         }
         break;
@@ -146,7 +149,7 @@ int main(int argc, char **argv) {
     return 2;
   }
   if (count - 1 > UINT64_MAX - seed) {
-    fprintf(stderr, "comlearn-shapegen: --seed %llu --count %llu: seeds past 2^64-1\n",
+    LOG_E("--seed %llu --count %llu: seeds past 2^64-1",
             (unsigned long long)seed, (unsigned long long)count);
     return 2;
   }

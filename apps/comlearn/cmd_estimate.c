@@ -22,8 +22,9 @@
 #include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
-#include "log.h"
-#include "out.h"
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -99,17 +100,17 @@ static void lcm_log(void *ctx, const char *msg) {
 
 static void json_vec(const char *key, const double *v, int n) {
   printf("\"%s\": ", key);
-  out_json_array(v, n);
+  cli_json_array(stdout, v, n > 0 ? (size_t)n : 0);
 }
 
 static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res_m,
                        const char *backend, const estimate_result_t *r, double wall_s,
                        const model_mass_t *truth) {
   printf("{\"object\": ");
-  out_json_string(urdf, 0);
+  cli_json_string(stdout, urdf, 0);
   printf(", \"policy\": \"%s\", \"backend\": \"%s\", \"resolution_m\": ", estimate_policy_name(policy),
          backend);
-  out_json_number(res_m);
+  cli_json_number(stdout, res_m);
   printf(", ");
   json_vec("com_m", r->com_m, 3);
   printf(", ");
@@ -119,7 +120,7 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
   for (int k = 0; k < 3; ++k) {
     printf("%s", k ? ", " : "");
     if (r->found[k]) printf("null");
-    else out_json_string(r->reason[k], 0);
+    else cli_json_string(stdout, r->reason[k], 0);
   }
   printf("], \"interval\": \"%s\", ", r->noisy ? "95%" : "bound");
   printf("\"trials\": %zu, \"stable_trials\": %zu, \"edge_trials\": %zu, \"flagged_trials\": %zu, ",
@@ -128,7 +129,7 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
   printf(", ");
   json_vec("start_m", r->start_m, 3);
   printf(", \"rank\": %d, \"chi2\": ", r->rank);
-  out_json_number(r->chi2);
+  cli_json_number(stdout, r->chi2);
   printf(", \"wall_s\": %.6f", wall_s);
   if (truth) {
     double e[3];
@@ -139,47 +140,47 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
     json_vec("error_m", e, 3);
   }
   printf(", \"note\": ");
-  out_json_string(r->msg, 0);
+  cli_json_string(stdout, r->msg, 0);
   printf(", \"faces\": [");
   for (size_t i = 0; i < r->face_count; ++i) {
     const estimate_face_t *f = &r->face[i];
     printf("%s{", i ? ", " : "");
     json_vec("normal_link", f->normal_link, 3);
     printf(", \"area_m2\": ");
-    out_json_number(f->area_m2);
+    cli_json_number(stdout, f->area_m2);
     printf(", \"contact_area_m2\": ");
-    out_json_number(f->contact_area_m2);
+    cli_json_number(stdout, f->contact_area_m2);
     printf(", \"regions\": %zu", f->regions);
     printf(", \"com_margin_m\": ");
-    out_json_number(f->com_margin_m);
+    cli_json_number(stdout, f->com_margin_m);
     printf(", \"stable\": %s}", f->confirmed ? "true" : "false");
   }
   printf("], \"searches\": [");
   for (size_t i = 0; i < r->search_count; ++i) {
     const estimate_search_t *s = &r->search[i];
     printf("%s{\"face\": %d, \"yaw_rad\": ", i ? ", " : "", s->face);
-    out_json_number(s->yaw_rad);
+    cli_json_number(stdout, s->yaw_rad);
     printf(", ");
     json_vec("dir_link", s->dir_link, 3);
     printf(", \"chord_margin_m\": ");
-    out_json_number(s->chord_margin_m);
+    cli_json_number(stdout, s->chord_margin_m);
     printf(", \"prior_m\": ");
-    out_json_number(s->prior_m);
+    cli_json_number(stdout, s->prior_m);
     printf(", \"range_m\": [");
-    out_json_number(s->range_lo_m);
+    cli_json_number(stdout, s->range_lo_m);
     printf(", ");
-    out_json_number(s->range_hi_m);
+    cli_json_number(stdout, s->range_hi_m);
     printf("], \"c_m\": ");
-    out_json_number(s->c_m);
+    cli_json_number(stdout, s->c_m);
     printf(", \"halfwidth_m\": ");
-    out_json_number(s->halfwidth_m);
+    cli_json_number(stdout, s->halfwidth_m);
     printf(", \"bias_m\": ");
-    out_json_number(s->bias_m);
+    cli_json_number(stdout, s->bias_m);
     printf(", \"verified_margin_m\": ");
-    out_json_number(s->verified_margin_m);
+    cli_json_number(stdout, s->verified_margin_m);
     printf(", \"trials\": %u, \"handover_trials\": %u, \"retest_of\": %d, \"fed\": %s, "
            "\"note\": ", s->trials, s->handover_trials, s->retest_of, s->fed ? "true" : "false");
-    out_json_string(s->note, 0);
+    cli_json_string(stdout, s->note, 0);
     printf("}");
   }
   printf("], \"trial_log\": [");
@@ -187,7 +188,7 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
     const estimate_trial_t *t = &r->trial[i];
     printf("%s{\"kind\": \"%s\", \"face\": %d, \"search\": %d, \"x_m\": ", i ? ", " : "",
            t->kind == ESTIMATE_TRIAL_STABLE ? "stable" : "edge", t->face, t->search);
-    out_json_number(t->x_m);
+    cli_json_number(stdout, t->x_m);
     printf(", \"outcome\": \"%s\", \"regime\": \"%s\", \"flagged\": %s}", outcome_name(t->outcome),
            regime_name(t->regime), t->flagged ? "true" : "false");
   }
@@ -293,8 +294,8 @@ static int parse_option(int c, est_args_t *a) {
     case 'l': a->link = optarg; return 0;
     case 'j': a->json = 1; return 0;
     case 't': a->truth = 1; return 0;
-    case 'v': log_set_level(LOG_DEBUG); return 0;
-    case 'q': a->quiet = 1; log_set_level(LOG_ERROR); return 0;
+    case 'v': cli_log_set_level(CLI_LOG_DEBUG); return 0;
+    case 'q': a->quiet = 1; cli_log_set_level(CLI_LOG_ERROR); return 0;
     case 'h': usage(stdout); return -1; /* done: exit 0 */
     default: usage(stderr); return EXIT_USAGE;
   }
@@ -479,9 +480,9 @@ int cmd_estimate(int argc, char **argv) {
     return rc;
   }
   if (!a.quiet && isatty(STDERR_FILENO)) b.backend.progress = progress;
-  const double t0 = out_now_s();
+  const double t0 = cli_time_now_s();
   const estimate_status_t es = estimate_run(&obj.mesh, &b.backend, &a.cfg, res);
-  const double wall = out_now_s() - t0;
+  const double wall = cli_time_now_s() - t0;
   if (b.backend.progress) fprintf(stderr, "\n");
   if (b.lcm) lcm_report(b.lcm, es, res, a.cfg.resolution_m);
   const char *name = b.backend.name;

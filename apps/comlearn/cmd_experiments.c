@@ -21,14 +21,15 @@
 #include <sys/types.h>
 #include <unistd.h>
 
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
 #include "experiments_svg.h"
-#include "log.h"
-#include "out.h"
 
 enum { EXIT_USAGE = 2, MAX_POLICIES = 4, MAX_SEEDS = 1000 };
 
@@ -280,9 +281,9 @@ static int run_one(const exp_opts_t *o, const exp_rock_t *rock, const model_obje
   deco.ctx = rec;
   deco.run = recorder_run;
 
-  double t0 = out_now_s();
+  double t0 = cli_time_now_s();
   run->status = estimate_run(&obj->mesh, &deco, &cfg, res);
-  run->wall_s = out_now_s() - t0;
+  run->wall_s = cli_time_now_s() - t0;
   if (lcmb && run->status == ESTIMATE_OK &&
       estimate_lcm_publish_estimate(lcmb, res, cfg.resolution_m, 1) != 0)
     LOG_W("publishing COM_ESTIMATE failed");
@@ -503,51 +504,32 @@ static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, s
 
 /* ---- JSON --------------------------------------------------------------------------------------- */
 
-static void js_str(FILE *f, const char *v) {
-  fputc('"', f);
-  for (const unsigned char *p = (const unsigned char *)(v ? v : ""); *p; ++p) {
-    if (*p == '"' || *p == '\\') fprintf(f, "\\%c", *p);
-    else if (*p < 0x20) fprintf(f, "\\u%04x", *p);
-    else fputc(*p, f);
-  }
-  fputc('"', f);
-}
-
-static void js_num(FILE *f, double v) {
-  if (isfinite(v)) fprintf(f, "%.9g", v);
-  else fputs("null", f);
-}
-
 static void js_vec(FILE *f, const char *key, const double v[3]) {
-  fprintf(f, "\"%s\": [", key);
-  for (int k = 0; k < 3; ++k) {
-    if (k) fputs(", ", f);
-    js_num(f, v[k]);
-  }
-  fputc(']', f);
+  fprintf(f, "\"%s\": ", key);
+  cli_json_array(f, v, 3);
 }
 
 static void js_stats(FILE *f, const exp_stats_t *st) {
   fprintf(f, "{\"runs\": %zu, \"failed_runs\": %zu, \"components\": %zu, \"found\": %zu, "
              "\"mean_abs_error_m\": ",
           st->runs, st->failed, st->comps, st->found);
-  js_num(f, mean_of(st->err_sum, st->errs));
+  cli_json_number(f, mean_of(st->err_sum, st->errs));
   fputs(", \"sd_abs_error_m\": ", f);
-  js_num(f, sd_of(st->err_sum, st->err_sq, st->errs));
+  cli_json_number(f, sd_of(st->err_sum, st->err_sq, st->errs));
   fputs(", \"p95_abs_error_m\": ", f);
-  js_num(f, pct_of(st->err, st->errs, 0.95));
+  cli_json_number(f, pct_of(st->err, st->errs, 0.95));
   fputs(", \"max_abs_error_m\": ", f);
-  js_num(f, st->errs ? st->err_max : NAN);
+  cli_json_number(f, st->errs ? st->err_max : NAN);
   fputs(", \"mean_halfwidth_m\": ", f);
-  js_num(f, mean_of(st->hw_sum, st->errs));
+  cli_json_number(f, mean_of(st->hw_sum, st->errs));
   fputs(", \"coverage\": ", f);
-  js_num(f, st->errs ? (double)st->covered / (double)st->errs : NAN);
+  cli_json_number(f, st->errs ? (double)st->covered / (double)st->errs : NAN);
   fputs(", \"mean_trials\": ", f);
-  js_num(f, mean_of(st->trials_sum, st->runs));
+  cli_json_number(f, mean_of(st->trials_sum, st->runs));
   fputs(", \"sd_trials\": ", f);
-  js_num(f, sd_of(st->trials_sum, st->trials_sq, st->runs));
+  cli_json_number(f, sd_of(st->trials_sum, st->trials_sq, st->runs));
   fputs(", \"mean_wall_s\": ", f);
-  js_num(f, mean_of(st->wall_sum, st->runs));
+  cli_json_number(f, mean_of(st->wall_sum, st->runs));
   fputc('}', f);
 }
 
@@ -556,18 +538,18 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
   fprintf(f, "{\"settings\": {\"policies\": [");
   for (int p = 0; p < o->npolicies; ++p) {
     if (p) fputs(", ", f);
-    js_str(f, estimate_policy_name(o->policy[p]));
+    cli_json_string(f, estimate_policy_name(o->policy[p]), 0);
   }
   fprintf(f, "], \"seeds\": %d, \"placement_noise_m\": ", o->seeds);
-  js_num(f, o->placement_noise_m);
+  cli_json_number(f, o->placement_noise_m);
   fputs(", \"pose_noise_m\": ", f);
-  js_num(f, o->pose_noise_m);
+  cli_json_number(f, o->pose_noise_m);
   fputs(", \"resolution_m\": ", f);
-  js_num(f, o->resolution_m);
+  cli_json_number(f, o->resolution_m);
   fputs(", \"noiseless_backend\": ", f);
-  js_str(f, o->lcm_url ? "lcm" : "direct");
+  cli_json_string(f, o->lcm_url ? "lcm" : "direct", 0);
   fputs(", \"lcm_url\": ", f);
-  if (o->lcm_url) js_str(f, o->lcm_url);
+  if (o->lcm_url) cli_json_string(f, o->lcm_url, 0);
   else fputs("null", f);
   fprintf(f, "}, \"wall_s\": %.3f, \"paper\": {\"rocks\": %d, \"components\": %d, \"not_found\": %d, "
              "\"min_abs_error_m\": %.4g, \"max_abs_error_m\": %.4g, \"mean_abs_error_m\": %.4g, "
@@ -578,9 +560,9 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
   for (size_t i = 0; i < nrocks; ++i) {
     const exp_rock_t *r = &rocks[i];
     fprintf(f, "%s{\"name\": ", i ? ", " : "");
-    js_str(f, r->stem);
+    cli_json_string(f, r->stem, 0);
     fputs(", \"urdf\": ", f);
-    js_str(f, r->path);
+    cli_json_string(f, r->path, 0);
     fputs(", ", f);
     js_vec(f, "bbox_center_m", r->bbox_center_m);
     fputs(", ", f);
@@ -608,26 +590,26 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
   for (size_t i = 0; i < nruns; ++i) {
     const exp_run_t *r = &runs[i];
     fprintf(f, "%s\n{\"object\": ", i ? "," : "");
-    js_str(f, rocks[r->rock].stem);
+    cli_json_string(f, rocks[r->rock].stem, 0);
     fprintf(f, ", \"policy\": \"%s\", \"noisy\": %s, \"start\": \"%s\", \"seed\": ",
             estimate_policy_name(r->policy), r->noisy ? "true" : "false",
             r->kind == RUN_PRIOR ? "uniform" : "bbox");
     if (r->noisy) fprintf(f, "%llu", (unsigned long long)r->seed);
     else fputs("null", f);
     fputs(", \"placement_noise_m\": ", f);
-    js_num(f, r->noisy ? o->placement_noise_m : 0.0);
+    cli_json_number(f, r->noisy ? o->placement_noise_m : 0.0);
     fputs(", \"pose_noise_m\": ", f);
-    js_num(f, r->noisy ? o->pose_noise_m : 0.0);
+    cli_json_number(f, r->noisy ? o->pose_noise_m : 0.0);
     fputs(", \"backend\": ", f);
-    js_str(f, r->backend);
+    cli_json_string(f, r->backend, 0);
     fputs(", \"resolution_m\": ", f);
-    js_num(f, r->resolution_m);
+    cli_json_number(f, r->resolution_m);
     fputs(", \"noise_sigma_m\": ", f);
-    js_num(f, r->noise_sigma_m);
+    cli_json_number(f, r->noise_sigma_m);
     fputs(", \"status\": ", f);
-    js_str(f, estimate_status_str(r->status));
+    cli_json_string(f, estimate_status_str(r->status), 0);
     fputs(", \"note\": ", f);
-    js_str(f, r->note);
+    cli_json_string(f, r->note, 0);
     fprintf(f, ", \"trials\": %zu, \"stable_trials\": %zu, \"flagged_trials\": %zu, "
                "\"search_trials\": [",
             r->trials, r->stable_trials, r->flagged_trials);
@@ -658,30 +640,18 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
     }
     fputs("], \"com_before_m\": [", f);
     for (size_t t = 0; t < r->nsteps; ++t) {
-      fputs(t ? ", [" : "[", f);
-      for (int k = 0; k < 3; ++k) {
-        if (k) fputs(", ", f);
-        js_num(f, r->steps[t].com_before_m[k]);
-      }
-      fputc(']', f);
+      if (t) fputs(", ", f);
+      cli_json_array(f, r->steps[t].com_before_m, 3);
     }
     fputs("], \"target_link_m\": [", f);
     for (size_t t = 0; t < r->nsteps; ++t) {
-      fputs(t ? ", [" : "[", f);
-      for (int k = 0; k < 3; ++k) {
-        if (k) fputs(", ", f);
-        js_num(f, r->steps[t].target_link_m[k]);
-      }
-      fputc(']', f);
+      if (t) fputs(", ", f);
+      cli_json_array(f, r->steps[t].target_link_m, 3);
     }
     fputs("], \"halfwidth_before_m\": [", f);
     for (size_t t = 0; t < r->nsteps; ++t) {
-      fputs(t ? ", [" : "[", f);
-      for (int k = 0; k < 3; ++k) {
-        if (k) fputs(", ", f);
-        js_num(f, r->steps[t].halfwidth_before_m[k]);
-      }
-      fputc(']', f);
+      if (t) fputs(", ", f);
+      cli_json_array(f, r->steps[t].halfwidth_before_m, 3);
     }
     fputs("]}}", f);
   }
@@ -774,7 +744,22 @@ static int write_file(const char *dir, const char *name, int json, const exp_opt
   return 0;
 }
 
-int cmd_experiments(int argc, char **argv) {
+/* --seeds: an integer in [0, MAX_SEEDS], or -1 with a message. */
+static int parse_seeds(const char *arg, int *out) {
+  char *end;
+  errno = 0;
+  long v = strtol(arg, &end, 10);
+  if (end == arg || *end != '\0' || errno != 0 || v < 0 || v > MAX_SEEDS) {
+    LOG_E("--seeds: '%s' is not an integer in [0, %d]", arg, MAX_SEEDS);
+    return -1;
+  }
+  *out = (int)v;
+  return 0;
+}
+
+/* Options into o (defaults as usage() says). Returns -1 to go on, else the exit status (0 after
+ * --help, EXIT_USAGE). */
+static int parse_args(int argc, char **argv, exp_opts_t *o) {
   static const struct option opts[] = {
       {"policies", required_argument, NULL, 'P'},
       {"seeds", required_argument, NULL, 'S'},
@@ -788,180 +773,201 @@ int cmd_experiments(int argc, char **argv) {
       {"quiet", no_argument, NULL, 'q'},
       {"help", no_argument, NULL, 'h'},
       {NULL, 0, NULL, 0}};
-  exp_opts_t o;
-  memset(&o, 0, sizeof o);
-  o.npolicies = MAX_POLICIES;
-  memcpy(o.policy, all_policies, sizeof all_policies);
-  o.seeds = 5;
-  o.placement_noise_m = 0.5e-3;
-  o.pose_noise_m = 0.2e-3;
-  o.resolution_m = 1e-4;
+  memset(o, 0, sizeof *o);
+  o->npolicies = MAX_POLICIES;
+  memcpy(o->policy, all_policies, sizeof all_policies);
+  o->seeds = 5;
+  o->placement_noise_m = 0.5e-3;
+  o->pose_noise_m = 0.2e-3;
+  o->resolution_m = 1e-4;
   int c;
   double mm;
   optind = 1;
   while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
     switch (c) {
       case 'P':
-        if (parse_policies(optarg, &o) != 0) return EXIT_USAGE;
+        if (parse_policies(optarg, o) != 0) return EXIT_USAGE;
         break;
-      case 'S': {
-        char *end;
-        errno = 0;
-        long v = strtol(optarg, &end, 10);
-        if (end == optarg || *end != '\0' || errno != 0 || v < 0 || v > MAX_SEEDS) {
-          LOG_E("--seeds: '%s' is not an integer in [0, %d]", optarg, MAX_SEEDS);
-          return EXIT_USAGE;
-        }
-        o.seeds = (int)v;
+      case 'S':
+        if (parse_seeds(optarg, &o->seeds) != 0) return EXIT_USAGE;
         break;
-      }
       case 'n':
         if (parse_mm("--placement-noise-mm", optarg, 0.0, 100.0, &mm) != 0) return EXIT_USAGE;
-        o.placement_noise_m = 1e-3 * mm;
+        o->placement_noise_m = 1e-3 * mm;
         break;
       case 'N':
         if (parse_mm("--pose-noise-mm", optarg, 0.0, 100.0, &mm) != 0) return EXIT_USAGE;
-        o.pose_noise_m = 1e-3 * mm;
+        o->pose_noise_m = 1e-3 * mm;
         break;
       case 'r':
         if (parse_mm("--resolution-mm", optarg, 0.001, 10.0, &mm) != 0) return EXIT_USAGE;
-        o.resolution_m = 1e-3 * mm;
+        o->resolution_m = 1e-3 * mm;
         break;
       case 'u':
         if (!optarg[0]) {
           LOG_E("--lcm-url: empty URL");
           return EXIT_USAGE;
         }
-        o.lcm_url = optarg;
+        o->lcm_url = optarg;
         break;
       case 'o':
         if (!optarg[0]) {
           LOG_E("--out: empty directory name");
           return EXIT_USAGE;
         }
-        o.out_dir = optarg;
+        o->out_dir = optarg;
         break;
-      case 'j': o.json = 1; break;
-      case 'v': log_set_level(LOG_DEBUG); break;
-      case 'q': o.quiet = 1; log_set_level(LOG_ERROR); break;
+      case 'j': o->json = 1; break;
+      case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
+      case 'q': o->quiet = 1; cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
       default: usage(stderr); return EXIT_USAGE;
     }
   }
+  return -1;
+}
+
+/* Every file first, geometry only: a typo fails at once, not after minutes of runs. Then the
+ * --out directory. Returns an exit status. */
+static int inputs_check(char *const *paths, size_t n, const char *out_dir) {
+  for (size_t i = 0; i < n; ++i) {
+    model_error_t merr = {{0}};
+    model_object_t obj = {0};
+    model_status_t ms = model_object_load(paths[i], NULL, &obj, &merr);
+    model_object_free(&obj);
+    if (ms != MODEL_OK) {
+      LOG_E("%s (%s)", merr.msg[0] ? merr.msg : paths[i], model_status_str(ms));
+      return ms == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
+    }
+  }
+  if (out_dir && mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
+    LOG_E("--out: cannot create '%s': %s", out_dir, strerror(errno));
+    return EXIT_FAILURE;
+  }
+  return EXIT_SUCCESS;
+}
+
+/* The progress line of one run on stderr (unless --quiet). s: -1 mesh prior, 0 noiseless, else
+ * the noise seed. */
+static void progress_line(const exp_rock_t *rk, const exp_run_t *run, int s) {
+  char what[32];
+  if (run->noisy) snprintf(what, sizeof what, "seed %d", s);
+  else snprintf(what, sizeof what, s < 0 ? "mesh prior" : "noiseless");
+  int all = run->found[0] && run->found[1] && run->found[2];
+  fprintf(stderr, "comlearn experiments: %-16s %-12s %-9s %3zu trials  %.3f s  %s%s\n", rk->stem,
+          estimate_policy_name(run->policy), what, run->trials, run->wall_s,
+          estimate_status_str(run->status), all ? "" : " (not all found)");
+}
+
+/* The truth, read after this object's estimates are final, for the report only: the errors of
+ * runs[0..nruns). No truth is a warning, not a failure. */
+static void truth_compare(exp_rock_t *rk, exp_run_t *runs, size_t nruns) {
+  model_error_t merr = {{0}};
+  model_mass_t tm;
+  model_status_t ms = model_inertial_load(rk->path, NULL, &tm, &merr);
+  if (ms != MODEL_OK) {
+    LOG_W("%s: no truth to compare with: %s (%s)", rk->path, merr.msg, model_status_str(ms));
+    return;
+  }
+  rk->have_truth = 1;
+  memcpy(rk->truth_m, tm.com_m, sizeof rk->truth_m);
+  double d = 0.0;
+  for (int k = 0; k < 3; ++k) d = fmax(d, fabs(tm.com_m[k] - rk->uniform_com_m[k]));
+  rk->uniform_density = d <= 1e-6;
+  for (size_t i = 0; i < nruns; ++i)
+    for (int k = 0; k < 3; ++k)
+      runs[i].error_m[k] = runs[i].found[k] ? runs[i].com_m[k] - tm.com_m[k] : NAN;
+}
+
+/* Every run of one object: per policy the mesh prior (s = -1), Table I (s = 0) and the noisy
+ * seeds, appended at runs[*nruns]. Returns an exit status. */
+static int rock_runs(const exp_opts_t *o, exp_rock_t *rk, size_t ri, recorder_t *rec,
+                     estimate_result_t *res, exp_run_t *runs, size_t *nruns) {
+  stem_of(rk->path, rk->stem, sizeof rk->stem);
+  model_error_t merr = {{0}};
+  model_object_t obj = {0};
+  model_status_t ms = model_object_load(rk->path, NULL, &obj, &merr);
+  if (ms != MODEL_OK) {
+    LOG_E("%s (%s)", merr.msg[0] ? merr.msg : rk->path, model_status_str(ms));
+    return ms == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
+  }
+  model_aabb_center(&obj.aabb, rk->bbox_center_m);
+  const size_t first_run = *nruns;
+  int rc = EXIT_SUCCESS;
+  for (int p = 0; p < o->npolicies && rc == EXIT_SUCCESS; ++p) {
+    for (int s = -1; s <= o->seeds && rc == EXIT_SUCCESS; ++s) {
+      exp_run_t *run = &runs[(*nruns)++];
+      run->rock = ri;
+      run->policy = o->policy[p];
+      run->kind = s < 0 ? RUN_PRIOR : s == 0 ? RUN_TABLE : RUN_NOISY;
+      run->noisy = s > 0;
+      run->seed = (uint64_t)(s > 0 ? s : 0);
+      rc = run_one(o, rk, &obj, rec, res, run);
+      if (rc != 0) break;
+      if (s == 0) memcpy(rk->uniform_com_m, res->uniform_com_m, sizeof rk->uniform_com_m);
+      if (!o->quiet) progress_line(rk, run, s);
+    }
+  }
+  model_object_free(&obj);
+  truth_compare(rk, runs + first_run, *nruns - first_run);
+  return rc;
+}
+
+/* The report on stdout, then with --out the table, the JSON and one Fig. 2 per object there.
+ * Returns an exit status. */
+static int report_write(const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
+                        const exp_run_t *runs, size_t nruns, double *scratch, double wall) {
+  if (o->json) write_json(stdout, o, rocks, nrocks, runs, nruns, scratch, wall);
+  else write_table(stdout, o, rocks, nrocks, runs, nruns, scratch, wall);
+  fflush(stdout);
+  if (!o->out_dir) return EXIT_SUCCESS;
+  int rc = EXIT_SUCCESS;
+  if (write_file(o->out_dir, "table.md", 0, o, rocks, nrocks, runs, nruns, scratch, wall) ||
+      write_file(o->out_dir, "experiments.json", 1, o, rocks, nrocks, runs, nruns, scratch, wall))
+    rc = EXIT_FAILURE;
+  for (size_t ri = 0; ri < nrocks && rc == EXIT_SUCCESS; ++ri) {
+    char path[4096];
+    snprintf(path, sizeof path, "%s/fig2_%s.svg", o->out_dir, rocks[ri].stem);
+    if (write_fig2(path, o, &rocks[ri], ri, runs, nruns) != 0) rc = EXIT_FAILURE;
+  }
+  return rc;
+}
+
+int cmd_experiments(int argc, char **argv) {
+  exp_opts_t o;
+  const int prc = parse_args(argc, argv, &o);
+  if (prc >= 0) return prc;
   if (optind >= argc) {
     LOG_E("experiments needs at least one OBJECT.urdf");
     usage(stderr);
     return EXIT_USAGE;
   }
-  size_t nrocks = (size_t)(argc - optind);
-  /* Every file first: a typo fails at once, not after minutes of runs. Geometry only. */
-  for (size_t i = 0; i < nrocks; ++i) {
-    const char *path = argv[optind + (int)i];
-    model_error_t merr = {{0}};
-    model_object_t obj = {0};
-    model_status_t ms = model_object_load(path, NULL, &obj, &merr);
-    model_object_free(&obj);
-    if (ms != MODEL_OK) {
-      LOG_E("%s (%s)", merr.msg[0] ? merr.msg : path, model_status_str(ms));
-      return ms == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
-    }
-  }
-  if (o.out_dir && mkdir(o.out_dir, 0777) != 0 && errno != EEXIST) {
-    LOG_E("--out: cannot create '%s': %s", o.out_dir, strerror(errno));
-    return EXIT_FAILURE;
-  }
+  const size_t nrocks = (size_t)(argc - optind);
+  char *const *paths = argv + optind;
+  int rc = inputs_check(paths, nrocks, o.out_dir);
+  if (rc != EXIT_SUCCESS) return rc;
 
-  size_t per_rock = (size_t)o.npolicies * (2 + (size_t)o.seeds);
-  size_t cap = nrocks * per_rock;
+  const size_t cap = nrocks * (size_t)o.npolicies * (2 + (size_t)o.seeds);
   exp_rock_t *rocks = calloc(nrocks, sizeof *rocks);
   exp_run_t *runs = calloc(cap, sizeof *runs);
   double *scratch = malloc(3 * cap * sizeof *scratch);
   recorder_t *rec = malloc(sizeof *rec);
   estimate_result_t *res = malloc(sizeof *res);
-  int rc = EXIT_SUCCESS;
   size_t nruns = 0;
-  double t_all = out_now_s();
+  const double t_all = cli_time_now_s();
   if (!rocks || !runs || !scratch || !rec || !res) {
     LOG_E("out of memory");
     rc = EXIT_FAILURE;
-    goto done;
   }
   for (size_t ri = 0; ri < nrocks && rc == EXIT_SUCCESS; ++ri) {
-    exp_rock_t *rk = &rocks[ri];
-    rk->path = argv[optind + (int)ri];
-    stem_of(rk->path, rk->stem, sizeof rk->stem);
-    model_error_t merr = {{0}};
-    model_object_t obj = {0};
-    model_status_t ms = model_object_load(rk->path, NULL, &obj, &merr);
-    if (ms != MODEL_OK) {
-      LOG_E("%s (%s)", merr.msg[0] ? merr.msg : rk->path, model_status_str(ms));
-      rc = ms == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
-      break;
-    }
-    model_aabb_center(&obj.aabb, rk->bbox_center_m);
-    size_t first_run = nruns;
-    for (int p = 0; p < o.npolicies && rc == EXIT_SUCCESS; ++p) {
-      for (int s = -1; s <= o.seeds && rc == EXIT_SUCCESS; ++s) {
-        exp_run_t *run = &runs[nruns++];
-        run->rock = ri;
-        run->policy = o.policy[p];
-        run->kind = s < 0 ? RUN_PRIOR : s == 0 ? RUN_TABLE : RUN_NOISY;
-        run->noisy = s > 0;
-        run->seed = (uint64_t)(s > 0 ? s : 0);
-        int r1 = run_one(&o, rk, &obj, rec, res, run);
-        if (r1 != 0) {
-          rc = r1;
-          break;
-        }
-        if (s == 0) memcpy(rk->uniform_com_m, res->uniform_com_m, sizeof rk->uniform_com_m);
-        if (!o.quiet) {
-          char what[32];
-          if (run->noisy) snprintf(what, sizeof what, "seed %d", s);
-          else snprintf(what, sizeof what, s < 0 ? "mesh prior" : "noiseless");
-          int all = run->found[0] && run->found[1] && run->found[2];
-          fprintf(stderr, "comlearn experiments: %-16s %-12s %-9s %3zu trials  %.3f s  %s%s\n",
-                  rk->stem, estimate_policy_name(run->policy), what, run->trials, run->wall_s,
-                  estimate_status_str(run->status), all ? "" : " (not all found)");
-        }
-      }
-    }
-    model_object_free(&obj);
-    /* The truth, read after this object's estimates are final, for the report only. */
-    model_mass_t tm;
-    ms = model_inertial_load(rk->path, NULL, &tm, &merr);
-    if (ms == MODEL_OK) {
-      rk->have_truth = 1;
-      memcpy(rk->truth_m, tm.com_m, sizeof rk->truth_m);
-      double d = 0.0;
-      for (int k = 0; k < 3; ++k) d = fmax(d, fabs(tm.com_m[k] - rk->uniform_com_m[k]));
-      rk->uniform_density = d <= 1e-6;
-      for (size_t i = first_run; i < nruns; ++i)
-        for (int k = 0; k < 3; ++k)
-          runs[i].error_m[k] = runs[i].found[k] ? runs[i].com_m[k] - tm.com_m[k] : NAN;
-    } else {
-      LOG_W("%s: no truth to compare with: %s (%s)", rk->path, merr.msg, model_status_str(ms));
-    }
+    rocks[ri].path = paths[ri];
+    rc = rock_runs(&o, &rocks[ri], ri, rec, res, runs, &nruns);
   }
-  double wall = out_now_s() - t_all;
-  if (rc != EXIT_SUCCESS) goto done;
-  size_t done_rocks = nrocks;
-  if (o.json) write_json(stdout, &o, rocks, done_rocks, runs, nruns, scratch, wall);
-  else write_table(stdout, &o, rocks, done_rocks, runs, nruns, scratch, wall);
-  fflush(stdout);
-  if (o.out_dir) {
-    if (write_file(o.out_dir, "table.md", 0, &o, rocks, done_rocks, runs, nruns, scratch, wall) ||
-        write_file(o.out_dir, "experiments.json", 1, &o, rocks, done_rocks, runs, nruns, scratch,
-                   wall))
-      rc = EXIT_FAILURE;
-    for (size_t ri = 0; ri < done_rocks && rc == EXIT_SUCCESS; ++ri) {
-      char path[4096];
-      snprintf(path, sizeof path, "%s/fig2_%s.svg", o.out_dir, rocks[ri].stem);
-      if (write_fig2(path, &o, &rocks[ri], ri, runs, nruns) != 0) rc = EXIT_FAILURE;
-    }
+  const double wall = cli_time_now_s() - t_all;
+  if (rc == EXIT_SUCCESS) {
+    rc = report_write(&o, rocks, nrocks, runs, nruns, scratch, wall);
+    LOG_I("%zu runs in %.1f s", nruns, wall);
   }
-  LOG_I("%zu runs in %.1f s", nruns, wall);
-
-done:
   if (runs)
     for (size_t i = 0; i < nruns; ++i) free(runs[i].steps);
   free(runs);

@@ -1,8 +1,8 @@
 /*
  * cmd_stack.c - `comlearn stack OBJECT.urdf...`: believe a CoM for every object (learned with the
  * estimator, the bounding-box center, or the URDF truth as an oracle), plan a stack on those
- * beliefs from geometry only (stack_plan.c), then release it in simulation with the truth
- * (stack_sim.c) and report whether it stands.
+ * beliefs from geometry only (lib/stack), then release it in simulation with the truth
+ * (stack_simulate) and report whether it stands.
  */
 #define _GNU_SOURCE
 #include "cmd_stack.h"
@@ -16,14 +16,16 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "comlearn/stack.h"
 #include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
-#include "log.h"
-#include "out.h"
-#include "stack.h"
+#include "stack_svg.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -189,53 +191,53 @@ static void print_json(const belief_t *bel, size_t n, stack_com_source_t src, co
   size_t level[STACK_MAX_OBJECTS] = {0};
   for (size_t k = 0; k < n; ++k) level[plan->order[k]] = k;
   printf("{\"stands\": %s, \"seconds_standing\": ", sim->run.stands ? "true" : "false");
-  out_json_number(sim->run.seconds_standing);
+  cli_json_number(stdout, sim->run.seconds_standing);
   printf(", \"duration_s\": ");
-  out_json_number(duration_s);
+  cli_json_number(stdout, duration_s);
   printf(", \"com_source\": \"%s\", \"oracle\": %s, \"order\": [", stack_com_source_str(src),
          src == STACK_COM_TRUE ? "true" : "false");
   for (size_t k = 0; k < n; ++k) printf("%s%zu", k ? ", " : "", plan->order[k]);
   double mn = HUGE_VAL;
   for (size_t k = 0; k < n; ++k) mn = fmin(mn, plan->margin_m[k]);
   printf("], \"min_margin_m\": ");
-  out_json_number(mn);
+  cli_json_number(stdout, mn);
   printf(", \"objects\": [");
   for (size_t i = 0; i < n; ++i) {
     const belief_t *b = &bel[i];
     const size_t k = level[i];
     printf("%s{\"urdf\": ", i ? ", " : "");
-    out_json_string(b->urdf, 0);
+    cli_json_string(stdout, b->urdf, 0);
     printf(", \"level\": %zu, \"com_m\": ", k);
-    out_json_array(b->com_m, 3);
+    cli_json_array(stdout, b->com_m, 3);
     printf(", \"halfwidth_m\": ");
-    out_json_array(b->halfwidth_m, 3);
+    cli_json_array(stdout, b->halfwidth_m, 3);
     printf(", \"found\": [%s, %s, %s], \"trials\": %zu, \"mass_guess_kg\": ",
            b->found[0] ? "true" : "false", b->found[1] ? "true" : "false",
            b->found[2] ? "true" : "false", b->trials);
-    out_json_number(b->mass_kg);
+    cli_json_number(stdout, b->mass_kg);
     printf(", \"margin_m\": ");
-    out_json_number(plan->margin_m[k]);
+    cli_json_number(stdout, plan->margin_m[k]);
     printf(", \"tilt_rad\": ");
-    out_json_number(plan->tilt_rad[k]);
+    cli_json_number(stdout, plan->tilt_rad[k]);
     printf(", \"pose\": {\"position_m\": ");
-    out_json_array(plan->pose[i].position_m, 3);
+    cli_json_array(stdout, plan->pose[i].position_m, 3);
     printf(", \"orientation_wxyz\": ");
-    out_json_array(plan->pose[i].orientation_wxyz, 4);
+    cli_json_array(stdout, plan->pose[i].orientation_wxyz, 4);
     printf("}, \"moved_at_s\": ");
-    out_json_number(sim->object[i].moved_at_s);
+    cli_json_number(stdout, sim->object[i].moved_at_s);
     printf(", \"displacement_m\": ");
-    out_json_number(sim->object[i].displacement_m);
+    cli_json_number(stdout, sim->object[i].displacement_m);
     printf(", \"rotation_rad\": ");
-    out_json_number(sim->object[i].rotation_rad);
+    cli_json_number(stdout, sim->object[i].rotation_rad);
     printf("}");
   }
   printf("], \"rehearsals\": %d, \"rehearsal_stands\": %s, \"max_tilt_deg\": ", reh->tried,
          reh->stood ? "true" : "false");
-  out_json_number(reh->tilt_deg);
+  cli_json_number(stdout, reh->tilt_deg);
   printf(", \"learn_seconds\": %.6f, \"plan_seconds\": %.6f, \"rehearse_seconds\": %.6f, "
          "\"sim_seconds\": %.6f, \"sim_time_s\": ",
          learn_s, plan_s, reh->seconds, sim_s);
-  out_json_number(sim->run.sim_time_s);
+  cli_json_number(stdout, sim->run.sim_time_s);
   printf("}\n");
 }
 
@@ -278,7 +280,18 @@ static void print_table(const belief_t *bel, size_t n, stack_com_source_t src,
   else printf("FELL after %.3f s\n", sim->run.seconds_standing);
 }
 
-int cmd_stack(int argc, char **argv) {
+/* The command line of `comlearn stack`. */
+typedef struct {
+  stack_com_source_t src;
+  qlearn_policy_kind_t policy;
+  const char *policy_name, *lcm_url, *svg;
+  double duration_s, mass_u, tilt_deg;
+  int rehearse, json;
+} stack_args_t;
+
+/* Options into a (defaults as usage() says). Returns -1 to go on, else the exit status (0 after
+ * --help, EXIT_USAGE). */
+static int parse_args(int argc, char **argv, stack_args_t *a) {
   static const struct option opts[] = {
       {"com", required_argument, NULL, 'c'},        {"lcm-url", required_argument, NULL, 'u'},
       {"policy", required_argument, NULL, 'p'},     {"svg", required_argument, NULL, 'S'},
@@ -287,17 +300,15 @@ int cmd_stack(int argc, char **argv) {
       {"no-rehearse", no_argument, NULL, 'N'},
       {"verbose", no_argument, NULL, 'v'},          {"quiet", no_argument, NULL, 'q'},
       {"help", no_argument, NULL, 'h'},             {NULL, 0, NULL, 0}};
-  stack_com_source_t src = STACK_COM_LEARNED;
-  qlearn_policy_kind_t policy = QLEARN_POLICY_BISECT;
-  const char *policy_name = "bisect", *lcm_url = NULL, *svg = NULL;
-  double duration_s = 5.0, mass_u = 0.3, tilt_deg = 20.0;
-  int rehearse = 1;
-  int json = 0, c;
+  *a = (stack_args_t){.src = STACK_COM_LEARNED, .policy = QLEARN_POLICY_BISECT,
+                      .policy_name = "bisect", .duration_s = 5.0, .mass_u = 0.3,
+                      .tilt_deg = 20.0, .rehearse = 1};
+  int c;
   optind = 1;
   while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
     switch (c) {
       case 'c':
-        if (com_parse(optarg, &src) != 0) {
+        if (com_parse(optarg, &a->src) != 0) {
           LOG_E("--com: '%s' is not one of learned, bbox, true", optarg);
           return EXIT_USAGE;
         }
@@ -307,99 +318,271 @@ int cmd_stack(int argc, char **argv) {
           LOG_E("--lcm-url: empty URL");
           return EXIT_USAGE;
         }
-        lcm_url = optarg;
+        a->lcm_url = optarg;
         break;
       case 'p':
-        if (estimate_policy_parse(optarg, &policy) != 0) {
+        if (estimate_policy_parse(optarg, &a->policy) != 0) {
           LOG_E("--policy: '%s' is not one of bisect, pba, paper-qtable, paper-mlp", optarg);
           return EXIT_USAGE;
         }
-        policy_name = optarg;
+        a->policy_name = optarg;
         break;
       case 'S':
         if (!optarg[0]) {
           LOG_E("--svg: empty file name");
           return EXIT_USAGE;
         }
-        svg = optarg;
+        a->svg = optarg;
         break;
       case 'D':
-        if (number_arg("--duration-s", optarg, 0.01, 600.0, &duration_s) != 0) return EXIT_USAGE;
+        if (number_arg("--duration-s", optarg, 0.01, 600.0, &a->duration_s) != 0) return EXIT_USAGE;
         break;
       case 'M':
-        if (number_arg("--mass-uncertainty", optarg, 0.0, 10.0, &mass_u) != 0) return EXIT_USAGE;
+        if (number_arg("--mass-uncertainty", optarg, 0.0, 10.0, &a->mass_u) != 0) return EXIT_USAGE;
         break;
       case 'T':
-        if (number_arg("--max-tilt-deg", optarg, 1.0, 45.0, &tilt_deg) != 0) return EXIT_USAGE;
+        if (number_arg("--max-tilt-deg", optarg, 1.0, 45.0, &a->tilt_deg) != 0) return EXIT_USAGE;
         break;
-      case 'N':
-        rehearse = 0;
-        break;
-      case 'j': json = 1; break;
-      case 'v': log_set_level(LOG_DEBUG); break;
-      case 'q': log_set_level(LOG_ERROR); break;
+      case 'N': a->rehearse = 0; break;
+      case 'j': a->json = 1; break;
+      case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
+      case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
       default: usage(stderr); return EXIT_USAGE;
     }
   }
-  const size_t n = (size_t)(argc - optind);
-  if (n < 2 || n > STACK_MAX_OBJECTS) {
-    LOG_E("stack needs 2..%d OBJECT.urdf files, got %zu", STACK_MAX_OBJECTS, n);
-    usage(stderr);
-    return EXIT_USAGE;
-  }
-  if (lcm_url && src != STACK_COM_LEARNED) LOG_W("--lcm-url is used only with --com learned");
+  return -1;
+}
 
-  belief_t bel[STACK_MAX_OBJECTS];
-  memset(bel, 0, sizeof bel);
-  int rc = 0;
-  /* Geometry first, for every object: bad input fails before any long work. */
-  for (size_t i = 0; i < n && rc == 0; ++i) {
+/* Geometry and the mass guess of every object, first: bad input fails before any long work.
+ * Returns an exit status. */
+static int beliefs_load(char *const *urdfs, size_t n, belief_t *bel) {
+  for (size_t i = 0; i < n; ++i) {
     belief_t *b = &bel[i];
-    b->urdf = argv[optind + (int)i];
+    b->urdf = urdfs[i];
     model_error_t merr = {{0}};
     model_status_t ms = model_object_load(b->urdf, NULL, &b->geo, &merr);
     model_mass_t mm;
     if (ms == MODEL_OK) ms = model_mesh_mass(&b->geo.mesh, kDensity, &mm);
     if (ms != MODEL_OK) {
       LOG_E("%s (%s)", merr.msg[0] ? merr.msg : b->urdf, model_status_str(ms));
-      rc = ms == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
-      break;
+      return ms == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
     }
     b->mass_kg = mm.mass_kg;
   }
-  /* The beliefs. */
-  const double t_learn = out_now_s();
+  return 0;
+}
+
+/* --com true: the URDF <inertial> CoM as the belief (an oracle). Returns an exit status. */
+static int believe_truth(belief_t *b) {
+  model_error_t merr = {{0}};
+  model_mass_t truth;
+  model_status_t ms = model_inertial_load(b->urdf, NULL, &truth, &merr);
+  if (ms != MODEL_OK) {
+    LOG_E("--com true: %s (%s)", merr.msg[0] ? merr.msg : b->urdf, model_status_str(ms));
+    return ms == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
+  }
+  memcpy(b->com_m, truth.com_m, sizeof b->com_m);
+  for (int k = 0; k < 3; ++k) b->found[k] = 1;
+  return 0;
+}
+
+/* A CoM for every object, from where a->src says. Returns an exit status. */
+static int beliefs_form(belief_t *bel, size_t n, const stack_args_t *a) {
+  int rc = 0;
   for (size_t i = 0; i < n && rc == 0; ++i) {
     belief_t *b = &bel[i];
-    switch (src) {
+    switch (a->src) {
       case STACK_COM_LEARNED:
         LOG_I("learning the CoM of %s (%zu/%zu, %s)", b->urdf, i + 1, n,
-              lcm_url ? "over LCM" : "in-process");
-        rc = learn(b, lcm_url, policy, policy_name);
+              a->lcm_url ? "over LCM" : "in-process");
+        rc = learn(b, a->lcm_url, a->policy, a->policy_name);
         break;
       case STACK_COM_BBOX:
         model_aabb_center(&b->geo.aabb, b->com_m);
         for (int k = 0; k < 3; ++k) b->found[k] = 1;
         break;
-      case STACK_COM_TRUE: {
-        model_error_t merr = {{0}};
-        model_mass_t truth;
-        model_status_t ms = model_inertial_load(b->urdf, NULL, &truth, &merr);
-        if (ms != MODEL_OK) {
-          LOG_E("--com true: %s (%s)", merr.msg[0] ? merr.msg : b->urdf, model_status_str(ms));
-          rc = ms == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
-          break;
-        }
-        memcpy(b->com_m, truth.com_m, sizeof b->com_m);
-        for (int k = 0; k < 3; ++k) b->found[k] = 1;
-        break;
-      }
+      case STACK_COM_TRUE: rc = believe_truth(b); break;
     }
   }
-  if (src == STACK_COM_TRUE && rc == 0)
+  if (a->src == STACK_COM_TRUE && rc == 0)
     LOG_I("--com true: planning on the URDF truth (an oracle, not a measurement)");
-  const double learn_s = out_now_s() - t_learn;
+  return rc;
+}
+
+/* What the planner gets of the beliefs (the mass uncertainty comes from the config). */
+static void planner_inputs(const belief_t *bel, size_t n, stack_object_t *in) {
+  for (size_t i = 0; i < n; ++i) {
+    in[i].mesh_link = &bel[i].geo.mesh;
+    memcpy(in[i].com_m, bel[i].com_m, sizeof in[i].com_m);
+    memcpy(in[i].com_halfwidth_m, bel[i].halfwidth_m, sizeof in[i].com_halfwidth_m);
+    in[i].mass_kg = bel[i].mass_kg;
+    in[i].mass_rel_uncertainty = 0.0;
+  }
+}
+
+/* The search over contact slopes and what it has so far. */
+typedef struct {
+  stack_plan_t *cand;     /* scratch: the plan of the current slope */
+  stack_sim_result_t *rr; /* scratch: its rehearsal */
+  stack_status_t st;      /* status of the plan kept in plan */
+  int have;               /* a plan was found at some slope */
+  double step_deg;        /* -4: flatter next; +4: steeper (nothing found at the first slope) */
+} slope_search_t;
+
+/* One slope of the search: plan on contacts up to tilt_deg, keep it when it is the first plan or
+ * it stands in rehearsal. Returns 1 when the search is over, 0 to try the next slope. */
+static int plan_at_slope(const stack_object_t *in, size_t n, const stack_args_t *a,
+                         double tilt_deg, stack_plan_config_t *pc,
+                         const balance_stack_config_t *rsc, slope_search_t *ss,
+                         stack_plan_t *plan, rehearsal_t *reh) {
+  pc->max_tilt_rad = tilt_deg * 3.14159265358979323846 / 180.0;
+  LOG_I("planning a stack of %zu objects (%s CoMs, contacts up to %.0f deg)", n,
+        stack_com_source_str(a->src), tilt_deg);
+  const stack_status_t ps = stack_plan(in, n, pc, ss->cand);
+  if (ps != STACK_OK) {
+    if (!ss->have) {
+      ss->st = ps;
+      memcpy(plan, ss->cand, sizeof *plan);
+    }
+    if (ps == STACK_E_ARG || ps == STACK_E_NOMEM) return 1;
+    if (!ss->have) ss->step_deg = 4.0; /* nothing at this slope: flatter contacts will not help */
+    return 0;
+  }
+  if (!ss->have) {
+    memcpy(plan, ss->cand, sizeof *plan);
+    ss->have = 1;
+    ss->st = STACK_OK;
+    reh->tilt_deg = tilt_deg;
+  }
+  if (!a->rehearse) return 1;
+  const double tr = cli_time_now_s();
+  const stack_status_t rs = stack_rehearse(in, n, ss->cand, NULL, rsc, ss->rr);
+  reh->seconds += cli_time_now_s() - tr;
+  ++reh->tried;
+  if (rs != STACK_OK) {
+    LOG_W("rehearsal failed: %s: %s", stack_status_str(rs), ss->rr->msg);
+    return 1;
+  }
+  LOG_I("rehearsal on the beliefs (contacts up to %.0f deg): %s", tilt_deg,
+        ss->rr->run.stands ? "stands" : "falls");
+  if (!ss->rr->run.stands) return 0;
+  memcpy(plan, ss->cand, sizeof *plan);
+  reh->stood = 1;
+  reh->tilt_deg = tilt_deg;
+  return 1;
+}
+
+/* Plan on contacts at most a->tilt_deg steep; rehearse the plan in simulation on the beliefs; if
+ * it falls there, plan again 4 degrees flatter. When there is no plan at a->tilt_deg at all, try
+ * steeper contacts instead (4 degrees at a time, up to 12 more). The first plan found is kept in
+ * case none stands in rehearsal. *st: the kept plan's status (on failure plan holds the first
+ * attempt, for its msg); *plan_s: planning wall time without the rehearsals. Returns an exit
+ * status (EXIT_FAILURE: out of memory). */
+static int plan_rehearsed(const stack_object_t *in, size_t n, const stack_args_t *a,
+                          stack_plan_t *plan, rehearsal_t *reh, stack_status_t *st,
+                          double *plan_s) {
+  stack_plan_config_t pc;
+  stack_plan_config_default(&pc);
+  pc.mass_rel_uncertainty = a->mass_u;
+  balance_stack_config_t rsc;
+  balance_stack_config_default(&rsc);
+  rsc.duration_s = a->duration_s;
+  slope_search_t ss = {malloc(sizeof *ss.cand), malloc(sizeof *ss.rr), STACK_E_NOPLAN, 0, -4.0};
+  int rc = 0;
+  if (!ss.cand || !ss.rr) {
+    LOG_E("out of memory");
+    rc = EXIT_FAILURE;
+  }
+  const double t0 = cli_time_now_s();
+  const double steepest = fmin(45.0, a->tilt_deg + 12.0);
+  for (double tilt = a->tilt_deg; rc == 0 && tilt >= 4.0 - 1e-9 && tilt <= steepest + 1e-9;
+       tilt += ss.step_deg)
+    if (plan_at_slope(in, n, a, tilt, &pc, &rsc, &ss, plan, reh)) break;
+  *plan_s = cli_time_now_s() - t0 - reh->seconds;
+  if (rc == 0 && ss.have && a->rehearse && !reh->stood)
+    LOG_W("no plan stood in rehearsal; building the first one (contacts up to %.0f deg)",
+          reh->tilt_deg);
+  free(ss.cand);
+  free(ss.rr);
+  *st = ss.st;
+  return rc;
+}
+
+/* No plan: say why (and with --json, a JSON object saying so). Returns the exit status. */
+static int report_no_plan(const stack_args_t *a, stack_status_t st, const stack_plan_t *plan,
+                          double learn_s, double plan_s) {
+  LOG_E("plan: %s: %s", stack_status_str(st), plan->msg);
+  if (a->json) {
+    printf("{\"stands\": false, \"planned\": false, \"seconds_standing\": 0, \"com_source\": "
+           "\"%s\", \"error\": ",
+           stack_com_source_str(a->src));
+    cli_json_string(stdout, plan->msg, 0);
+    printf(", \"learn_seconds\": %.6f, \"plan_seconds\": %.6f}\n", learn_s, plan_s);
+  }
+  return st == STACK_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
+}
+
+/* The planned stack released with the true mass properties. Returns an exit status. */
+static int simulate_truth(const belief_t *bel, size_t n, double duration_s,
+                          const stack_plan_t *plan, stack_sim_result_t *sim, double *sim_s) {
+  const char *paths[STACK_MAX_OBJECTS];
+  for (size_t i = 0; i < n; ++i) paths[i] = bel[i].urdf;
+  balance_stack_config_t sc;
+  balance_stack_config_default(&sc);
+  sc.duration_s = duration_s;
+  LOG_I("simulating the stack for %.2f s with the true mass properties", duration_s);
+  const double t0 = cli_time_now_s();
+  const stack_status_t st = stack_simulate(paths, n, plan, NULL, &sc, sim);
+  *sim_s = cli_time_now_s() - t0;
+  if (st != STACK_OK) {
+    LOG_E("simulation: %s: %s", stack_status_str(st), sim->msg);
+    return st == STACK_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
+  }
+  return 0;
+}
+
+/* --svg: the side view of the planned poses with the believed CoMs. Returns 0, or -1 (logged). */
+static int write_picture(const stack_args_t *a, const belief_t *bel, size_t n,
+                         const stack_plan_t *plan, const stack_sim_result_t *sim) {
+  const model_mesh_t *meshes[STACK_MAX_OBJECTS];
+  double coms[STACK_MAX_OBJECTS][3];
+  for (size_t i = 0; i < n; ++i) {
+    meshes[i] = &bel[i].geo.mesh;
+    memcpy(coms[i], bel[i].com_m, sizeof coms[i]);
+  }
+  char title[160];
+  if (sim->run.stands)
+    snprintf(title, sizeof title, "%s CoMs: stands %.1f s", stack_com_source_str(a->src),
+             a->duration_s);
+  else
+    snprintf(title, sizeof title, "%s CoMs: fell after %.2f s", stack_com_source_str(a->src),
+             sim->run.seconds_standing);
+  if (stack_svg_write(a->svg, meshes, plan->pose, (const double(*)[3])coms, n, title) != 0) {
+    LOG_E("--svg %s: %s", a->svg, strerror(errno));
+    return -1;
+  }
+  return 0;
+}
+
+int cmd_stack(int argc, char **argv) {
+  stack_args_t a;
+  const int prc = parse_args(argc, argv, &a);
+  if (prc >= 0) return prc;
+  const size_t n = (size_t)(argc - optind);
+  if (n < 2 || n > STACK_MAX_OBJECTS) {
+    LOG_E("stack needs 2..%d OBJECT.urdf files, got %zu", STACK_MAX_OBJECTS, n);
+    usage(stderr);
+    return EXIT_USAGE;
+  }
+  if (a.lcm_url && a.src != STACK_COM_LEARNED) LOG_W("--lcm-url is used only with --com learned");
+
+  belief_t bel[STACK_MAX_OBJECTS];
+  memset(bel, 0, sizeof bel);
+  int rc = beliefs_load(argv + optind, n, bel);
+  const double t_learn = cli_time_now_s();
+  if (rc == 0) rc = beliefs_form(bel, n, &a);
+  const double learn_s = cli_time_now_s() - t_learn;
 
   stack_plan_t *plan = NULL;
   stack_sim_result_t *sim = NULL;
@@ -413,131 +596,19 @@ int cmd_stack(int argc, char **argv) {
   }
   double plan_s = 0.0, sim_s = 0.0;
   rehearsal_t reh = {0, 0, 0.0, 0.0};
-  stack_object_t in[STACK_MAX_OBJECTS];
+  stack_status_t st = STACK_E_NOPLAN;
   if (rc == 0) {
-    for (size_t i = 0; i < n; ++i) {
-      in[i].mesh_link = &bel[i].geo.mesh;
-      memcpy(in[i].com_m, bel[i].com_m, sizeof in[i].com_m);
-      memcpy(in[i].com_halfwidth_m, bel[i].halfwidth_m, sizeof in[i].com_halfwidth_m);
-      in[i].mass_kg = bel[i].mass_kg;
-      in[i].mass_rel_uncertainty = 0.0;
-    }
-    stack_plan_config_t pc;
-    stack_plan_config_default(&pc);
-    pc.mass_rel_uncertainty = mass_u;
-    balance_stack_config_t rsc;
-    balance_stack_config_default(&rsc);
-    rsc.duration_s = duration_s;
-    /* Plan on contacts at most tilt_deg steep; rehearse the plan in simulation on the beliefs;
-     * if it falls there, plan again 4 degrees flatter. When there is no plan at tilt_deg at all,
-     * try steeper contacts instead (4 degrees at a time, up to 12 more). The first plan found is
-     * kept in case none stands in rehearsal. */
-    stack_plan_t *cand = malloc(sizeof *cand);
-    stack_sim_result_t *rr = malloc(sizeof *rr);
-    stack_status_t st = STACK_E_NOPLAN;
-    int have = 0;
-    if (!cand || !rr) {
-      LOG_E("out of memory");
-      rc = EXIT_FAILURE;
-    }
-    const double t0 = out_now_s();
-    double step = -4.0;
-    const double steepest = fmin(45.0, tilt_deg + 12.0);
-    for (double tilt = tilt_deg; rc == 0 && tilt >= 4.0 - 1e-9 && tilt <= steepest + 1e-9;
-         tilt += step) {
-      pc.max_tilt_rad = tilt * 3.14159265358979323846 / 180.0;
-      LOG_I("planning a stack of %zu objects (%s CoMs, contacts up to %.0f deg)", n,
-            stack_com_source_str(src), tilt);
-      const stack_status_t ps = stack_plan(in, n, &pc, cand);
-      if (ps != STACK_OK) {
-        if (!have) {
-          st = ps;
-          memcpy(plan, cand, sizeof *plan);
-        }
-        if (ps == STACK_E_ARG || ps == STACK_E_NOMEM) break;
-        if (!have) step = 4.0; /* nothing at this slope: flatter contacts will not help */
-        continue;
-      }
-      if (!have) {
-        memcpy(plan, cand, sizeof *plan);
-        have = 1;
-        st = STACK_OK;
-        reh.tilt_deg = tilt;
-      }
-      if (!rehearse) break;
-      const double tr = out_now_s();
-      const stack_status_t rs = stack_rehearse(in, n, cand, NULL, &rsc, rr);
-      reh.seconds += out_now_s() - tr;
-      ++reh.tried;
-      if (rs != STACK_OK) {
-        LOG_W("rehearsal failed: %s: %s", stack_status_str(rs), rr->msg);
-        break;
-      }
-      LOG_I("rehearsal on the beliefs (contacts up to %.0f deg): %s", tilt,
-            rr->run.stands ? "stands" : "falls");
-      if (rr->run.stands) {
-        memcpy(plan, cand, sizeof *plan);
-        reh.stood = 1;
-        reh.tilt_deg = tilt;
-        break;
-      }
-    }
-    plan_s = out_now_s() - t0 - reh.seconds;
-    if (rc == 0 && have && rehearse && !reh.stood)
-      LOG_W("no plan stood in rehearsal; building the first one (contacts up to %.0f deg)",
-            reh.tilt_deg);
-    free(cand);
-    free(rr);
-    if (rc == 0 && st != STACK_OK) {
-      LOG_E("plan: %s: %s", stack_status_str(st), plan->msg);
-      if (json) {
-        printf("{\"stands\": false, \"planned\": false, \"seconds_standing\": 0, \"com_source\": "
-               "\"%s\", \"error\": ",
-               stack_com_source_str(src));
-        out_json_string(plan->msg, 0);
-        printf(", \"learn_seconds\": %.6f, \"plan_seconds\": %.6f}\n", learn_s, plan_s);
-      }
-      rc = st == STACK_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
-    }
+    stack_object_t in[STACK_MAX_OBJECTS];
+    planner_inputs(bel, n, in);
+    rc = plan_rehearsed(in, n, &a, plan, &reh, &st, &plan_s);
+    if (rc == 0 && st != STACK_OK) rc = report_no_plan(&a, st, plan, learn_s, plan_s);
   }
+  if (rc == 0) rc = simulate_truth(bel, n, a.duration_s, plan, sim, &sim_s);
+  /* a failed picture still prints the result; the exit status says the picture failed */
+  const int svg_failed = rc == 0 && a.svg && write_picture(&a, bel, n, plan, sim) != 0;
   if (rc == 0) {
-    const char *paths[STACK_MAX_OBJECTS];
-    for (size_t i = 0; i < n; ++i) paths[i] = bel[i].urdf;
-    balance_stack_config_t sc;
-    balance_stack_config_default(&sc);
-    sc.duration_s = duration_s;
-    LOG_I("simulating the stack for %.2f s with the true mass properties", duration_s);
-    const double t0 = out_now_s();
-    const stack_status_t st = stack_simulate(paths, n, plan, NULL, &sc, sim);
-    sim_s = out_now_s() - t0;
-    if (st != STACK_OK) {
-      LOG_E("simulation: %s: %s", stack_status_str(st), sim->msg);
-      rc = st == STACK_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
-    }
-  }
-  int svg_failed = 0;
-  if (rc == 0 && svg) {
-    const model_mesh_t *meshes[STACK_MAX_OBJECTS];
-    double coms[STACK_MAX_OBJECTS][3];
-    for (size_t i = 0; i < n; ++i) {
-      meshes[i] = &bel[i].geo.mesh;
-      memcpy(coms[i], bel[i].com_m, sizeof coms[i]);
-    }
-    char title[160];
-    if (sim->run.stands)
-      snprintf(title, sizeof title, "%s CoMs: stands %.1f s", stack_com_source_str(src),
-               duration_s);
-    else
-      snprintf(title, sizeof title, "%s CoMs: fell after %.2f s", stack_com_source_str(src),
-               sim->run.seconds_standing);
-    if (stack_svg_write(svg, meshes, plan->pose, (const double(*)[3])coms, n, title) != 0) {
-      LOG_E("--svg %s: %s", svg, strerror(errno));
-      svg_failed = 1; /* the result is still printed; the exit status says the picture failed */
-    }
-  }
-  if (rc == 0) {
-    if (json) print_json(bel, n, src, plan, sim, &reh, learn_s, plan_s, sim_s, duration_s);
-    else print_table(bel, n, src, plan, sim, &reh, learn_s, plan_s, sim_s, duration_s);
+    if (a.json) print_json(bel, n, a.src, plan, sim, &reh, learn_s, plan_s, sim_s, a.duration_s);
+    else print_table(bel, n, a.src, plan, sim, &reh, learn_s, plan_s, sim_s, a.duration_s);
     if (svg_failed) rc = EXIT_FAILURE;
   }
   free(plan);

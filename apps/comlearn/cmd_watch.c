@@ -19,11 +19,12 @@
 
 #include <lcm/lcm.h>
 
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/comlearn_com_estimate_t.h"
 #include "comlearn/comlearn_com_trial_t.h"
 #include "comlearn/msg.h"
-#include "log.h"
-#include "out.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -99,13 +100,13 @@ static const char *component_name(int8_t c) {
 
 static void json_str(const char *key, const char *v) {
   printf("\"%s\": ", key);
-  out_json_string(v, 1); /* bytes as Latin-1, like lcm-spy */
+  cli_json_string(stdout, v, 1); /* bytes as Latin-1, like lcm-spy */
   printf(", ");
 }
 
 static void json_vec(const char *key, const double *v, int n) {
   printf("\"%s\": ", key);
-  out_json_array(v, n);
+  cli_json_array(stdout, v, (size_t)n);
   printf(", ");
 }
 
@@ -153,28 +154,28 @@ static void on_trial(const lcm_recv_buf_t *rbuf, const char *channel, const void
            outcome_name(t->outcome));
     json_vec("edge_normal_world", t->edge_normal_world, 3);
     printf("\"edge_offset_m\": ");
-    out_json_number(t->edge_offset_m);
+    cli_json_number(stdout, t->edge_offset_m);
     printf(", ");
     json_vec("target_point_link_m", t->target_point_link_m, 3);
     printf("\"target_offset_m\": ");
-    out_json_number(t->target_offset_m);
+    cli_json_number(stdout, t->target_offset_m);
     printf(", ");
     json_vec("released_position_m", t->released_position_m, 3);
     json_vec("released_orientation_wxyz", t->released_orientation_wxyz, 4);
     json_vec("settled_position_m", t->settled_position_m, 3);
     json_vec("settled_orientation_wxyz", t->settled_orientation_wxyz, 4);
     printf("\"displacement_m\": ");
-    out_json_number(t->displacement_m);
+    cli_json_number(stdout, t->displacement_m);
     printf(", \"rotation_rad\": ");
-    out_json_number(t->rotation_rad);
+    cli_json_number(stdout, t->rotation_rad);
     printf(", \"flat_patch\": %s, \"sideways_margin_m\": ", t->flat_patch ? "true" : "false");
-    out_json_number(t->sideways_margin_m);
+    cli_json_number(stdout, t->sideways_margin_m);
     printf(", ");
     json_vec("com_estimated_m", t->com_estimated_m, 3);
     printf("\"halfwidth_m\": [");
     for (int k = 0; k < 3; ++k) {
       if (k) printf(", ");
-      out_json_number(t->halfwidth_m[k]);
+      cli_json_number(stdout, t->halfwidth_m[k]);
     }
     printf("]}\n");
   } else {
@@ -205,7 +206,7 @@ static void on_estimate(const lcm_recv_buf_t *rbuf, const char *channel, const v
     json_str("object", e->object_id);
     json_str("policy", e->policy);
     printf("\"resolution_m\": ");
-    out_json_number(e->resolution_m);
+    cli_json_number(stdout, e->resolution_m);
     printf(", ");
     json_vec("com_m", e->com_estimated_m, 3);
     json_vec("halfwidth_m", e->halfwidth_m, 3);
@@ -235,16 +236,14 @@ static void on_reject(const lcm_recv_buf_t *rbuf, const char *channel, msg_statu
         msg_status_str(reason));
 }
 
-int cmd_watch(int argc, char **argv) {
+/* Options into *url, *timeout_s and w (defaults as usage() says). Returns -1 to go on, else the
+ * exit status (0 after --help, EXIT_USAGE). */
+static int parse_args(int argc, char **argv, const char **url, double *timeout_s, watch_t *w) {
   static const struct option opts[] = {
       {"lcm-url", required_argument, NULL, 'u'}, {"once", no_argument, NULL, 'o'},
       {"timeout-s", required_argument, NULL, 't'}, {"json", no_argument, NULL, 'j'},
       {"verbose", no_argument, NULL, 'v'},       {"quiet", no_argument, NULL, 'q'},
       {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
-  const char *url = MSG_LCM_URL_DEFAULT;
-  double timeout_s = 0.0;
-  watch_t w;
-  memset(&w, 0, sizeof w);
   int c;
   optind = 1;
   while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
@@ -254,9 +253,9 @@ int cmd_watch(int argc, char **argv) {
           LOG_E("--lcm-url: empty URL");
           return EXIT_USAGE;
         }
-        url = optarg;
+        *url = optarg;
         break;
-      case 'o': w.once = 1; break;
+      case 'o': w->once = 1; break;
       case 't': {
         char *end;
         errno = 0;
@@ -265,12 +264,12 @@ int cmd_watch(int argc, char **argv) {
           LOG_E("--timeout-s: '%s' is not a number of seconds in [0, 1e6]", optarg);
           return EXIT_USAGE;
         }
-        timeout_s = t;
+        *timeout_s = t;
         break;
       }
-      case 'j': w.json = 1; break;
-      case 'v': log_set_level(LOG_DEBUG); break;
-      case 'q': log_set_level(LOG_ERROR); break;
+      case 'j': w->json = 1; break;
+      case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
+      case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
       default: usage(stderr); return EXIT_USAGE;
     }
@@ -280,34 +279,39 @@ int cmd_watch(int argc, char **argv) {
     usage(stderr);
     return EXIT_USAGE;
   }
+  return -1;
+}
 
-  lcm_t *lcm = lcm_create(url);
-  if (!lcm) {
-    LOG_E("cannot open LCM on %s (udpm needs a multicast route: `ip route add 224.0.0.0/4 dev "
-          "lo` as root)", url);
-    return EXIT_FAILURE;
-  }
-  msg_stats_t stats = {0};
+/* COM_TRIAL and COM_ESTIMATE into w, rejects counted in stats, no record dropped. Returns 0, or
+ * EXIT_FAILURE (logged; nothing left subscribed). */
+static int watch_subscribe(lcm_t *lcm, const char *url, watch_t *w, msg_stats_t *stats,
+                           msg_subscription_t **ts, msg_subscription_t **es) {
   msg_sub_config_t tc = {.type = comlearn_com_trial_t_get_type_info(),
-                         .on_message = on_trial, .on_reject = on_reject, .user = &w,
-                         .stats = &stats};
+                         .on_message = on_trial, .on_reject = on_reject, .user = w,
+                         .stats = stats};
   msg_sub_config_t ec = {.type = comlearn_com_estimate_t_get_type_info(),
-                         .on_message = on_estimate, .on_reject = on_reject, .user = &w,
-                         .stats = &stats};
-  msg_subscription_t *ts = NULL, *es = NULL;
-  msg_status_t s1 = msg_subscribe(lcm, MSG_CHANNEL_COM_TRIAL, &tc, &ts);
-  msg_status_t s2 = s1 == MSG_OK ? msg_subscribe(lcm, MSG_CHANNEL_COM_ESTIMATE, &ec, &es) : s1;
+                         .on_message = on_estimate, .on_reject = on_reject, .user = w,
+                         .stats = stats};
+  *ts = NULL;
+  *es = NULL;
+  msg_status_t s1 = msg_subscribe(lcm, MSG_CHANNEL_COM_TRIAL, &tc, ts);
+  msg_status_t s2 = s1 == MSG_OK ? msg_subscribe(lcm, MSG_CHANNEL_COM_ESTIMATE, &ec, es) : s1;
   if (s1 != MSG_OK || s2 != MSG_OK) {
     LOG_E("subscribing on %s: %s", url, msg_status_str(s1 != MSG_OK ? s1 : s2));
-    msg_unsubscribe(lcm, ts);
-    msg_unsubscribe(lcm, es);
-    lcm_destroy(lcm);
+    msg_unsubscribe(lcm, *ts);
+    msg_unsubscribe(lcm, *es);
     return EXIT_FAILURE;
   }
   /* a replay may be fast: never drop a record because the terminal is slow */
-  msg_subscription_set_queue_capacity(ts, 0);
-  msg_subscription_set_queue_capacity(es, 0);
+  msg_subscription_set_queue_capacity(*ts, 0);
+  msg_subscription_set_queue_capacity(*es, 0);
+  return 0;
+}
 
+/* Handle messages until SIGINT / SIGTERM, the final estimate (--once) or the timeout (0: none).
+ * w is filled in by the callbacks. Returns an exit status (EXIT_FAILURE: --once timed out, or LCM
+ * failed). */
+static int watch_loop(lcm_t *lcm, const char *url, double timeout_s, watch_t *w) {
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_signal;
@@ -319,13 +323,13 @@ int cmd_watch(int argc, char **argv) {
 
   /* Tests and scripts wait for this line before they start publishing. */
   LOG_I("listening on %s for %s and %s", url, MSG_CHANNEL_COM_TRIAL, MSG_CHANNEL_COM_ESTIMATE);
-  const double t0 = out_now_s();
+  const double t0 = cli_time_now_s();
   int rc = EXIT_SUCCESS;
-  while (!g_stop && !(w.once && w.done_seen)) {
+  while (!g_stop && !(w->once && w->done_seen)) {
     if (timeout_s > 0) {
-      const double left = timeout_s - (out_now_s() - t0);
+      const double left = timeout_s - (cli_time_now_s() - t0);
       if (left <= 0) {
-        if (w.once) {
+        if (w->once) {
           LOG_E("no final COM_ESTIMATE on %s within %g s", url, timeout_s);
           rc = EXIT_FAILURE;
         }
@@ -341,6 +345,30 @@ int cmd_watch(int argc, char **argv) {
   }
   sigaction(SIGINT, &old_int, NULL);
   sigaction(SIGTERM, &old_term, NULL);
+  return rc;
+}
+
+int cmd_watch(int argc, char **argv) {
+  const char *url = MSG_LCM_URL_DEFAULT;
+  double timeout_s = 0.0;
+  watch_t w;
+  memset(&w, 0, sizeof w);
+  const int prc = parse_args(argc, argv, &url, &timeout_s, &w);
+  if (prc >= 0) return prc;
+
+  lcm_t *lcm = lcm_create(url);
+  if (!lcm) {
+    LOG_E("cannot open LCM on %s (udpm needs a multicast route: `ip route add 224.0.0.0/4 dev "
+          "lo` as root)", url);
+    return EXIT_FAILURE;
+  }
+  msg_stats_t stats = {0};
+  msg_subscription_t *ts, *es;
+  if (watch_subscribe(lcm, url, &w, &stats, &ts, &es) != 0) {
+    lcm_destroy(lcm);
+    return EXIT_FAILURE;
+  }
+  const int rc = watch_loop(lcm, url, timeout_s, &w);
   LOG_I("%" PRIu64 " trials, %" PRIu64 " estimates, %" PRIu64 " undecodable buffers", w.trials,
         w.estimates, msg_stats_rejected(&stats));
   msg_unsubscribe(lcm, ts);

@@ -18,14 +18,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "cmd_estimate.h"
 #include "cmd_experiments.h"
 #include "cmd_stack.h"
 #include "cmd_watch.h"
-#include "log.h"
-#include "out.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -122,13 +122,13 @@ fail:
 
 static void json_vec(const char *key, const double v[3], int comma) {
   printf("\"%s\": ", key);
-  out_json_array(v, 3);
+  cli_json_array(stdout, v, 3);
   printf("%s", comma ? ", " : "");
 }
 
 static void json_str(const char *key, const char *v, int comma) {
   printf("\"%s\": ", key);
-  out_json_string(v, 0);
+  cli_json_string(stdout, v, 0);
   printf("%s", comma ? ", " : "");
 }
 
@@ -203,8 +203,8 @@ static int cmd_inspect(int argc, char **argv) {
       case 'l': link = optarg; break;
       case 'j': json = 1; break;
       case 't': truth = 1; break;
-      case 'v': log_set_level(LOG_DEBUG); break;
-      case 'q': log_set_level(LOG_ERROR); break;
+      case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
+      case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
       default: usage(stderr); return EXIT_USAGE;
     }
@@ -240,6 +240,7 @@ static int cmd_inspect(int argc, char **argv) {
 }
 
 int main(int argc, char **argv) {
+  cli_log_init("comlearn");
   if (argc < 2) {
     usage(stderr);
     return EXIT_USAGE;

@@ -1,4 +1,4 @@
-/* stack_svg.c - a side view of a stack as SVG (stack_svg_write, stack.h).
+/* stack_svg.c - a side view of a stack as SVG (stack_svg_write, stack_svg.h).
  *
  * Orthographic view looking along +y (world x to the right, z up). Painter's algorithm over the
  * triangles of all objects together: back faces (outward normal with y >= 0) culled, the rest
@@ -7,7 +7,7 @@
  * per drawn triangle, ~200 KB for three 2000-triangle rocks. B's top is a wide box below z = 0;
  * believed CoMs are crosses; a scale bar in mm; coordinates with one decimal (px).
  *
- * Geometry only (comlearn_stack): no URDF inertial. The file is written to PATH.tmp and renamed
+ * Geometry only (no URDF inertial). The file is written to PATH.tmp and renamed
  * over PATH, so a failure never leaves a partial file at PATH (PATH.tmp is removed).
  * Errors: -1 with errno EINVAL (NULL path / meshes / poses, count 0, a NULL mesh, a non-finite or
  * zero quaternion, position, vertex or CoM, a triangle index out of range), ENOMEM, ENAMETOOLONG,
@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "stack.h"
+#include "stack_svg.h"
 
 enum { SHADE_LEVELS = 32, PALETTE = 8 };
 

@@ -1,5 +1,5 @@
 /*
- * stack_rehearse.c - a plan tried out in simulation on the planner's own beliefs before the real
+ * rehearse.c - a plan tried out in simulation on the planner's own beliefs before the real
  * stack is built (library comlearn_stack: geometry and beliefs only, never the URDF inertial).
  *
  * The planner's margins are statics. What statics does not see - a contact tilted enough that the
@@ -12,7 +12,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "stack.h"
+#include "comlearn/stack.h"
 
 /* The believed mass properties of one object: mass guess, believed CoM, and the uniform-density
  * inertia of its mesh moved from the mesh's own CoM to the believed one. */

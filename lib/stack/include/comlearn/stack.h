@@ -1,21 +1,30 @@
 /*
- * stack.h - `comlearn stack`: plan a vertical stack of objects from geometry and believed CoMs,
- * and simulate it with the truth.
+ * comlearn/stack.h - lib/stack: plan a vertical stack of objects from geometry and believed CoMs,
+ * rehearse it on the beliefs, and simulate it with the truth (the library behind `comlearn stack`).
  *
- * Two sides, as for the estimator (estimate.h):
- * - The planner (stack_plan.c, library comlearn_stack) sees only geometry (link-frame meshes) and
- *   what the caller believes of each object: its CoM (learned, bounding-box center or truth, the
- *   planner cannot tell), the CoM's uncertainty and a mass guess. It never reads the URDF
- *   <inertial>; its archive is checked with nm like comlearn_estimate's.
- * - The simulator side (stack_sim.c, library comlearn_stack_sim) loads each object's truth and
- *   runs the planned stack on lib/balance (balance_stack_run) for 5 s.
+ * Two sides, as for the estimator (estimate.h), in two targets:
+ * - The planner (src/plan.c and src/rehearse.c, library comlearn_stack) sees only geometry
+ *   (link-frame meshes) and what the caller believes of each object: its CoM (learned,
+ *   bounding-box center or truth, the planner cannot tell), the CoM's uncertainty and a mass
+ *   guess. It never reads the URDF <inertial>; its archive is checked with nm like
+ *   comlearn_estimate's (tests/stack.cmake).
+ * - The simulator side (src/simulate.c, library comlearn_stack_sim, links comlearn_model_sim)
+ *   loads each object's truth and runs the planned stack on lib/balance (balance_stack_run).
+ *
+ * No I/O and no logging: every function returns a stack_status_t and explains a failure in the
+ * result's msg. The side-view picture of a stack is the program's (apps/comlearn/stack_svg.h):
+ * it writes a file, and the libraries under lib/ do no I/O.
+ *
+ * Thread-safety: no globals; calls on distinct output structs may run concurrently. Memory: the
+ * planner and the rehearsal allocate their working sets on the heap and free them before
+ * returning (STACK_E_NOMEM when that fails); inputs are borrowed, never kept.
  *
  * Frames and units: SI. World as in comlearn/balance.h: z up, B's top at z = 0 centered at the
  * origin; the stack stands on B. Object: the URDF link frame. A pose is the link frame's pose in
  * the world.
  */
-#ifndef COMLEARN_APP_STACK_H
-#define COMLEARN_APP_STACK_H
+#ifndef COMLEARN_STACK_H
+#define COMLEARN_STACK_H
 
 #include <stddef.h>
 
@@ -99,7 +108,7 @@ stack_status_t stack_run_bodies(const model_mesh_t *const *meshes_link, const mo
                                 const balance_config_t *cfg, const balance_stack_config_t *scfg,
                                 stack_sim_result_t *out);
 
-/* Rehearse a plan in simulation on the planner's beliefs (stack_rehearse.c; no URDF inertial):
+/* Rehearse a plan in simulation on the planner's beliefs (src/rehearse.c; no URDF inertial):
  * every object with its mass guess, its believed CoM and its mesh's uniform-density inertia moved
  * to that CoM, released at plan->pose and run like stack_simulate. A plan that falls here falls
  * in the believed world; `comlearn stack` then plans again on flatter contacts. cfg / scfg NULL:
@@ -107,14 +116,5 @@ stack_status_t stack_run_bodies(const model_mesh_t *const *meshes_link, const mo
 stack_status_t stack_rehearse(const stack_object_t *objects, size_t count, const stack_plan_t *plan,
                               const balance_config_t *cfg, const balance_stack_config_t *scfg,
                               stack_sim_result_t *out);
-
-/* ---- picture (stack_svg.c) ------------------------------------------------------------------ */
-
-/* A side view (looking along +y: x right, z up) of meshes_link[i] at poses[i], with B's top, each
- * object's believed CoM (com_link_m[i], may be NULL) as a marker, and a title. Writes an SVG file.
- * Returns 0, or -1 with errno set. */
-int stack_svg_write(const char *path, const model_mesh_t *const *meshes_link,
-                    const model_pose_t *poses, const double (*com_link_m)[3], size_t count,
-                    const char *title);
 
 #endif

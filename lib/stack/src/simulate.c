@@ -1,5 +1,5 @@
 /*
- * stack_sim.c - the simulator side of `comlearn stack` (library comlearn_stack_sim): the planned
+ * simulate.c - the simulator side of lib/stack (library comlearn_stack_sim): the planned
  * stack released on lib/balance with each object's URDF truth. The only code of the stack path
  * that reads the <inertial>.
  */
@@ -8,7 +8,7 @@
 
 #include "comlearn/balance_stack.h"
 #include "comlearn/model_inertial.h"
-#include "stack.h"
+#include "comlearn/stack.h"
 
 stack_status_t stack_simulate(const char *const *urdf_paths, size_t count, const stack_plan_t *plan,
                               const balance_config_t *cfg, const balance_stack_config_t *scfg,

@@ -1,5 +1,5 @@
 /*
- * stack_plan.c - the planner of `comlearn stack` (library comlearn_stack): geometry and believed
+ * plan.c - the stack planner (lib/stack, library comlearn_stack): geometry and believed
  * CoMs in, an order and poses out. Never reads the URDF <inertial> (nm-checked).
  *
  * Contacts (docs/stack.md): every object rests with a face of its convex hull (coplanar hull
@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "stack.h"
+#include "comlearn/stack.h"
 
 enum { BEAM_WIDTH = 48, FULL_EVAL = 16, MAX_PER_SIGNATURE = 3, MAX_UPPER_FACES = 8, MAX_LOWER_FACETS = 12 };
 
@@ -264,6 +264,126 @@ static int tri_area_cmp(const void *a, const void *b) {
   return 0;
 }
 
+/* Area, unit outward normal and plane offset of every hull triangle (tri), and the same planes
+ * for the clearance checks (planes[t] = (n, d)). */
+static void hull_triangles(const model_mesh_t *hull, tri_t *tri, double (*planes)[4]) {
+  for (size_t t = 0; t < hull->triangle_count; ++t) {
+    const double *a = hull->vertices_m[hull->triangles[t][0]];
+    const double *b = hull->vertices_m[hull->triangles[t][1]];
+    const double *c = hull->vertices_m[hull->triangles[t][2]];
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                   e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = sqrt(dot3(n, n));
+    tri[t].area = 0.5 * len;
+    for (int k = 0; k < 3 && len > 0.0; ++k) n[k] /= len;
+    memcpy(tri[t].n, n, sizeof n);
+    tri[t].d = dot3(n, a);
+    tri[t].group = -1;
+    for (int k = 0; k < 3; ++k) planes[t][k] = n[k];
+    planes[t][3] = tri[t].d;
+  }
+}
+
+/* Sort tri by area, largest first, with each triangle's vertex indices alongside in tv; every
+ * group reset to -1 (no face yet). */
+static void tris_sort_by_area(const model_mesh_t *hull, tri_t *tri, uint32_t (*tv)[3]) {
+  const size_t nt = hull->triangle_count;
+  for (size_t t = 0; t < nt; ++t) tri[t].group = (int)t;
+  qsort(tri, nt, sizeof *tri, tri_area_cmp);
+  for (size_t t = 0; t < nt; ++t) memcpy(tv[t], hull->triangles[tri[t].group], sizeof tv[t]);
+  for (size_t t = 0; t < nt; ++t) tri[t].group = -1;
+}
+
+/* The face seeded by triangle t (the largest not yet in a face): every later triangle within
+ * 2e-4 rad of its normal whose vertices lie within 1 um of its plane joins group t. *f: the
+ * area-weighted normal, the offset of the outermost vertex and the in-plane basis. */
+static void face_merge(const model_mesh_t *hull, tri_t *tri, const uint32_t (*tv)[3], size_t t,
+                       face_t *f) {
+  const size_t nt = hull->triangle_count;
+  const int g = (int)t;
+  double nsum[3] = {0, 0, 0};
+  for (size_t s = t; s < nt; ++s) {
+    if (tri[s].group >= 0 || dot3(tri[s].n, tri[t].n) < kMergeCos) continue;
+    int on = 1;
+    for (int k = 0; k < 3 && on; ++k)
+      on = fabs(dot3(tri[t].n, hull->vertices_m[tv[s][k]]) - tri[t].d) <= kPlaneTol;
+    if (!on) continue;
+    tri[s].group = g;
+    for (int k = 0; k < 3; ++k) nsum[k] += tri[s].area * tri[s].n[k];
+  }
+  memset(f, 0, sizeof *f);
+  const double len = sqrt(dot3(nsum, nsum));
+  for (int k = 0; k < 3; ++k) f->n[k] = nsum[k] / len;
+  f->d = -HUGE_VAL;
+  for (size_t s = t; s < nt; ++s)
+    if (tri[s].group == g)
+      for (int k = 0; k < 3; ++k) {
+        const double dd = dot3(f->n, hull->vertices_m[tv[s][k]]);
+        if (dd > f->d) f->d = dd;
+      }
+  model_plane_basis(f->n, f->u, f->v);
+}
+
+/* The mesh vertices within 1 um of f's plane: link frame into pts3, (u.x, v.x) into pts2.
+ * Returns their count. */
+static size_t face_points(const model_mesh_t *mesh, const face_t *f, double (*pts3)[3],
+                          double (*pts2)[2]) {
+  size_t np = 0;
+  for (size_t i = 0; i < mesh->vertex_count; ++i) {
+    if (fabs(dot3(f->n, mesh->vertices_m[i]) - f->d) > kPlaneTol) continue;
+    memcpy(pts3[np], mesh->vertices_m[i], sizeof pts3[np]);
+    pts2[np][0] = dot3(f->u, mesh->vertices_m[i]);
+    pts2[np][1] = dot3(f->v, mesh->vertices_m[i]);
+    ++np;
+  }
+  return np;
+}
+
+/* f's outline from its np >= 3 points: convex hull, area, inradius and center; a face at least
+ * 2 mm wide keeps copies of the points. Returns 1 (kept: f owns poly, pts3, pts2), 0 (too
+ * narrow, nothing kept) or -1 (out of memory, nothing kept). */
+static int face_outline(face_t *f, size_t np, const double (*pts3)[3], const double (*pts2)[2]) {
+  double(*sorted)[2] = malloc(np * sizeof *sorted);
+  double(*poly)[2] = malloc((np + 1) * sizeof *poly);
+  if (!sorted || !poly) {
+    free(sorted);
+    free(poly);
+    return -1;
+  }
+  memcpy(sorted, pts2, np * sizeof *sorted);
+  f->npoly = model_polygon_hull(sorted, np, poly);
+  free(sorted);
+  f->area_m2 = model_polygon_area((const double(*)[2])poly, f->npoly);
+  /* inradius <= 2 area / perimeter: most hull facets are too small to need the search */
+  double perim = 0.0;
+  for (size_t i = 0; i < f->npoly; ++i) {
+    const double *next = poly[(i + 1) % f->npoly];
+    perim += hypot(next[0] - poly[i][0], next[1] - poly[i][1]);
+  }
+  f->inradius_m = f->npoly >= 3 && 2.0 * f->area_m2 >= kMinInradius * perim
+                      ? poly_center((const double(*)[2])poly, f->npoly, f->center)
+                      : 0.0;
+  if (f->npoly < 3 || !(f->inradius_m >= kMinInradius)) {
+    free(poly);
+    return 0;
+  }
+  f->poly = poly;
+  f->npts = np;
+  f->pts3 = malloc(np * sizeof *f->pts3);
+  f->pts2 = malloc(np * sizeof *f->pts2);
+  if (!f->pts3 || !f->pts2) {
+    free(f->pts3);
+    free(f->pts2);
+    free(poly);
+    return -1;
+  }
+  memcpy(f->pts3, pts3, np * sizeof *f->pts3);
+  memcpy(f->pts2, pts2, np * sizeof *f->pts2);
+  return 1;
+}
+
 /* The hull faces of one object: hull facets merged when their normals are within 2e-4 rad and
  * their vertices within 1 um of the plane; each face gets every mesh vertex within 1 um. */
 static stack_status_t faces_build(obj_t *o, char *msg, size_t msg_size, size_t index) {
@@ -286,102 +406,22 @@ static stack_status_t faces_build(obj_t *o, char *msg, size_t msg_size, size_t i
     st = STACK_E_NOMEM;
     goto done;
   }
-  for (size_t t = 0; t < nt; ++t) {
-    const double *a = hull.vertices_m[hull.triangles[t][0]], *b = hull.vertices_m[hull.triangles[t][1]],
-                 *c = hull.vertices_m[hull.triangles[t][2]];
-    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                   e1[0] * e2[1] - e1[1] * e2[0]};
-    const double len = sqrt(dot3(n, n));
-    tri[t].area = 0.5 * len;
-    for (int k = 0; k < 3 && len > 0.0; ++k) n[k] /= len;
-    memcpy(tri[t].n, n, sizeof n);
-    tri[t].d = dot3(n, a);
-    tri[t].group = -1;
-    for (int k = 0; k < 3; ++k) o->hull_planes[t][k] = n[k];
-    o->hull_planes[t][3] = tri[t].d;
-  }
+  hull_triangles(&hull, tri, o->hull_planes);
   o->nplanes = nt;
-  /* Sort by area, keeping each triangle's vertices alongside. */
-  for (size_t t = 0; t < nt; ++t) tri[t].group = (int)t;
-  qsort(tri, nt, sizeof *tri, tri_area_cmp);
-  for (size_t t = 0; t < nt; ++t) memcpy(tv[t], hull.triangles[tri[t].group], sizeof tv[t]);
-  for (size_t t = 0; t < nt; ++t) tri[t].group = -1;
+  tris_sort_by_area(&hull, tri, tv);
   size_t nface = 0;
-  for (size_t t = 0; t < nt; ++t) {
+  for (size_t t = 0; t < nt && st == STACK_OK; ++t) {
     if (tri[t].group >= 0 || tri[t].area <= 0.0) continue;
-    const int g = (int)t;
-    double nsum[3] = {0, 0, 0};
-    for (size_t s = t; s < nt; ++s) {
-      if (tri[s].group >= 0 || dot3(tri[s].n, tri[t].n) < kMergeCos) continue;
-      int on = 1;
-      for (int k = 0; k < 3 && on; ++k)
-        on = fabs(dot3(tri[t].n, hull.vertices_m[tv[s][k]]) - tri[t].d) <= kPlaneTol;
-      if (!on) continue;
-      tri[s].group = g;
-      for (int k = 0; k < 3; ++k) nsum[k] += tri[s].area * tri[s].n[k];
-    }
     face_t f;
-    memset(&f, 0, sizeof f);
-    const double len = sqrt(dot3(nsum, nsum));
-    for (int k = 0; k < 3; ++k) f.n[k] = nsum[k] / len;
-    f.d = -HUGE_VAL;
-    for (size_t s = t; s < nt; ++s)
-      if (tri[s].group == g)
-        for (int k = 0; k < 3; ++k) {
-          const double dd = dot3(f.n, hull.vertices_m[tv[s][k]]);
-          if (dd > f.d) f.d = dd;
-        }
-    model_plane_basis(f.n, f.u, f.v);
-    size_t np = 0;
-    for (size_t i = 0; i < mesh->vertex_count; ++i) {
-      if (fabs(dot3(f.n, mesh->vertices_m[i]) - f.d) > kPlaneTol) continue;
-      memcpy(buf3[np], mesh->vertices_m[i], sizeof buf3[np]);
-      buf2[np][0] = dot3(f.u, mesh->vertices_m[i]);
-      buf2[np][1] = dot3(f.v, mesh->vertices_m[i]);
-      ++np;
-    }
+    face_merge(&hull, tri, (const uint32_t(*)[3])tv, t, &f);
+    const size_t np = face_points(mesh, &f, buf3, buf2);
     if (np < 3) continue;
-    double(*sorted)[2] = malloc(np * sizeof *sorted);
-    double(*poly)[2] = malloc((np + 1) * sizeof *poly);
-    if (!sorted || !poly) {
-      free(sorted);
-      free(poly);
-      st = STACK_E_NOMEM;
-      goto done;
-    }
-    memcpy(sorted, buf2, np * sizeof *sorted);
-    f.npoly = model_polygon_hull(sorted, np, poly);
-    free(sorted);
-    f.area_m2 = model_polygon_area((const double(*)[2])poly, f.npoly);
-    /* inradius <= 2 area / perimeter: most hull facets are too small to need the search */
-    double perim = 0.0;
-    for (size_t i = 0; i < f.npoly; ++i)
-      perim += hypot(poly[(i + 1) % f.npoly][0] - poly[i][0], poly[(i + 1) % f.npoly][1] - poly[i][1]);
-    f.inradius_m = f.npoly >= 3 && 2.0 * f.area_m2 >= kMinInradius * perim
-                       ? poly_center((const double(*)[2])poly, f.npoly, f.center)
-                       : 0.0;
-    if (f.npoly < 3 || !(f.inradius_m >= kMinInradius)) {
-      free(poly);
-      continue;
-    }
-    f.poly = poly;
-    f.npts = np;
-    f.pts3 = malloc(np * sizeof *f.pts3);
-    f.pts2 = malloc(np * sizeof *f.pts2);
-    if (!f.pts3 || !f.pts2) {
-      free(f.pts3);
-      free(f.pts2);
-      free(poly);
-      st = STACK_E_NOMEM;
-      goto done;
-    }
-    memcpy(f.pts3, buf3, np * sizeof *f.pts3);
-    memcpy(f.pts2, buf2, np * sizeof *f.pts2);
-    o->face[nface++] = f;
+    const int kept = face_outline(&f, np, (const double(*)[3])buf3, (const double(*)[2])buf2);
+    if (kept < 0) st = STACK_E_NOMEM;
+    else if (kept) o->face[nface++] = f;
   }
-  o->nface = nface;
+  o->nface = nface; /* also on failure: faces_free releases what was kept */
+  if (st != STACK_OK) goto done;
   qsort(o->face, nface, sizeof *o->face, face_cmp);
   if (nface == 0) {
     snprintf(msg, msg_size, "object %zu: no hull face at least %.0f mm wide to rest on", index,
@@ -776,6 +816,234 @@ static stack_status_t check_input(const stack_object_t *objects, size_t count,
   return STACK_OK;
 }
 
+/* The objects' faces and mass ranges into x, then the scratch buffers sized by the largest face.
+ * Returns STACK_OK, STACK_E_GEOMETRY (msg says which object) or STACK_E_NOMEM. */
+static stack_status_t ctx_init(ctx_t *x, const stack_object_t *objects, size_t count,
+                               const stack_plan_config_t *cfg, char *msg, size_t msg_size) {
+  x->count = count;
+  x->cos_tilt = cos(cfg->max_tilt_rad);
+  x->yaw_steps = cfg->yaw_steps;
+  stack_status_t st = STACK_OK;
+  for (size_t i = 0; i < count && st == STACK_OK; ++i) {
+    obj_t *o = &x->obj[i];
+    o->in = &objects[i];
+    o->mesh = objects[i].mesh_link;
+    const double u = objects[i].mass_rel_uncertainty > 0.0 ? objects[i].mass_rel_uncertainty
+                                                           : cfg->mass_rel_uncertainty;
+    o->mass_lo = objects[i].mass_kg / (1.0 + u);
+    o->mass_hi = objects[i].mass_kg * (1.0 + u);
+    st = faces_build(o, msg, msg_size, i);
+    for (size_t f = 0; f < o->nface; ++f)
+      if (o->face[f].npts > x->max_pts) x->max_pts = o->face[f].npts;
+  }
+  if (st != STACK_OK) return st;
+  const size_t mp = x->max_pts + 1;
+  x->up0 = malloc(STACK_MAX_OBJECTS * mp * sizeof *x->up0);
+  x->uph = malloc(STACK_MAX_OBJECTS * (mp + 1) * sizeof *x->uph);
+  x->buf = malloc(4 * mp * sizeof *x->buf);
+  x->hull = malloc((4 * mp + 1) * sizeof *x->hull);
+  return x->up0 && x->uph && x->buf && x->hull ? STACK_OK : STACK_E_NOMEM;
+}
+
+static void ctx_free(ctx_t *x) {
+  for (size_t i = 0; i < x->count; ++i) faces_free(&x->obj[i]);
+  free(x->up0);
+  free(x->uph);
+  free(x->buf);
+  free(x->hull);
+  free(x);
+}
+
+/* Level 0 of the beam: every object on every one of its first faces, on B. */
+static void beam_level0(const ctx_t *x, cand_t *beam, size_t *nbeam) {
+  for (size_t i = 0; i < x->count; ++i) {
+    const obj_t *o = &x->obj[i];
+    for (size_t f = 0; f < o->nface && f < MAX_UPPER_FACES; ++f) {
+      cand_t c;
+      memset(&c, 0, sizeof c);
+      c.count = 1;
+      c.obj[0] = i;
+      c.face[0] = f;
+      c.used = 1u << i;
+      rot_a_to_b(o->face[f].n, (const double[3]){0, 0, -1}, c.rot[0]);
+      c.score = fmin(o->face[f].inradius_m, own_margin(o, &o->face[f], (const double(*)[3])c.rot[0]));
+      if (c.score > 0.0) beam_insert(beam, nbeam, &c);
+    }
+  }
+}
+
+/* Candidate c of lv levels with object j on its face F on facet f of the top object (world
+ * normal m), at every yaw about m, into next. */
+static void beam_put_on(const ctx_t *x, const cand_t *c, size_t lv, size_t f, const double m[3],
+                        size_t j, size_t F, cand_t *next, size_t *nnext) {
+  const obj_t *lo = &x->obj[c->obj[lv - 1]];
+  const obj_t *up = &x->obj[j];
+  double base[3][3], yawr[3][3];
+  const double negm[3] = {-m[0], -m[1], -m[2]};
+  rot_a_to_b(up->face[F].n, negm, base);
+  for (unsigned y = 0; y < x->yaw_steps; ++y) {
+    cand_t nc = *c;
+    axis_angle(m, 2.0 * kPi * y / x->yaw_steps, yawr);
+    mat_mul((const double(*)[3])yawr, (const double(*)[3])base, nc.rot[lv]);
+    nc.count = lv + 1;
+    nc.obj[lv] = j;
+    nc.face[lv] = F;
+    nc.facet[lv] = f;
+    nc.used |= 1u << j;
+    double s = fmin(lo->face[f].inradius_m, up->face[F].inradius_m);
+    s = fmin(s, own_margin(up, &up->face[F], (const double(*)[3])nc.rot[lv]));
+    nc.score = fmin(c->score, s);
+    if (nc.score > 0.0) beam_insert(next, nnext, &nc);
+  }
+}
+
+/* Level lv of the beam: every unused object on every face, on every facet of the top object
+ * within the tilt limit, from beam[0..nbeam) into next. */
+static void beam_level(const ctx_t *x, size_t lv, const cand_t *beam, size_t nbeam, cand_t *next,
+                       size_t *nnext) {
+  for (size_t b = 0; b < nbeam; ++b) {
+    const cand_t *c = &beam[b];
+    const obj_t *lo = &x->obj[c->obj[lv - 1]];
+    size_t nf = 0;
+    for (size_t f = 0; f < lo->nface && nf < MAX_LOWER_FACETS; ++f) {
+      if (f == c->face[lv - 1]) continue;
+      double m[3];
+      mat_vec(c->rot[lv - 1], lo->face[f].n, m);
+      if (m[2] < x->cos_tilt) continue;
+      ++nf;
+      for (size_t j = 0; j < x->count; ++j) {
+        if (c->used & (1u << j)) continue;
+        for (size_t F = 0; F < x->obj[j].nface && F < MAX_UPPER_FACES; ++F)
+          beam_put_on(x, c, lv, f, m, j, F, next, nnext);
+      }
+    }
+  }
+}
+
+/* The beam search bottom-up: the surviving full stacks in *beam (the buffers swap), their count
+ * returned. */
+static size_t beam_search(const ctx_t *x, cand_t **beam, cand_t **next) {
+  size_t nbeam = 0;
+  beam_level0(x, *beam, &nbeam);
+  for (size_t lv = 1; lv < x->count && nbeam > 0; ++lv) {
+    size_t nnext = 0;
+    beam_level(x, lv, *beam, nbeam, *next, &nnext);
+    cand_t *tmp = *beam;
+    *beam = *next;
+    *next = tmp;
+    nbeam = nnext;
+  }
+  return nbeam;
+}
+
+/* Lay out the best FULL_EVAL candidates (translations, margins) and choose the one with the best
+ * sorted margins, all positive, that touches nothing it should not. *chosen: its index into
+ * beam, *L its layout. Returns STACK_OK, STACK_E_NOPLAN (msg says why) or STACK_E_NOMEM. */
+static stack_status_t layout_choose(ctx_t *x, const cand_t *beam, size_t nbeam, size_t *chosen,
+                                    layout_t *L, char *msg, size_t msg_size) {
+  const size_t count = x->count;
+  const size_t neval = nbeam < FULL_EVAL ? nbeam : FULL_EVAL;
+  layout_t *lay = malloc(neval * sizeof *lay);
+  double(*tt)[STACK_MAX_OBJECTS][2] = malloc(neval * sizeof *tt);
+  size_t *rank = malloc(neval * sizeof *rank);
+  stack_status_t st = STACK_OK;
+  if (!lay || !tt || !rank) {
+    st = STACK_E_NOMEM;
+    goto done;
+  }
+  for (size_t i = 0; i < neval; ++i) {
+    place(x, &beam[i], tt[i], &lay[i]);
+    rank[i] = i;
+  }
+  for (size_t i = 1; i < neval; ++i)
+    for (size_t j = i; j > 0 && margins_better(lay[rank[j]].margin, lay[rank[j - 1]].margin, count);
+         --j) {
+      const size_t tmp = rank[j];
+      rank[j] = rank[j - 1];
+      rank[j - 1] = tmp;
+    }
+  *chosen = SIZE_MAX;
+  double best_min = -HUGE_VAL;
+  for (size_t r = 0; r < neval && *chosen == SIZE_MAX; ++r) {
+    const size_t i = rank[r];
+    double mn = HUGE_VAL;
+    for (size_t k = 0; k < count; ++k) mn = fmin(mn, lay[i].margin[k]);
+    if (r == 0) best_min = mn;
+    if (!(mn > 0.0)) break;
+    if (stack_clear(x, &beam[i], &lay[i])) *chosen = i;
+  }
+  if (*chosen == SIZE_MAX) {
+    snprintf(msg, msg_size,
+             "no stack with all margins > 0 (best smallest margin %.2f mm, or the objects "
+             "would touch B or each other)", 1e3 * best_min);
+    st = STACK_E_NOPLAN;
+  } else {
+    *L = lay[*chosen];
+  }
+done:
+  free(lay);
+  free(tt);
+  free(rank);
+  return st;
+}
+
+/* The chosen candidate c with layout L as the plan: order, margins, tilts and poses, the whole
+ * stack's believed CoM centred over B's middle. */
+static void plan_fill(const ctx_t *x, const cand_t *c, const layout_t *L, stack_plan_t *out) {
+  const size_t count = x->count;
+  double cm[3] = {0, 0, 0}, mt = 0.0;
+  for (size_t k = 0; k < count; ++k) {
+    const obj_t *o = &x->obj[c->obj[k]];
+    double w[3];
+    mat_vec(c->rot[k], o->in->com_m, w);
+    for (int i = 0; i < 3; ++i) cm[i] += o->in->mass_kg * (w[i] + L->pos[k][i]);
+    mt += o->in->mass_kg;
+  }
+  out->count = count;
+  for (size_t k = 0; k < count; ++k) {
+    const size_t i = c->obj[k];
+    out->order[k] = i;
+    out->margin_m[k] = L->margin[k];
+    out->tilt_rad[k] = L->tilt[k];
+    model_pose_t *p = &out->pose[i];
+    model_rot_to_quat(c->rot[k], p->orientation_wxyz);
+    p->position_m[0] = L->pos[k][0] - cm[0] / mt;
+    p->position_m[1] = L->pos[k][1] - cm[1] / mt;
+    p->position_m[2] = L->pos[k][2];
+  }
+}
+
+/* Exact touching poses, 1 um pre-penetrated, from the real meshes: each object set onto the one
+ * below (balance_stack_pose_above) must land within 20 um of the planned contact. Returns
+ * STACK_OK or STACK_E_GEOMETRY (msg says where). */
+static stack_status_t poses_settle(const stack_object_t *objects, const cand_t *c, size_t count,
+                                   stack_plan_t *out) {
+  out->pose[c->obj[0]].position_m[2] -= 1e-6;
+  for (size_t k = 1; k < count; ++k) {
+    const size_t lo = c->obj[k - 1], i = c->obj[k];
+    model_pose_t *p = &out->pose[i];
+    const double planned_z = p->position_m[2] - 1e-6 * (double)(k + 1);
+    const double origin[3] = {0, 0, 0}, at[2] = {p->position_m[0], p->position_m[1]};
+    model_pose_t exact;
+    balance_status_t bs =
+        balance_stack_pose_above(objects[lo].mesh_link, &out->pose[lo], objects[i].mesh_link,
+                                 p->orientation_wxyz, origin, at, 1e-6, &exact);
+    if (bs != BALANCE_OK) {
+      snprintf(out->msg, sizeof out->msg, "level %zu: setting object %zu onto %zu: %s", k, i, lo,
+               balance_status_str(bs));
+      return STACK_E_GEOMETRY;
+    }
+    if (fabs(exact.position_m[2] - planned_z) > 2e-5) {
+      snprintf(out->msg, sizeof out->msg,
+               "level %zu: object %zu touches %zu %.3f mm from the planned contact", k, i, lo,
+               1e3 * (exact.position_m[2] - planned_z));
+      return STACK_E_GEOMETRY;
+    }
+    *p = exact;
+  }
+  return STACK_OK;
+}
+
 stack_status_t stack_plan(const stack_object_t *objects, size_t count,
                           const stack_plan_config_t *cfg_in, stack_plan_t *out) {
   if (out == NULL) return STACK_E_ARG;
@@ -798,192 +1066,25 @@ stack_status_t stack_plan(const stack_object_t *objects, size_t count,
     free(next);
     return STACK_E_NOMEM;
   }
-  x->count = count;
-  x->cos_tilt = cos(cfg.max_tilt_rad);
-  x->yaw_steps = cfg.yaw_steps;
-  for (size_t i = 0; i < count && st == STACK_OK; ++i) {
-    obj_t *o = &x->obj[i];
-    o->in = &objects[i];
-    o->mesh = objects[i].mesh_link;
-    const double u = objects[i].mass_rel_uncertainty > 0.0 ? objects[i].mass_rel_uncertainty
-                                                           : cfg.mass_rel_uncertainty;
-    o->mass_lo = objects[i].mass_kg / (1.0 + u);
-    o->mass_hi = objects[i].mass_kg * (1.0 + u);
-    st = faces_build(o, out->msg, sizeof out->msg, i);
-    for (size_t f = 0; f < o->nface; ++f)
-      if (o->face[f].npts > x->max_pts) x->max_pts = o->face[f].npts;
-  }
-  if (st == STACK_OK) {
-    const size_t mp = x->max_pts + 1;
-    x->up0 = malloc(STACK_MAX_OBJECTS * mp * sizeof *x->up0);
-    x->uph = malloc(STACK_MAX_OBJECTS * (mp + 1) * sizeof *x->uph);
-    x->buf = malloc(4 * mp * sizeof *x->buf);
-    x->hull = malloc((4 * mp + 1) * sizeof *x->hull);
-    if (!x->up0 || !x->uph || !x->buf || !x->hull) st = STACK_E_NOMEM;
-  }
-  size_t nbeam = 0;
-  if (st == STACK_OK) {
-    /* level 0: every object on every face */
-    for (size_t i = 0; i < count; ++i) {
-      const obj_t *o = &x->obj[i];
-      for (size_t f = 0; f < o->nface && f < MAX_UPPER_FACES; ++f) {
-        cand_t c;
-        memset(&c, 0, sizeof c);
-        c.count = 1;
-        c.obj[0] = i;
-        c.face[0] = f;
-        c.used = 1u << i;
-        rot_a_to_b(o->face[f].n, (const double[3]){0, 0, -1}, c.rot[0]);
-        c.score = fmin(o->face[f].inradius_m, own_margin(o, &o->face[f], (const double(*)[3])c.rot[0]));
-        if (c.score > 0.0) beam_insert(beam, &nbeam, &c);
-      }
-    }
-    /* levels 1..count-1 */
-    for (size_t lv = 1; lv < count && nbeam > 0; ++lv) {
-      size_t nnext = 0;
-      for (size_t b = 0; b < nbeam; ++b) {
-        const cand_t *c = &beam[b];
-        const obj_t *lo = &x->obj[c->obj[lv - 1]];
-        size_t nf = 0;
-        for (size_t f = 0; f < lo->nface && nf < MAX_LOWER_FACETS; ++f) {
-          if (f == c->face[lv - 1]) continue;
-          double m[3];
-          mat_vec(c->rot[lv - 1], lo->face[f].n, m);
-          if (m[2] < x->cos_tilt) continue;
-          ++nf;
-          for (size_t j = 0; j < count; ++j) {
-            if (c->used & (1u << j)) continue;
-            const obj_t *up = &x->obj[j];
-            for (size_t F = 0; F < up->nface && F < MAX_UPPER_FACES; ++F) {
-              double base[3][3], yawr[3][3];
-              const double negm[3] = {-m[0], -m[1], -m[2]};
-              rot_a_to_b(up->face[F].n, negm, base);
-              for (unsigned y = 0; y < x->yaw_steps; ++y) {
-                cand_t nc = *c;
-                axis_angle(m, 2.0 * kPi * y / x->yaw_steps, yawr);
-                mat_mul((const double(*)[3])yawr, (const double(*)[3])base, nc.rot[lv]);
-                nc.count = lv + 1;
-                nc.obj[lv] = j;
-                nc.face[lv] = F;
-                nc.facet[lv] = f;
-                nc.used |= 1u << j;
-                double s = fmin(lo->face[f].inradius_m, up->face[F].inradius_m);
-                s = fmin(s, own_margin(up, &up->face[F], (const double(*)[3])nc.rot[lv]));
-                nc.score = fmin(c->score, s);
-                if (nc.score > 0.0) beam_insert(next, &nnext, &nc);
-              }
-            }
-          }
-        }
-      }
-      cand_t *tmp = beam;
-      beam = next;
-      next = tmp;
-      nbeam = nnext;
-    }
-  }
+  st = ctx_init(x, objects, count, &cfg, out->msg, sizeof out->msg);
+  const size_t nbeam = st == STACK_OK ? beam_search(x, &beam, &next) : 0;
   if (st == STACK_OK && nbeam == 0) {
     snprintf(out->msg, sizeof out->msg,
              "no order of the objects gives each one a face over a facet of the one below within "
              "%.1f deg of level with its CoM inside", cfg.max_tilt_rad * 180.0 / kPi);
     st = STACK_E_NOPLAN;
   }
+  size_t chosen = SIZE_MAX;
+  layout_t L;
   if (st == STACK_OK) {
     qsort(beam, nbeam, sizeof *beam, cand_cmp);
-    const size_t neval = nbeam < FULL_EVAL ? nbeam : FULL_EVAL;
-    layout_t *lay = malloc(neval * sizeof *lay);
-    double(*tt)[STACK_MAX_OBJECTS][2] = malloc(neval * sizeof *tt);
-    size_t *rank = malloc(neval * sizeof *rank);
-    if (!lay || !tt || !rank) {
-      st = STACK_E_NOMEM;
-    } else {
-      for (size_t i = 0; i < neval; ++i) {
-        place(x, &beam[i], tt[i], &lay[i]);
-        rank[i] = i;
-      }
-      for (size_t i = 1; i < neval; ++i)
-        for (size_t j = i; j > 0 && margins_better(lay[rank[j]].margin, lay[rank[j - 1]].margin,
-                                                   count);
-             --j) {
-          const size_t tmp = rank[j];
-          rank[j] = rank[j - 1];
-          rank[j - 1] = tmp;
-        }
-      size_t chosen = SIZE_MAX;
-      double best_min = -HUGE_VAL;
-      for (size_t r = 0; r < neval && chosen == SIZE_MAX; ++r) {
-        const size_t i = rank[r];
-        double mn = HUGE_VAL;
-        for (size_t k = 0; k < count; ++k) mn = fmin(mn, lay[i].margin[k]);
-        if (r == 0) best_min = mn;
-        if (!(mn > 0.0)) break;
-        if (stack_clear(x, &beam[i], &lay[i])) chosen = i;
-      }
-      if (chosen == SIZE_MAX) {
-        snprintf(out->msg, sizeof out->msg,
-                 "no stack with all margins > 0 (best smallest margin %.2f mm, or the objects "
-                 "would touch B or each other)", 1e3 * best_min);
-        st = STACK_E_NOPLAN;
-      } else {
-        const cand_t *c = &beam[chosen];
-        const layout_t *L = &lay[chosen];
-        /* center the CoM of the whole stack over B's middle */
-        double cm[3] = {0, 0, 0}, mt = 0.0;
-        for (size_t k = 0; k < count; ++k) {
-          const obj_t *o = &x->obj[c->obj[k]];
-          double w[3];
-          mat_vec(c->rot[k], o->in->com_m, w);
-          for (int i = 0; i < 3; ++i) cm[i] += o->in->mass_kg * (w[i] + L->pos[k][i]);
-          mt += o->in->mass_kg;
-        }
-        out->count = count;
-        for (size_t k = 0; k < count; ++k) {
-          const size_t i = c->obj[k];
-          out->order[k] = i;
-          out->margin_m[k] = L->margin[k];
-          out->tilt_rad[k] = L->tilt[k];
-          model_pose_t *p = &out->pose[i];
-          model_rot_to_quat(c->rot[k], p->orientation_wxyz);
-          p->position_m[0] = L->pos[k][0] - cm[0] / mt;
-          p->position_m[1] = L->pos[k][1] - cm[1] / mt;
-          p->position_m[2] = L->pos[k][2];
-        }
-        /* Exact touching poses, 1 um pre-penetrated, from the real meshes. */
-        out->pose[c->obj[0]].position_m[2] -= 1e-6;
-        for (size_t k = 1; k < count && st == STACK_OK; ++k) {
-          const size_t lo = c->obj[k - 1], i = c->obj[k];
-          model_pose_t *p = &out->pose[i];
-          const double planned_z = p->position_m[2] - 1e-6 * (double)(k + 1);
-          const double origin[3] = {0, 0, 0}, at[2] = {p->position_m[0], p->position_m[1]};
-          model_pose_t exact;
-          balance_status_t bs =
-              balance_stack_pose_above(objects[lo].mesh_link, &out->pose[lo], objects[i].mesh_link,
-                                       p->orientation_wxyz, origin, at, 1e-6, &exact);
-          if (bs != BALANCE_OK) {
-            snprintf(out->msg, sizeof out->msg, "level %zu: setting object %zu onto %zu: %s", k, i,
-                     lo, balance_status_str(bs));
-            st = STACK_E_GEOMETRY;
-          } else if (fabs(exact.position_m[2] - planned_z) > 2e-5) {
-            snprintf(out->msg, sizeof out->msg,
-                     "level %zu: object %zu touches %zu %.3f mm from the planned contact", k, i, lo,
-                     1e3 * (exact.position_m[2] - planned_z));
-            st = STACK_E_GEOMETRY;
-          } else {
-            *p = exact;
-          }
-        }
-      }
-    }
-    free(lay);
-    free(tt);
-    free(rank);
+    st = layout_choose(x, beam, nbeam, &chosen, &L, out->msg, sizeof out->msg);
   }
-  for (size_t i = 0; i < count; ++i) faces_free(&x->obj[i]);
-  free(x->up0);
-  free(x->uph);
-  free(x->buf);
-  free(x->hull);
-  free(x);
+  if (st == STACK_OK) {
+    plan_fill(x, &beam[chosen], &L, out);
+    st = poses_settle(objects, &beam[chosen], count, out);
+  }
+  ctx_free(x);
   free(beam);
   free(next);
   if (st != STACK_OK) out->count = 0;

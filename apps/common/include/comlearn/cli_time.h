@@ -1,0 +1,8 @@
+/* comlearn/cli_time.h - the wall clock of the comlearn programs' timings (target comlearn_cli). */
+#ifndef COMLEARN_CLI_TIME_H
+#define COMLEARN_CLI_TIME_H
+
+/* Seconds of CLOCK_MONOTONIC (arbitrary origin: only differences mean something). Thread-safe. */
+double cli_time_now_s(void);
+
+#endif

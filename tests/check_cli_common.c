@@ -1,0 +1,160 @@
+#define _POSIX_C_SOURCE 200809L
+/* check_cli_common: comlearn_cli (apps/common), what the programs share: the JSON value writer
+ * (escaping, 9 significant digits, non-finite numbers as null) and the logger (prefix, level
+ * names, the level filter, clamping), byte for byte against the expected text. */
+#include <check.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
+
+/* What the writer wrote to a memory stream, as a string (static; valid until the next call). */
+typedef struct {
+  FILE *f;
+  char *buf;
+  size_t len;
+} capture_t;
+
+static void capture_open(capture_t *c) {
+  c->buf = NULL;
+  c->len = 0;
+  c->f = open_memstream(&c->buf, &c->len);
+  ck_assert_ptr_nonnull(c->f);
+}
+
+static const char *capture_close(capture_t *c) {
+  ck_assert_int_eq(fclose(c->f), 0);
+  static char out[1024];
+  ck_assert_uint_lt(c->len, sizeof out);
+  memcpy(out, c->buf, c->len + 1);
+  free(c->buf);
+  return out;
+}
+
+START_TEST(json_string_escapes) {
+  capture_t c;
+  capture_open(&c);
+  cli_json_string(c.f, "a\"b\\c\nd\te\x01\x1f", 0);
+  ck_assert_str_eq(capture_close(&c), "\"a\\\"b\\\\c\\u000ad\\u0009e\\u0001\\u001f\"");
+  /* high bytes: passed through (UTF-8), or \u00XX (Latin-1, like lcm-spy) with escape_high;
+   * 0x7f (DEL) is escaped only then */
+  capture_open(&c);
+  cli_json_string(c.f, "caf\xc3\xa9\x7f", 0);
+  ck_assert_str_eq(capture_close(&c), "\"caf\xc3\xa9\x7f\"");
+  capture_open(&c);
+  cli_json_string(c.f, "caf\xc3\xa9\x7f", 1);
+  ck_assert_str_eq(capture_close(&c), "\"caf\\u00c3\\u00a9\\u007f\"");
+  capture_open(&c);
+  cli_json_string(c.f, NULL, 0);
+  cli_json_string(c.f, "", 1);
+  cli_json_string(c.f, "/ plain ~", 1);
+  ck_assert_str_eq(capture_close(&c), "\"\"\"\"\"/ plain ~\"");
+}
+END_TEST
+
+START_TEST(json_numbers_and_non_finite) {
+  capture_t c;
+  capture_open(&c);
+  const double v[] = {0.0, -0.0, 1.5, 0.1, -2.25e-7, 123456789012.0, 1e300, 3.14159265358979};
+  for (size_t i = 0; i < sizeof v / sizeof v[0]; ++i) {
+    if (i) fputc(' ', c.f);
+    cli_json_number(c.f, v[i]);
+  }
+  ck_assert_str_eq(capture_close(&c),
+                   "0 -0 1.5 0.1 -2.25e-07 1.23456789e+11 1e+300 3.14159265");
+  capture_open(&c);
+  cli_json_number(c.f, NAN);
+  fputc(' ', c.f);
+  cli_json_number(c.f, INFINITY);
+  fputc(' ', c.f);
+  cli_json_number(c.f, -INFINITY);
+  ck_assert_str_eq(capture_close(&c), "null null null");
+}
+END_TEST
+
+START_TEST(json_arrays_and_bools) {
+  capture_t c;
+  capture_open(&c);
+  const double v[4] = {1.0, NAN, 2.5, -INFINITY};
+  cli_json_array(c.f, v, 4);
+  cli_json_array(c.f, NULL, 0);
+  cli_json_array(c.f, v, 1);
+  cli_json_bool(c.f, 1);
+  cli_json_bool(c.f, 0);
+  cli_json_bool(c.f, 7);
+  ck_assert_str_eq(capture_close(&c), "[1, null, 2.5, null][][1]truefalsetrue");
+}
+END_TEST
+
+/* Every level once at the current filter: what reaches the stream. */
+static const char *log_all_levels(const char *program) {
+  capture_t c;
+  capture_open(&c);
+  cli_log_set_stream(c.f);
+  cli_log_init(program);
+  LOG_E("e %d", 1);
+  LOG_W("w %s", "two");
+  LOG_I("i %.1f", 3.0);
+  LOG_D("d");
+  cli_log_set_stream(NULL);
+  return capture_close(&c);
+}
+
+START_TEST(log_level_filter) {
+  cli_log_set_level(CLI_LOG_INFO);
+  ck_assert_str_eq(log_all_levels("prog"), "prog: error: e 1\nprog: warning: w two\n"
+                                           "prog: info: i 3.0\n");
+  cli_log_set_level(CLI_LOG_DEBUG);
+  ck_assert_str_eq(log_all_levels("prog"), "prog: error: e 1\nprog: warning: w two\n"
+                                           "prog: info: i 3.0\nprog: debug: d\n");
+  cli_log_set_level(CLI_LOG_WARN);
+  ck_assert_str_eq(log_all_levels("x-y"), "x-y: error: e 1\nx-y: warning: w two\n");
+  cli_log_set_level(CLI_LOG_ERROR);
+  ck_assert_str_eq(log_all_levels(NULL), "comlearn: error: e 1\n");
+  ck_assert(cli_log_enabled(CLI_LOG_ERROR));
+  ck_assert(!cli_log_enabled(CLI_LOG_WARN));
+  ck_assert(!cli_log_enabled((cli_log_level_t)-1));
+  /* out-of-range levels are clamped, never index past the level names */
+  cli_log_set_level((cli_log_level_t)9);
+  ck_assert_int_eq(cli_log_get_level(), CLI_LOG_DEBUG);
+  cli_log_set_level((cli_log_level_t)-3);
+  ck_assert_int_eq(cli_log_get_level(), CLI_LOG_ERROR);
+  ck_assert_str_eq(log_all_levels("p"), "p: error: e 1\n");
+  cli_log_set_level(CLI_LOG_INFO);
+  cli_log_init(NULL);
+}
+END_TEST
+
+START_TEST(time_is_monotonic) {
+  const double t0 = cli_time_now_s();
+  double t = t0;
+  for (int i = 0; i < 1000; ++i) {
+    const double ti = cli_time_now_s();
+    ck_assert(ti >= t);
+    t = ti;
+  }
+  ck_assert(isfinite(t0) && t0 > 0.0);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("cli_common");
+  TCase *json = tcase_create("json");
+  tcase_add_test(json, json_string_escapes);
+  tcase_add_test(json, json_numbers_and_non_finite);
+  tcase_add_test(json, json_arrays_and_bools);
+  suite_add_tcase(s, json);
+  TCase *log = tcase_create("log");
+  tcase_add_test(log, log_level_filter);
+  tcase_add_test(log, time_is_monotonic);
+  suite_add_tcase(s, log);
+  SRunner *r = srunner_create(s);
+  srunner_run_all(r, CK_NORMAL);
+  int failed = srunner_ntests_failed(r);
+  srunner_free(r);
+  return failed ? EXIT_FAILURE : EXIT_SUCCESS;
+}
