@@ -4,13 +4,13 @@
 #include <math.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/placement.h"
 #include "comlearn/placement_plan.h"
 
 Suite *placement_plan_suite(void);
 
-#define PI_RAD 3.14159265358979323846
 #define YUMI_URDF COMLEARN_ASSETS_DIR "/yumi/yumi.urdf"
 
 /* The test object: a 40 x 60 x 50 mm box, link origin at its centre. */
@@ -111,7 +111,7 @@ START_TEST(plan_each_edge_fk_exact) {
   const double hx = 0.5 * cfg.block_size_m[0], hy = 0.5 * cfg.block_size_m[1];
   /* edge -> arms: +x, -x both; +y (left side of the robot) left; -y right */
   const int edge_arm_mask[4] = {3, 3, 1, 2};
-  const double yaws[2] = {0.0, 0.5 * PI_RAD};
+  const double yaws[2] = {0.0, 0.5 * CL_PI};
   const double alongs[3] = {-0.05, 0.0, 0.05};
   int plans = 0;
   for (int edge = 0; edge < 4; ++edge) {
@@ -351,11 +351,11 @@ START_TEST(gripper_clear_boundary) {
   /* Tilted 30 degrees about the finger axis x: a corner of a finger tip leads. */
   const double ax[3] = {1.0, 0.0, 0.0};
   double r30[3][3], down[3][3];
-  placement_rot_from_axis_angle(ax, PI_RAD + PI_RAD / 6.0, r30);
+  placement_rot_from_axis_angle(ax, CL_PI + CL_PI / 6.0, r30);
   memcpy(down, r30, sizeof down);
   memcpy(tcp.rot, down, sizeof down);
-  const double corner = cfg.gripper.finger_z_hi_m * cos(PI_RAD / 6.0) +
-                        cfg.gripper.finger_half_depth_m * sin(PI_RAD / 6.0) + cfg.clearance_m;
+  const double corner = cfg.gripper.finger_z_hi_m * cos(CL_PI / 6.0) +
+                        cfg.gripper.finger_half_depth_m * sin(CL_PI / 6.0) + cfg.clearance_m;
   tcp.pos_m[2] = corner + 1e-9;
   ck_assert_int_eq(placement_plan_gripper_clear(&cfg, &tcp, 0.02), 1);
   tcp.pos_m[2] = corner - 1e-9;
