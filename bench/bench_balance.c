@@ -47,8 +47,8 @@ static int trial_at(balance_world_t *w, balance_object_t *o, const model_mass_t 
                     balance_trial_result_t *res) {
   const double q[4] = {1, 0, 0, 0};
   const double p[3] = {ms->com_m[0] + s, ms->com_m[1], ms->com_m[2]};
-  balance_pose_t pose;
-  balance_status_t st = balance_pose_over_edge(w, o, q, BALANCE_EDGE_PX, p, 0.0, 1e-6, &pose);
+  model_pose_t pose;
+  balance_status_t st = balance_pose_over_edge(w, o, q, MODEL_EDGE_PX, p, 0.0, 1e-6, &pose);
   if (st != BALANCE_OK) return (int)st;
   return (int)balance_trial_run(w, o, &pose, NULL, res);
 }

@@ -29,7 +29,7 @@
 
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "objfile.h"
 #include "rockgen.h"

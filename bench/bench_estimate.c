@@ -10,7 +10,7 @@
  * status). Medians over the repetitions. Both estimates must agree on every component (else the
  * row is marked and the exit status is 1). Prints a markdown table (docs/estimate.md).
  *
- * DESIGN target: a full 3-component estimate over LCM with YuMi placement <= 1 s wall.
+ * Target (docs/design.md): a full 3-component estimate over LCM with YuMi placement <= 1 s wall.
  *
  * Usage: bench_estimate [--reps N] [--rock NAME] [--help]
  * Needs a multicast route for udpm (`ip route add 224.0.0.0/4 dev lo`, scripts/setup.sh). */
@@ -26,7 +26,7 @@
 #include <unistd.h>
 
 #include "comlearn/model.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
 
@@ -221,7 +221,7 @@ int main(int argc, char **argv) {
     fflush(stdout);
     if (!agree) failed = 1;
   }
-  printf("\nDESIGN target: full 3-component estimate over LCM with YuMi placement <= 1 s wall: "
+  printf("\nTarget (docs/design.md): full 3-component estimate over LCM with YuMi placement <= 1 s wall: "
          "%d of %d rocks (worst %.3f s).\n",
          met, rows, worst);
   free(rd);

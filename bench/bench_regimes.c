@@ -39,8 +39,8 @@ static int trial(balance_world_t *w, balance_object_t *o, const double q[4], con
   double u[3];
   rot(qi, ex, u);
   const double p[3] = {com[0] + d * u[0], com[1] + d * u[1], com[2] + d * u[2]};
-  balance_pose_t pose;
-  if (balance_pose_over_edge(w, o, q, BALANCE_EDGE_PX, p, 0.0, 1e-6, &pose) != BALANCE_OK) return -1;
+  model_pose_t pose;
+  if (balance_pose_over_edge(w, o, q, MODEL_EDGE_PX, p, 0.0, 1e-6, &pose) != BALANCE_OK) return -1;
   balance_trial_result_t r;
   if (balance_trial_run(w, o, &pose, NULL, &r) != BALANCE_OK) return -1;
   invalid_count += r.outcome == BALANCE_INVALID;
@@ -83,15 +83,15 @@ static void report(const char *name, const model_mesh_t *m, balance_world_t *w, 
     if (trial(w, o, q, com_true, d) == 0) last_not_stay = d;
     ++trials;
   }
-  balance_pose_t pose;
-  balance_regime_t reg;
+  model_pose_t pose;
+  model_regime_t reg;
   const double base[3] = {0.30, 0.30, 0.10};
   const char *kind = "?";
   double margin = NAN;
-  if (balance_pose_over_edge(w, o, q, BALANCE_EDGE_PX, com_est, 0.0, 1e-6, &pose) == BALANCE_OK &&
-      balance_regime_classify(m, &pose, base, BALANCE_EDGE_PX, com_est, NULL, &reg) == BALANCE_OK) {
-    kind = reg.kind == BALANCE_REGIME_FLAT_PATCH ? "flat patch"
-           : reg.kind == BALANCE_REGIME_EDGE_ROLL ? "edge roll"
+  if (balance_pose_over_edge(w, o, q, MODEL_EDGE_PX, com_est, 0.0, 1e-6, &pose) == BALANCE_OK &&
+      model_regime_classify(m, &pose, base, MODEL_EDGE_PX, com_est, NULL, &reg) == MODEL_OK) {
+    kind = reg.kind == MODEL_REGIME_FLAT_PATCH ? "flat patch"
+           : reg.kind == MODEL_REGIME_EDGE_ROLL ? "edge roll"
                                                   : "point support";
     margin = reg.chord_margin_m;
   }
@@ -129,36 +129,36 @@ int main(void) {
     snprintf(name, sizeof name, "rock_%d -z face, yaw 0", which);
     report(name, &obj.mesh, w, o, up, truth.com_m, truth.com_m, 0.008);
     double yaw = 0.0, mbest = 0.0, q[4];
-    balance_yaw_best(&obj.mesh, up, truth.com_m, BALANCE_EDGE_PX, NULL, &yaw, &mbest);
-    balance_orientation_yawed(up, yaw, q);
+    model_yaw_best(&obj.mesh, up, truth.com_m, MODEL_EDGE_PX, NULL, &yaw, &mbest);
+    model_orientation_yawed(up, yaw, q);
     snprintf(name, sizeof name, "rock_%d -z face, best yaw %.0f deg", which, yaw * 180.0 / CL_PI);
     report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.008);
     /* Every flat face: the yaw with the smallest chord margin (sweep) and the best one. */
-    balance_face_t faces[256];
+    model_face_t faces[256];
     size_t nf = 0;
-    balance_regime_config_t rc;
-    balance_regime_config_default(&rc);
+    model_regime_config_t rc;
+    model_regime_config_default(&rc);
     rc.min_com_margin_m = -1.0; /* list all faces, stable or not */
-    balance_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf);
+    model_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf);
     for (size_t i = 0; i < nf && i < 256; ++i) {
       if (!faces[i].flat || faces[i].normal_link[2] == -1.0 || faces[i].com_margin_m < 0.0) continue;
       double worst = HUGE_VAL, wyaw = 0.0;
       for (int k = 0; k < 180; ++k) {
         double mk;
-        balance_yaw_margin(&obj.mesh, faces[i].orientation_wxyz, truth.com_m, BALANCE_EDGE_PX,
+        model_yaw_margin(&obj.mesh, faces[i].orientation_wxyz, truth.com_m, MODEL_EDGE_PX,
                            k * CL_PI / 180.0, NULL, &mk);
         if (mk > -HUGE_VAL && mk < worst) {
           worst = mk;
           wyaw = k * CL_PI / 180.0;
         }
       }
-      balance_orientation_yawed(faces[i].orientation_wxyz, wyaw, q);
+      model_orientation_yawed(faces[i].orientation_wxyz, wyaw, q);
       snprintf(name, sizeof name, "rock_%d face n=(%.2f,%.2f,%.2f) worst yaw", which,
                faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2]);
       report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.008);
-      balance_yaw_best(&obj.mesh, faces[i].orientation_wxyz, truth.com_m, BALANCE_EDGE_PX, NULL,
+      model_yaw_best(&obj.mesh, faces[i].orientation_wxyz, truth.com_m, MODEL_EDGE_PX, NULL,
                        &yaw, &mbest);
-      balance_orientation_yawed(faces[i].orientation_wxyz, yaw, q);
+      model_orientation_yawed(faces[i].orientation_wxyz, yaw, q);
       snprintf(name, sizeof name, "rock_%d face n=(%.2f,%.2f,%.2f) best yaw", which,
                faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2]);
       report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.008);
@@ -167,9 +167,9 @@ int main(void) {
      * rock rests on isolated vertices of its rounded side), stable (CoM margin >= 0.5 mm: none of
      * the bundled rocks' rounded faces reaches the 2 mm candidate margin) and confirmed by a
      * trial. Four yaws; range +-15 mm (the flip may lie millimetres inside). */
-    balance_regime_config_default(&rc);
+    model_regime_config_default(&rc);
     rc.min_com_margin_m = 0.5e-3;
-    balance_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf);
+    model_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf);
     for (size_t i = 0; i < nf && i < 256; ++i) {
       if (faces[i].flat || faces[i].face_count > 0 || !faces[i].candidate) continue;
       int confirmed = 0;
@@ -177,7 +177,7 @@ int main(void) {
                                  &confirmed) != BALANCE_OK || !confirmed)
         continue;
       for (int k = 0; k < 4; ++k) {
-        balance_orientation_yawed(faces[i].orientation_wxyz, k * CL_PI / 4.0, q);
+        model_orientation_yawed(faces[i].orientation_wxyz, k * CL_PI / 4.0, q);
         snprintf(name, sizeof name, "rock_%d points n=(%.2f,%.2f,%.2f) m %.2f yaw %d", which,
                  faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2],
                  faces[i].com_margin_m * 1e3, 45 * k);

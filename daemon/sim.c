@@ -27,15 +27,15 @@ static void clear_error(sim_t *s) {
 
 /* ---- small pose helpers ------------------------------------------------------------------ */
 
-/* balance_pose_t has cl_pose_t's layout but is its own type until lib/balance adopts
+/* model_pose_t has cl_pose_t's layout but is its own type until lib/model adopts
  * comlearn/math3d.h; then these two become placement_pose_to_cl_pose and (unchecked) the
  * cl_quat_to_rot below. */
-static void pose_to_balance(const placement_pose_t *p, balance_pose_t *b) {
+static void pose_to_balance(const placement_pose_t *p, model_pose_t *b) {
   memcpy(b->position_m, p->pos_m, sizeof b->position_m);
   cl_quat_from_rot(p->rot, b->orientation_wxyz);
 }
 
-static void pose_from_balance(const balance_pose_t *b, placement_pose_t *p) {
+static void pose_from_balance(const model_pose_t *b, placement_pose_t *p) {
   cl_quat_to_rot(b->orientation_wxyz, p->rot);
   memcpy(p->pos_m, b->position_m, sizeof p->pos_m);
 }
@@ -137,10 +137,10 @@ static int object_pose(sim_t *s, placement_pose_t *out, int *moving) {
      * is the authority, bit-identical to `comlearn estimate --direct`); in between, the pose is
      * interpolated from the released to the final one. */
     const double t = (double)(s->utime - s->trial_t0) / (double)(s->trial_t1 - s->trial_t0);
-    balance_pose_t a, b;
+    model_pose_t a, b;
     pose_to_balance(&s->rel_world, &a);
     pose_to_balance(&s->set_world, &b);
-    balance_pose_t m;
+    model_pose_t m;
     for (int i = 0; i < 3; i++) m.position_m[i] = a.position_m[i] + t * (b.position_m[i] - a.position_m[i]);
     cl_quat_slerp(a.orientation_wxyz, b.orientation_wxyz, t, m.orientation_wxyz);
     pose_from_balance(&m, out);
@@ -176,7 +176,7 @@ static void object_release(sim_t *s) {
               SIM_RELEASE_MAX_GAP_M * 1e3);
     return;
   }
-  balance_pose_t rel;
+  model_pose_t rel;
   pose_to_balance(&block_pose, &rel);
   balance_noise_t noise = {.seed = s->cfg.seed ^ (0x9E3779B97F4A7C15ull * (s->trial_count + 1)),
                            .placement_noise_m = s->cfg.placement_noise_m,
@@ -525,7 +525,7 @@ void sim_object_fill(sim_t *s, comlearn_object_state_t *os) {
   int moving;
   if (!s->loaded || !object_pose(s, &p, &moving)) return;
   os->tracked = 1;
-  balance_pose_t b;
+  model_pose_t b;
   pose_to_balance(&p, &b);
   memcpy(os->position_measured_m, b.position_m, sizeof b.position_m);
   memcpy(os->orientation_measured_wxyz, b.orientation_wxyz, sizeof b.orientation_wxyz);

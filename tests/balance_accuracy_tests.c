@@ -18,7 +18,7 @@
  * CoM com_true_m (link frame): returns threshold - truth along the edge normal (m). */
 static double threshold_error(const model_mesh_t *mesh, const model_mass_t *mass,
                               const double com_true_m[3], const double q[4],
-                              balance_edge_t edge, balance_contact_t path) {
+                              model_edge_t edge, balance_contact_t path) {
   balance_config_t cfg;
   balance_config_default(&cfg);
   cfg.contact = path;
@@ -30,7 +30,7 @@ static double threshold_error(const model_mesh_t *mesh, const model_mass_t *mass
   ck_assert_int_eq(model_mesh_aabb(mesh, &box), MODEL_OK);
   double p0[3], n[3], d, u[3];
   model_aabb_center(&box, p0); /* the estimator's reference point, not the truth */
-  balance_edge_line(cfg.base_size_m, edge, n, &d);
+  model_edge_line(cfg.base_size_m, edge, n, &d);
   bp_edge_dir_link(q, n, u);
   /* Stays iff s > u.(com - p0): the true threshold in s. */
   const double truth = u[0] * (com_true_m[0] - p0[0]) + u[1] * (com_true_m[1] - p0[1]) +
@@ -55,10 +55,10 @@ START_TEST(box_uniform_edges) {
   model_mass_t ms;
   ck_assert_int_eq(model_mesh_mass(&m, 2650.0, &ms), MODEL_OK); /* inertia */
   const double com[3] = {0.008, 0.009, 0.007};                  /* analytic: the box center */
-  assert_um(threshold_error(&m, &ms, com, q_id, BALANCE_EDGE_PX, BALANCE_CONTACT_FAST), 1.0, "box +X");
-  assert_um(threshold_error(&m, &ms, com, q_id, BALANCE_EDGE_PY, BALANCE_CONTACT_FAST), 1.0, "box +Y");
-  assert_um(threshold_error(&m, &ms, com, q_id, BALANCE_EDGE_NX, BALANCE_CONTACT_FAST), 1.0, "box -X");
-  assert_um(threshold_error(&m, &ms, com, q_id, BALANCE_EDGE_NY, BALANCE_CONTACT_FAST), 1.0, "box -Y");
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0, "box +X");
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_PY, BALANCE_CONTACT_FAST), 1.0, "box +Y");
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_NX, BALANCE_CONTACT_FAST), 1.0, "box -X");
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_NY, BALANCE_CONTACT_FAST), 1.0, "box -Y");
   model_mesh_free(&m);
 }
 END_TEST
@@ -84,21 +84,21 @@ START_TEST(box_two_material_orientations) {
   const double nx[3] = {1, 0, 0}, nz[3] = {0, 0, 1}, ax[3] = {1, 0, 0}, az[3] = {0, 0, 1};
   double q[4];
   two_material_box(nx, &m, &ms, com);
-  assert_um(threshold_error(&m, &ms, com, q_id, BALANCE_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, +X");
-  assert_um(threshold_error(&m, &ms, com, q_id, BALANCE_EDGE_NX, BALANCE_CONTACT_FAST), 1.0,
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_NX, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, -X");
   cl_quat_from_axis_angle(az, 30.0 * CL_PI / 180.0, q); /* yaw: the edge crosses the bottom face obliquely */
-  assert_um(threshold_error(&m, &ms, com, q, BALANCE_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
+  assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, yaw 30 deg, +X");
   model_mesh_free(&m);
   two_material_box(nz, &m, &ms, com);
   cl_quat_from_axis_angle(ax, 0.5 * CL_PI, q); /* 90 deg about x: the face y = -b is down, link z is world -y */
-  assert_um(threshold_error(&m, &ms, com, q, BALANCE_EDGE_NY, BALANCE_CONTACT_FAST), 1.0,
+  assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_NY, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, 90 deg about x, -Y");
-  assert_um(threshold_error(&m, &ms, com, q, BALANCE_EDGE_PY, BALANCE_CONTACT_FAST), 1.0,
+  assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_PY, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, 90 deg about x, +Y");
-  assert_um(threshold_error(&m, &ms, com, q, BALANCE_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
+  assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, 90 deg about x, +X");
   model_mesh_free(&m);
 }
@@ -116,12 +116,12 @@ START_TEST(ell_prism) {
   for (int i = 0; i < 3; i++) ck_assert(fabs(ms.com_m[i] - com[i]) < 1e-12);
   const double ax[3] = {1, 0, 0};
   double q[4];
-  assert_um(threshold_error(&m, &ms, com, q_id, BALANCE_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
             "L prism on its bar, +X");
-  assert_um(threshold_error(&m, &ms, com, q_id, BALANCE_EDGE_PY, BALANCE_CONTACT_FAST), 1.0,
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_PY, BALANCE_CONTACT_FAST), 1.0,
             "L prism on its bar, +Y");
   cl_quat_from_axis_angle(ax, 0.5 * CL_PI, q); /* resting on the L-shaped face itself */
-  assert_um(threshold_error(&m, &ms, com, q, BALANCE_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
+  assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
             "L prism on its L face, +X");
   model_mesh_free(&m);
 }
@@ -140,7 +140,7 @@ START_TEST(rock_flat_face_x_edge) {
   ck_assert_uint_ge(obj.mesh.triangle_count, 1000);
   char what[64];
   snprintf(what, sizeof what, "%s on -z, +X", rocks[_i]);
-  assert_um(threshold_error(&obj.mesh, &ms, ms.com_m, q_id, BALANCE_EDGE_PX, BALANCE_CONTACT_FAST),
+  assert_um(threshold_error(&obj.mesh, &ms, ms.com_m, q_id, MODEL_EDGE_PX, BALANCE_CONTACT_FAST),
             5.0, what);
   model_object_free(&obj);
 }
@@ -152,7 +152,7 @@ START_TEST(rock_flat_face_y_edge) {
   bp_rock(rocks[_i], &obj, &ms);
   char what[64];
   snprintf(what, sizeof what, "%s on -z, -Y", rocks[_i]);
-  assert_um(threshold_error(&obj.mesh, &ms, ms.com_m, q_id, BALANCE_EDGE_NY, BALANCE_CONTACT_FAST),
+  assert_um(threshold_error(&obj.mesh, &ms, ms.com_m, q_id, MODEL_EDGE_NY, BALANCE_CONTACT_FAST),
             5.0, what);
   model_object_free(&obj);
 }

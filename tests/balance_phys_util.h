@@ -73,11 +73,11 @@ static inline void bp_edge_dir_link(const double q[4], const double n[3], double
 /* Outcome with the link point p0 + s u put over `edge` (u = the edge normal in the link frame).
  * The CoM is inside B by s - u.(com - p0). */
 static inline balance_outcome_t bp_trial_at(balance_world_t *w, balance_object_t *o,
-                                            const double q[4], balance_edge_t edge,
+                                            const double q[4], model_edge_t edge,
                                             const double p0[3], const double u[3], double s) {
   double p[3];
   for (int i = 0; i < 3; i++) p[i] = p0[i] + s * u[i];
-  balance_pose_t pose;
+  model_pose_t pose;
   balance_status_t st = balance_pose_over_edge(w, o, q, edge, p, 0.0, 1e-6, &pose);
   ck_assert_msg(st == BALANCE_OK, "pose_over_edge: %s", balance_status_str(st));
   balance_trial_result_t res;
@@ -91,7 +91,7 @@ static inline balance_outcome_t bp_trial_at(balance_world_t *w, balance_object_t
 /* Tipping threshold in s (see bp_trial_at), bisected in [lo, hi] for `iters` halvings; the
  * outcome must be TIPS at lo and STAYS at hi. */
 static inline double bp_threshold(balance_world_t *w, balance_object_t *o, const double q[4],
-                                  balance_edge_t edge, const double p0[3], const double u[3],
+                                  model_edge_t edge, const double p0[3], const double u[3],
                                   double lo, double hi, int iters) {
   ck_assert_int_eq(bp_trial_at(w, o, q, edge, p0, u, lo), BALANCE_TIPS);
   ck_assert_int_eq(bp_trial_at(w, o, q, edge, p0, u, hi), BALANCE_STAYS);

@@ -23,9 +23,9 @@ static void rot(const double q[4], const double v[3], double o[3]) {
 
 /* The pose with point p (link) over `edge` of kBase at `along` metres along it, lowest vertex at
  * z = -1e-6 (what balance_pose_over_edge is specified to give). */
-static balance_pose_t over_edge(const model_mesh_t *m, const double q[4], balance_edge_t edge,
+static model_pose_t over_edge(const model_mesh_t *m, const double q[4], model_edge_t edge,
                                 const double p[3], double along) {
-  balance_pose_t pose;
+  model_pose_t pose;
   memcpy(pose.orientation_wxyz, q, sizeof pose.orientation_wxyz);
   double zmin = HUGE_VAL, w[3];
   for (size_t v = 0; v < m->vertex_count; ++v) {
@@ -36,10 +36,10 @@ static balance_pose_t over_edge(const model_mesh_t *m, const double q[4], balanc
   const double half = 0.15;
   double target[2] = {along, along};
   switch (edge) {
-  case BALANCE_EDGE_PX: target[0] = half; break;
-  case BALANCE_EDGE_NX: target[0] = -half; break;
-  case BALANCE_EDGE_PY: target[1] = half; break;
-  case BALANCE_EDGE_NY: target[1] = -half; break;
+  case MODEL_EDGE_PX: target[0] = half; break;
+  case MODEL_EDGE_NX: target[0] = -half; break;
+  case MODEL_EDGE_PY: target[1] = half; break;
+  case MODEL_EDGE_NY: target[1] = -half; break;
   }
   pose.position_m[0] = target[0] - w[0];
   pose.position_m[1] = target[1] - w[1];
@@ -49,7 +49,7 @@ static balance_pose_t over_edge(const model_mesh_t *m, const double q[4], balanc
 
 /* Is the world point xy on one of the mesh triangles lying in the support plane of `pose`
  * (test-side: its own rotation, lowest vertex, 1 um tolerance, point-in-triangle)? */
-static int on_contact(const model_mesh_t *m, const balance_pose_t *pose, const double xy[2]) {
+static int on_contact(const model_mesh_t *m, const model_pose_t *pose, const double xy[2]) {
   double zmin = HUGE_VAL;
   double(*w)[3] = malloc(m->vertex_count * sizeof *w);
   for (size_t v = 0; v < m->vertex_count; ++v) {
@@ -81,10 +81,10 @@ START_TEST(box_patch_is_its_bottom_face) {
   const double h[3] = {0.03, 0.02, 0.01}, c[3] = {0, 0, 0};
   model_mesh_t m = {0};
   bp_box(&m, h, 0.0);
-  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, c, 0.0);
-  balance_regime_t r;
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, c, NULL, &r),
-                   BALANCE_OK);
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, c, 0.0);
+  model_regime_t r;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r),
+                   MODEL_OK);
   ck_assert_uint_eq(r.patch.touch_count, 4);
   ck_assert_uint_eq(r.patch.face_count, 2);
   ck_assert_uint_eq(r.patch.vertex_count, 4);
@@ -100,12 +100,12 @@ START_TEST(box_patch_is_its_bottom_face) {
   ck_assert_double_eq_tol(r.com_along_m, 0.0, 1e-15);
   ck_assert_double_eq_tol(r.com_beyond_m, 0.0, 1e-15);
   ck_assert_double_eq_tol(r.chord_margin_m, 0.02, 1e-15);
-  ck_assert_int_eq(r.kind, BALANCE_REGIME_FLAT_PATCH);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_FLAT_PATCH);
   ck_assert(r.flat_patch_regime);
   /* Over the Y edge, 5 cm along it: the chord spans the 6 cm length, shifted with the object. */
-  pose = over_edge(&m, kIdentity, BALANCE_EDGE_PY, c, 0.05);
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PY, c, NULL, &r),
-                   BALANCE_OK);
+  pose = over_edge(&m, kIdentity, MODEL_EDGE_PY, c, 0.05);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, c, NULL, &r),
+                   MODEL_OK);
   ck_assert_double_eq_tol(r.chord_m[0], 0.02, 1e-15);
   ck_assert_double_eq_tol(r.chord_m[1], 0.08, 1e-15);
   ck_assert_double_eq_tol(r.com_along_m, 0.05, 1e-15);
@@ -121,28 +121,28 @@ START_TEST(box_margin_decides_the_regime) {
   /* A CoM estimate 18.5 mm off the middle sideways: 1.5 mm from the chord end, under the 3 mm
    * default: it would roll sideways. */
   const double side[3] = {0.0, 0.0185, 0.0};
-  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, side, 0.0);
-  balance_regime_t r;
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, side, NULL, &r),
-                   BALANCE_OK);
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, side, 0.0);
+  model_regime_t r;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, side, NULL, &r),
+                   MODEL_OK);
   ck_assert_double_eq_tol(r.chord_margin_m, 0.0015, 1e-12);
-  ck_assert_int_eq(r.kind, BALANCE_REGIME_EDGE_ROLL);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_EDGE_ROLL);
   ck_assert(!r.flat_patch_regime);
   /* Beyond the face sideways: the chord misses the CoM estimate (negative margin). */
   const double out[3] = {0.0, 0.025, 0.0};
-  pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, out, 0.0);
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, out, NULL, &r),
-                   BALANCE_OK);
+  pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, out, 0.0);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, out, NULL, &r),
+                   MODEL_OK);
   ck_assert_double_eq_tol(r.chord_margin_m, -0.005, 1e-12);
-  ck_assert_int_eq(r.kind, BALANCE_REGIME_EDGE_ROLL);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_EDGE_ROLL);
   /* A looser threshold accepts the 1.5 mm case. */
-  balance_regime_config_t cfg;
-  balance_regime_config_default(&cfg);
+  model_regime_config_t cfg;
+  model_regime_config_default(&cfg);
   cfg.min_chord_margin_m = 0.001;
-  pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, side, 0.0);
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, side, &cfg, &r),
-                   BALANCE_OK);
-  ck_assert_int_eq(r.kind, BALANCE_REGIME_FLAT_PATCH);
+  pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, side, 0.0);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, side, &cfg, &r),
+                   MODEL_OK);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_FLAT_PATCH);
   model_mesh_free(&m);
 }
 END_TEST
@@ -154,8 +154,8 @@ START_TEST(box_best_yaw_is_the_diagonal) {
   model_mesh_t m = {0};
   bp_box(&m, h, 0.0);
   double yaw = -1.0, margin = 0.0;
-  ck_assert_int_eq(balance_yaw_best(&m, kIdentity, c, BALANCE_EDGE_PX, NULL, &yaw, &margin),
-                   BALANCE_OK);
+  ck_assert_int_eq(model_yaw_best(&m, kIdentity, c, MODEL_EDGE_PX, NULL, &yaw, &margin),
+                   MODEL_OK);
   ck_assert_double_eq_tol(margin, sqrt(0.03 * 0.03 + 0.02 * 0.02), 1e-9);
   ck_assert(yaw >= 0.0 && yaw < CL_PI);
   /* The edge (world y) seen in the object frame after yaw runs along a diagonal. */
@@ -163,21 +163,21 @@ START_TEST(box_best_yaw_is_the_diagonal) {
   const double along_diag = fabs(d[0] * 0.03 + d[1] * 0.02) / sqrt(0.03 * 0.03 + 0.02 * 0.02);
   const double along_anti = fabs(-d[0] * 0.03 + d[1] * 0.02) / sqrt(0.03 * 0.03 + 0.02 * 0.02);
   ck_assert_double_eq_tol(fmax(along_diag, along_anti), 1.0, 1e-12);
-  /* balance_yaw_margin agrees at that yaw and at yaw 0 (chord across the 40 mm width). */
+  /* model_yaw_margin agrees at that yaw and at yaw 0 (chord across the 40 mm width). */
   double m2 = 0.0;
-  ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, c, BALANCE_EDGE_PX, yaw, NULL, &m2), BALANCE_OK);
+  ck_assert_int_eq(model_yaw_margin(&m, kIdentity, c, MODEL_EDGE_PX, yaw, NULL, &m2), MODEL_OK);
   ck_assert_double_eq_tol(m2, margin, 1e-12);
-  ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, c, BALANCE_EDGE_PX, 0.0, NULL, &m2), BALANCE_OK);
+  ck_assert_int_eq(model_yaw_margin(&m, kIdentity, c, MODEL_EDGE_PX, 0.0, NULL, &m2), MODEL_OK);
   ck_assert_double_eq_tol(m2, 0.02, 1e-12);
-  ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, c, BALANCE_EDGE_PY, 0.0, NULL, &m2), BALANCE_OK);
+  ck_assert_int_eq(model_yaw_margin(&m, kIdentity, c, MODEL_EDGE_PY, 0.0, NULL, &m2), MODEL_OK);
   ck_assert_double_eq_tol(m2, 0.03, 1e-12);
   /* The classified trial at that yaw has the same margin. */
   double q[4];
-  balance_orientation_yawed(kIdentity, yaw, q);
-  balance_pose_t pose = over_edge(&m, q, BALANCE_EDGE_PX, c, 0.0);
-  balance_regime_t r;
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, c, NULL, &r),
-                   BALANCE_OK);
+  model_orientation_yawed(kIdentity, yaw, q);
+  model_pose_t pose = over_edge(&m, q, MODEL_EDGE_PX, c, 0.0);
+  model_regime_t r;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r),
+                   MODEL_OK);
   ck_assert_double_eq_tol(r.chord_margin_m, margin, 1e-12);
   model_mesh_free(&m);
 }
@@ -190,9 +190,9 @@ START_TEST(box_faces_with_offset_com) {
   const double h[3] = {0.03, 0.02, 0.01}, com[3] = {0.025, 0.0, 0.0};
   model_mesh_t m = {0};
   bp_box(&m, h, 0.0);
-  balance_face_t f[8];
+  model_face_t f[8];
   size_t n = 0;
-  ck_assert_int_eq(balance_faces_find(&m, com, NULL, f, 8, &n), BALANCE_OK);
+  ck_assert_int_eq(model_faces_find(&m, com, NULL, f, 8, &n), MODEL_OK);
   ck_assert_uint_eq(n, 6);
   for (size_t i = 0; i < n; ++i) {
     const double *nl = f[i].normal_link;
@@ -218,10 +218,10 @@ START_TEST(box_faces_with_offset_com) {
   ck_assert(f[2].flat && f[3].flat);   /* 60 x 20 */
   ck_assert(f[4].flat && f[5].flat);   /* 40 x 20: width 20 mm, area 8 cm^2 */
   /* With a 6 mm margin required, only the two x faces remain candidates (analytic count). */
-  balance_regime_config_t cfg;
-  balance_regime_config_default(&cfg);
+  model_regime_config_t cfg;
+  model_regime_config_default(&cfg);
   cfg.min_com_margin_m = 0.006;
-  ck_assert_int_eq(balance_faces_find(&m, com, &cfg, f, 8, &n), BALANCE_OK);
+  ck_assert_int_eq(model_faces_find(&m, com, &cfg, f, 8, &n), MODEL_OK);
   int cand = 0;
   for (size_t i = 0; i < n; ++i) {
     if (f[i].candidate) {
@@ -231,7 +231,7 @@ START_TEST(box_faces_with_offset_com) {
   }
   ck_assert_int_eq(cand, 2);
   /* The count is reported even when the array is short. */
-  ck_assert_int_eq(balance_faces_find(&m, com, NULL, f, 2, &n), BALANCE_OK);
+  ck_assert_int_eq(model_faces_find(&m, com, NULL, f, 2, &n), MODEL_OK);
   ck_assert_uint_eq(n, 6);
   model_mesh_free(&m);
 }
@@ -246,9 +246,9 @@ START_TEST(leaning_box_com_outside_bottom) {
   model_mass_t mass;
   ck_assert_int_eq(model_mesh_mass(&m, 1000.0, &mass), MODEL_OK);
   ck_assert_double_eq_tol(mass.com_m[0], 0.015, 1e-12);
-  balance_face_t f[8];
+  model_face_t f[8];
   size_t n = 0;
-  ck_assert_int_eq(balance_faces_find(&m, mass.com_m, NULL, f, 8, &n), BALANCE_OK);
+  ck_assert_int_eq(model_faces_find(&m, mass.com_m, NULL, f, 8, &n), MODEL_OK);
   ck_assert_uint_eq(n, 6);
   int seen = 0;
   for (size_t i = 0; i < n; ++i) {
@@ -275,10 +275,10 @@ START_TEST(two_feet_chord_is_the_real_contact) {
   /* Over a Y edge (edge line along x) the line crosses both feet: the chord runs from one
    * foot's outer end to the other's, bridging the gap, and the edge line bounds the support
    * polygon all along it. */
-  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PY, mid, 0.0);
-  balance_regime_t r;
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PY, mid, NULL, &r),
-                   BALANCE_OK);
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PY, mid, 0.0);
+  model_regime_t r;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, mid, NULL, &r),
+                   MODEL_OK);
   ck_assert_uint_eq(r.patch.face_count, 4);
   ck_assert_uint_eq(r.patch.region_count, 2);
   ck_assert_double_eq_tol(r.patch.faces_area_m2, 2 * 0.02 * 0.04, 1e-15);
@@ -288,56 +288,56 @@ START_TEST(two_feet_chord_is_the_real_contact) {
   ck_assert(r.patch.flat);
   ck_assert_double_eq_tol(r.chord_m[0], -0.03, 1e-15);
   ck_assert_double_eq_tol(r.chord_m[1], 0.03, 1e-15);
-  ck_assert_int_eq(r.kind, BALANCE_REGIME_FLAT_PATCH);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_FLAT_PATCH);
   /* Over an X edge with the gap's middle on the edge line: the line meets no foot (the outline
    * would give a 40 mm chord there). The object rests on the inner foot, whose edge is 10 mm
    * inside: not a flat-patch trial. */
-  pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, mid, 0.0);
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, mid, NULL, &r),
-                   BALANCE_OK);
+  pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, mid, 0.0);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r),
+                   MODEL_OK);
   ck_assert(!r.chord_valid);
   ck_assert(r.chord_margin_m == -HUGE_VAL);
-  ck_assert_int_eq(r.kind, BALANCE_REGIME_POINT_SUPPORT);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_POINT_SUPPORT);
   /* The edge line through one foot (x = 20 mm): that foot's chord, [-20, 20] mm in y. */
   const double on_foot[3] = {0.02, 0.005, 0.0};
-  pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, on_foot, 0.0);
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, on_foot, NULL, &r),
-                   BALANCE_OK);
+  pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, on_foot, 0.0);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, on_foot, NULL, &r),
+                   MODEL_OK);
   ck_assert_double_eq_tol(r.chord_m[0] - r.com_along_m, -0.025, 1e-15);
   ck_assert_double_eq_tol(r.chord_m[1] - r.com_along_m, 0.015, 1e-15);
   ck_assert_double_eq_tol(r.chord_margin_m, 0.015, 1e-15);
-  ck_assert_int_eq(r.kind, BALANCE_REGIME_FLAT_PATCH);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_FLAT_PATCH);
   /* Yaw: the best line through the gap's middle runs corner to corner across both feet (half
    * length hypot(30, 20) mm); at yaw 0 the line runs in the gap. */
   double yaw = 0.0, best = 0.0, at0 = 0.0;
-  ck_assert_int_eq(balance_yaw_best(&m, kIdentity, mid, BALANCE_EDGE_PX, NULL, &yaw, &best),
-                   BALANCE_OK);
+  ck_assert_int_eq(model_yaw_best(&m, kIdentity, mid, MODEL_EDGE_PX, NULL, &yaw, &best),
+                   MODEL_OK);
   ck_assert_double_eq_tol(best, hypot(0.03, 0.02), 1e-9);
   ck_assert(fabs(yaw - CL_PI / 2) > 0.1);
-  ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, mid, BALANCE_EDGE_PX, 0.0, NULL, &at0),
-                   BALANCE_OK);
+  ck_assert_int_eq(model_yaw_margin(&m, kIdentity, mid, MODEL_EDGE_PX, 0.0, NULL, &at0),
+                   MODEL_OK);
   ck_assert(at0 == -HUGE_VAL);
   /* The batch form gives what the single calls give, pair by pair. */
   const double yaws[4] = {0.0, yaw, 1.0, 2.5};
   const double pts[4][3] = {{0, 0, 0}, {0, 0, 0}, {0.02, 0.005, 0}, {-0.015, 0.01, 0}};
   double batch[4];
-  ck_assert_int_eq(balance_yaw_margins(&m, kIdentity, BALANCE_EDGE_PX, NULL, 4, yaws, pts, batch),
-                   BALANCE_OK);
+  ck_assert_int_eq(model_yaw_margins(&m, kIdentity, MODEL_EDGE_PX, NULL, 4, yaws, pts, batch),
+                   MODEL_OK);
   for (int i = 0; i < 4; ++i) {
     double one = 0.0;
-    ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, pts[i], BALANCE_EDGE_PX, yaws[i], NULL, &one),
-                     BALANCE_OK);
+    ck_assert_int_eq(model_yaw_margin(&m, kIdentity, pts[i], MODEL_EDGE_PX, yaws[i], NULL, &one),
+                     MODEL_OK);
     ck_assert(batch[i] == one);
   }
   const double bad_yaws[2] = {0.0, NAN};
-  ck_assert_int_eq(balance_yaw_margins(&m, kIdentity, BALANCE_EDGE_PX, NULL, 2, bad_yaws, pts, batch),
-                   BALANCE_E_NONFINITE);
-  ck_assert_int_eq(balance_yaw_margins(&m, kIdentity, BALANCE_EDGE_PX, NULL, 0, NULL, NULL, NULL),
-                   BALANCE_OK);
+  ck_assert_int_eq(model_yaw_margins(&m, kIdentity, MODEL_EDGE_PX, NULL, 2, bad_yaws, pts, batch),
+                   MODEL_E_NONFINITE);
+  ck_assert_int_eq(model_yaw_margins(&m, kIdentity, MODEL_EDGE_PX, NULL, 0, NULL, NULL, NULL),
+                   MODEL_OK);
   /* The hull face under the feet: real area of one foot, two regions. */
-  balance_face_t f[16];
+  model_face_t f[16];
   size_t n = 0;
-  ck_assert_int_eq(balance_faces_find(&m, mid, NULL, f, 16, &n), BALANCE_OK);
+  ck_assert_int_eq(model_faces_find(&m, mid, NULL, f, 16, &n), MODEL_OK);
   int bottom = 0;
   for (size_t i = 0; i < (n < 16 ? n : 16); ++i) {
     if (f[i].normal_link[2] > -1.0 + 1e-12) continue;
@@ -359,14 +359,14 @@ START_TEST(narrow_feet_are_not_flat) {
   model_mesh_t m = {0};
   bp_two_feet(&m, h, 0.014);
   const double mid[3] = {0.0, 0.0, 0.0};
-  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PY, mid, 0.0);
-  balance_regime_t r;
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PY, mid, NULL, &r),
-                   BALANCE_OK);
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PY, mid, 0.0);
+  model_regime_t r;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, mid, NULL, &r),
+                   MODEL_OK);
   ck_assert(r.patch.width_m >= 0.02);
   ck_assert_double_eq_tol(r.patch.region_width_m, 0.006, 1e-15);
   ck_assert(!r.patch.flat);
-  ck_assert_int_eq(r.kind, BALANCE_REGIME_EDGE_ROLL);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_EDGE_ROLL);
   model_mesh_free(&m);
 }
 END_TEST
@@ -377,10 +377,10 @@ START_TEST(washer_is_one_ring_region) {
   model_mesh_t m = {0};
   bp_washer(&m, r_in, r_out, 0.004, n);
   const double mid[3] = {0.0, 0.0, 0.0};
-  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, mid, 0.0);
-  balance_regime_t r;
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, mid, NULL, &r),
-                   BALANCE_OK);
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, mid, 0.0);
+  model_regime_t r;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r),
+                   MODEL_OK);
   const double poly = 0.5 * n * sin(2.0 * CL_PI / n); /* area of the unit n-gon */
   ck_assert_uint_eq(r.patch.region_count, 1);
   ck_assert_double_eq_tol(r.patch.faces_area_m2, poly * (r_out * r_out - r_in * r_in), 1e-12);
@@ -389,7 +389,7 @@ START_TEST(washer_is_one_ring_region) {
   /* Through the hole: the chord spans both sides of the ring (n is a multiple of 4, so the edge
    * line x = const through the centre passes through two outer vertices, at +-r_out). */
   ck_assert_double_eq_tol(r.chord_margin_m, r_out, 1e-12);
-  ck_assert_int_eq(r.kind, BALANCE_REGIME_FLAT_PATCH);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_FLAT_PATCH);
   model_mesh_free(&m);
 }
 END_TEST
@@ -405,10 +405,10 @@ START_TEST(rock_bottom_face_spans_the_com) {
   const double *coms[2] = {r.uniform.com_m, r.truth.com_m};
   for (int e = 0; e < 4; ++e) {
     for (int c = 0; c < 2; ++c) {
-      balance_pose_t pose = over_edge(m, kIdentity, (balance_edge_t)e, coms[c], 0.0);
-      balance_regime_t reg;
-      ck_assert_int_eq(balance_regime_classify(m, &pose, kBase, (balance_edge_t)e, coms[c], NULL, &reg),
-                       BALANCE_OK);
+      model_pose_t pose = over_edge(m, kIdentity, (model_edge_t)e, coms[c], 0.0);
+      model_regime_t reg;
+      ck_assert_int_eq(model_regime_classify(m, &pose, kBase, (model_edge_t)e, coms[c], NULL, &reg),
+                       MODEL_OK);
       ck_assert_msg(reg.patch.width_m >= 0.02, "rock %d: patch %.4f m wide", which, reg.patch.width_m);
       ck_assert(reg.patch.area_m2 >= 4e-4);
       ck_assert(reg.patch.face_count >= 10);
@@ -416,7 +416,7 @@ START_TEST(rock_bottom_face_spans_the_com) {
       ck_assert(reg.chord_valid);
       ck_assert_msg(reg.chord_margin_m >= 0.006, "rock %d edge %d: margin %.4f", which, e,
                     reg.chord_margin_m);
-      ck_assert_int_eq(reg.kind, BALANCE_REGIME_FLAT_PATCH);
+      ck_assert_int_eq(reg.kind, MODEL_REGIME_FLAT_PATCH);
       ck_assert_double_eq_tol(reg.com_beyond_m, 0.0, 1e-12);
       /* The chord ends lie on the real contact's boundary: half a micrometre outward leaves
        * every in-plane triangle, half a micrometre inward is on one. */
@@ -433,10 +433,10 @@ START_TEST(rock_bottom_face_spans_the_com) {
   }
   /* The best yaw does at least as well as yaw 0. */
   double yaw = 0.0, best = 0.0, at0 = 0.0;
-  ck_assert_int_eq(balance_yaw_best(m, kIdentity, r.uniform.com_m, BALANCE_EDGE_PX, NULL, &yaw, &best),
-                   BALANCE_OK);
-  ck_assert_int_eq(balance_yaw_margin(m, kIdentity, r.uniform.com_m, BALANCE_EDGE_PX, 0.0, NULL, &at0),
-                   BALANCE_OK);
+  ck_assert_int_eq(model_yaw_best(m, kIdentity, r.uniform.com_m, MODEL_EDGE_PX, NULL, &yaw, &best),
+                   MODEL_OK);
+  ck_assert_int_eq(model_yaw_margin(m, kIdentity, r.uniform.com_m, MODEL_EDGE_PX, 0.0, NULL, &at0),
+                   MODEL_OK);
   ck_assert(best >= at0);
   ck_assert(best >= 0.010);
   bp_rock_free(&r);
@@ -449,11 +449,11 @@ START_TEST(rock_faces_are_the_fractures) {
   bp_rock_t r;
   bp_rock_load(&r, _i + 1, 0);
   size_t n = 0;
-  ck_assert_int_eq(balance_faces_find(&r.obj.mesh, r.uniform.com_m, NULL, NULL, 0, &n), BALANCE_OK);
+  ck_assert_int_eq(model_faces_find(&r.obj.mesh, r.uniform.com_m, NULL, NULL, 0, &n), MODEL_OK);
   ck_assert(n >= 4);
-  balance_face_t *f = malloc(n * sizeof *f);
+  model_face_t *f = malloc(n * sizeof *f);
   ck_assert_ptr_nonnull(f);
-  ck_assert_int_eq(balance_faces_find(&r.obj.mesh, r.uniform.com_m, NULL, f, n, &n), BALANCE_OK);
+  ck_assert_int_eq(model_faces_find(&r.obj.mesh, r.uniform.com_m, NULL, f, n, &n), MODEL_OK);
   int flat = 0, bottom = 0, side = 0;
   for (size_t i = 0; i < n; ++i) {
     if (!f[i].flat) continue;
@@ -481,26 +481,26 @@ START_TEST(ellipsoid_is_point_support) {
   const double a[3] = {0.035, 0.03, 0.025}, c[3] = {0, 0, 0};
   model_mesh_t m = {0};
   bp_ellipsoid(&m, a, 24, 48);
-  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, c, 0.0);
-  balance_regime_t r;
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, c, NULL, &r),
-                   BALANCE_OK);
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, c, 0.0);
+  model_regime_t r;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r),
+                   MODEL_OK);
   ck_assert_uint_eq(r.patch.touch_count, 1); /* the pole */
   ck_assert_uint_eq(r.patch.face_count, 0);
   ck_assert(!r.patch.flat);
   ck_assert(!r.chord_valid);
   ck_assert(r.chord_margin_m == -HUGE_VAL);
-  ck_assert_int_eq(r.kind, BALANCE_REGIME_POINT_SUPPORT);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_POINT_SUPPORT);
   ck_assert(!r.flat_patch_regime);
   double yaw = 1.0, margin = 0.0;
-  ck_assert_int_eq(balance_yaw_best(&m, kIdentity, c, BALANCE_EDGE_PX, NULL, &yaw, &margin),
-                   BALANCE_OK);
+  ck_assert_int_eq(model_yaw_best(&m, kIdentity, c, MODEL_EDGE_PX, NULL, &yaw, &margin),
+                   MODEL_OK);
   ck_assert(margin == -HUGE_VAL);
   ck_assert(yaw == 0.0);
   /* Its hull faces are small triangles and quads: none is a flat patch. */
-  balance_face_t f[4];
+  model_face_t f[4];
   size_t n = 0;
-  ck_assert_int_eq(balance_faces_find(&m, c, NULL, f, 4, &n), BALANCE_OK);
+  ck_assert_int_eq(model_faces_find(&m, c, NULL, f, 4, &n), MODEL_OK);
   ck_assert(n > 0);
   for (size_t i = 0; i < (n < 4 ? n : 4); ++i) ck_assert(!f[i].flat);
   model_mesh_free(&m);
@@ -514,13 +514,13 @@ START_TEST(rock_tilted_is_not_flat) {
   const double qx[4] = {cos(CL_PI / 8), sin(CL_PI / 8), 0, 0};
   const double qy[4] = {cos(CL_PI / 12), 0, sin(CL_PI / 12), 0};
   double q[4] = {qy[0] * qx[0] - qy[2] * 0.0, qy[0] * qx[1], qy[2] * qx[0], -qy[2] * qx[1]};
-  balance_pose_t pose = over_edge(&r.obj.mesh, q, BALANCE_EDGE_PX, r.uniform.com_m, 0.0);
-  balance_regime_t reg;
-  ck_assert_int_eq(balance_regime_classify(&r.obj.mesh, &pose, kBase, BALANCE_EDGE_PX, r.uniform.com_m,
+  model_pose_t pose = over_edge(&r.obj.mesh, q, MODEL_EDGE_PX, r.uniform.com_m, 0.0);
+  model_regime_t reg;
+  ck_assert_int_eq(model_regime_classify(&r.obj.mesh, &pose, kBase, MODEL_EDGE_PX, r.uniform.com_m,
                                            NULL, &reg),
-                   BALANCE_OK);
+                   MODEL_OK);
   ck_assert(!reg.patch.flat);
-  ck_assert(reg.kind != BALANCE_REGIME_FLAT_PATCH);
+  ck_assert(reg.kind != MODEL_REGIME_FLAT_PATCH);
   ck_assert(reg.patch.touch_count <= 3);
   bp_rock_free(&r);
 }
@@ -532,7 +532,7 @@ START_TEST(resting_orientation_turns_normal_down) {
   const double normals[5][3] = {{0, 0, -1}, {0, 0, 2}, {1, 0, 0}, {0.3, -0.5, 0.8}, {-0.2, 0.1, -0.9}};
   for (int i = 0; i < 5; ++i) {
     double q[4], w[3];
-    ck_assert_int_eq(balance_orientation_resting(normals[i], q), BALANCE_OK);
+    ck_assert_int_eq(model_orientation_resting(normals[i], q), MODEL_OK);
     ck_assert_double_eq_tol(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-15);
     rot(q, normals[i], w);
     const double len = sqrt(normals[i][0] * normals[i][0] + normals[i][1] * normals[i][1] +
@@ -544,7 +544,7 @@ START_TEST(resting_orientation_turns_normal_down) {
   /* Yaw about world z keeps the normal down and turns x. */
   double q[4], w[3];
   const double ex[3] = {1, 0, 0};
-  balance_orientation_yawed(kIdentity, CL_PI / 2, q);
+  model_orientation_yawed(kIdentity, CL_PI / 2, q);
   rot(q, ex, w);
   ck_assert_double_eq_tol(w[0], 0.0, 1e-15);
   ck_assert_double_eq_tol(w[1], 1.0, 1e-15);
@@ -557,70 +557,70 @@ START_TEST(bad_input_gives_status) {
   const double h[3] = {0.03, 0.02, 0.01}, c[3] = {0, 0, 0};
   model_mesh_t m = {0};
   bp_box(&m, h, 0.0);
-  balance_pose_t pose = over_edge(&m, kIdentity, BALANCE_EDGE_PX, c, 0.0);
-  balance_regime_t r;
-  balance_patch_t p;
-  ck_assert_int_eq(balance_regime_classify(NULL, &pose, kBase, BALANCE_EDGE_PX, c, NULL, &r), BALANCE_E_ARG);
-  ck_assert_int_eq(balance_regime_classify(&m, NULL, kBase, BALANCE_EDGE_PX, c, NULL, &r), BALANCE_E_ARG);
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, NULL, NULL, &r), BALANCE_E_ARG);
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, c, NULL, NULL), BALANCE_E_ARG);
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, (balance_edge_t)7, c, NULL, &r), BALANCE_E_ARG);
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, c, 0.0);
+  model_regime_t r;
+  model_patch_t p;
+  ck_assert_int_eq(model_regime_classify(NULL, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r), MODEL_E_ARG);
+  ck_assert_int_eq(model_regime_classify(&m, NULL, kBase, MODEL_EDGE_PX, c, NULL, &r), MODEL_E_ARG);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, NULL, NULL, &r), MODEL_E_ARG);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, NULL), MODEL_E_ARG);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, (model_edge_t)7, c, NULL, &r), MODEL_E_ARG);
   const double bad_base[3] = {0.3, 0.0, 0.1};
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, bad_base, BALANCE_EDGE_PX, c, NULL, &r), BALANCE_E_ARG);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, bad_base, MODEL_EDGE_PX, c, NULL, &r), MODEL_E_ARG);
   const double nan_com[3] = {0, NAN, 0};
-  ck_assert_int_eq(balance_regime_classify(&m, &pose, kBase, BALANCE_EDGE_PX, nan_com, NULL, &r),
-                   BALANCE_E_NONFINITE);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, nan_com, NULL, &r),
+                   MODEL_E_NONFINITE);
   /* Quaternions: not unit, non-finite. */
-  balance_pose_t bad = pose;
+  model_pose_t bad = pose;
   bad.orientation_wxyz[0] = 1.01;
-  ck_assert_int_eq(balance_patch_resting(&m, &bad, NULL, &p), BALANCE_E_POSE);
+  ck_assert_int_eq(model_patch_resting(&m, &bad, NULL, &p), MODEL_E_POSE);
   bad.orientation_wxyz[0] = 0.0;
-  ck_assert_int_eq(balance_patch_resting(&m, &bad, NULL, &p), BALANCE_E_POSE);
+  ck_assert_int_eq(model_patch_resting(&m, &bad, NULL, &p), MODEL_E_POSE);
   bad.orientation_wxyz[0] = INFINITY;
-  ck_assert_int_eq(balance_patch_resting(&m, &bad, NULL, &p), BALANCE_E_NONFINITE);
+  ck_assert_int_eq(model_patch_resting(&m, &bad, NULL, &p), MODEL_E_NONFINITE);
   bad = pose;
   bad.position_m[1] = NAN;
-  ck_assert_int_eq(balance_patch_resting(&m, &bad, NULL, &p), BALANCE_E_NONFINITE);
+  ck_assert_int_eq(model_patch_resting(&m, &bad, NULL, &p), MODEL_E_NONFINITE);
   const double q_bad[4] = {2, 0, 0, 0};
   double yaw, margin;
-  ck_assert_int_eq(balance_yaw_best(&m, q_bad, c, BALANCE_EDGE_PX, NULL, &yaw, &margin), BALANCE_E_POSE);
-  ck_assert_int_eq(balance_yaw_best(&m, kIdentity, c, BALANCE_EDGE_PX, NULL, NULL, &margin), BALANCE_E_ARG);
-  ck_assert_int_eq(balance_yaw_margin(&m, kIdentity, c, BALANCE_EDGE_PX, NAN, NULL, &margin),
-                   BALANCE_E_NONFINITE);
+  ck_assert_int_eq(model_yaw_best(&m, q_bad, c, MODEL_EDGE_PX, NULL, &yaw, &margin), MODEL_E_POSE);
+  ck_assert_int_eq(model_yaw_best(&m, kIdentity, c, MODEL_EDGE_PX, NULL, NULL, &margin), MODEL_E_ARG);
+  ck_assert_int_eq(model_yaw_margin(&m, kIdentity, c, MODEL_EDGE_PX, NAN, NULL, &margin),
+                   MODEL_E_NONFINITE);
   /* Config out of range. */
-  balance_regime_config_t cfg;
-  balance_regime_config_default(&cfg);
-  ck_assert_int_eq(balance_regime_config_check(&cfg), BALANCE_OK);
+  model_regime_config_t cfg;
+  model_regime_config_default(&cfg);
+  ck_assert_int_eq(model_regime_config_check(&cfg), MODEL_OK);
   cfg.plane_tol_m = 0.0;
-  ck_assert_int_eq(balance_patch_resting(&m, &pose, &cfg, &p), BALANCE_E_ARG);
+  ck_assert_int_eq(model_patch_resting(&m, &pose, &cfg, &p), MODEL_E_ARG);
   cfg.plane_tol_m = NAN;
-  ck_assert_int_eq(balance_patch_resting(&m, &pose, &cfg, &p), BALANCE_E_NONFINITE);
+  ck_assert_int_eq(model_patch_resting(&m, &pose, &cfg, &p), MODEL_E_NONFINITE);
   /* Normals. */
   double q[4];
   const double zero[3] = {0, 0, 0}, inf[3] = {INFINITY, 0, 0};
-  ck_assert_int_eq(balance_orientation_resting(zero, q), BALANCE_E_ARG);
-  ck_assert_int_eq(balance_orientation_resting(inf, q), BALANCE_E_NONFINITE);
+  ck_assert_int_eq(model_orientation_resting(zero, q), MODEL_E_ARG);
+  ck_assert_int_eq(model_orientation_resting(inf, q), MODEL_E_NONFINITE);
   /* Meshes: a non-finite vertex, an index out of range, empty, NULL arrays. */
-  balance_face_t f[2];
+  model_face_t f[2];
   size_t n;
   m.vertices_m[3][2] = NAN;
-  ck_assert_int_eq(balance_patch_resting(&m, &pose, NULL, &p), BALANCE_E_NONFINITE);
-  ck_assert_int_eq(balance_faces_find(&m, c, NULL, f, 2, &n), BALANCE_E_NONFINITE);
+  ck_assert_int_eq(model_patch_resting(&m, &pose, NULL, &p), MODEL_E_NONFINITE);
+  ck_assert_int_eq(model_faces_find(&m, c, NULL, f, 2, &n), MODEL_E_NONFINITE);
   m.vertices_m[3][2] = -0.01;
   m.triangles[5][1] = 8;
-  ck_assert_int_eq(balance_patch_resting(&m, &pose, NULL, &p), BALANCE_E_MESH);
-  ck_assert_int_eq(balance_faces_find(&m, c, NULL, f, 2, &n), BALANCE_E_MESH);
+  ck_assert_int_eq(model_patch_resting(&m, &pose, NULL, &p), MODEL_E_DEGENERATE);
+  ck_assert_int_eq(model_faces_find(&m, c, NULL, f, 2, &n), MODEL_E_DEGENERATE);
   m.triangles[5][1] = 5;
   model_mesh_t empty = {0};
-  ck_assert_int_eq(balance_patch_resting(&empty, &pose, NULL, &p), BALANCE_E_ARG);
-  ck_assert_int_eq(balance_faces_find(&empty, c, NULL, f, 2, &n), BALANCE_E_ARG);
-  ck_assert_int_eq(balance_faces_find(&m, c, NULL, NULL, 2, &n), BALANCE_E_ARG);
-  ck_assert_int_eq(balance_faces_find(&m, nan_com, NULL, f, 2, &n), BALANCE_E_NONFINITE);
+  ck_assert_int_eq(model_patch_resting(&empty, &pose, NULL, &p), MODEL_E_ARG);
+  ck_assert_int_eq(model_faces_find(&empty, c, NULL, f, 2, &n), MODEL_E_ARG);
+  ck_assert_int_eq(model_faces_find(&m, c, NULL, NULL, 2, &n), MODEL_E_ARG);
+  ck_assert_int_eq(model_faces_find(&m, nan_com, NULL, f, 2, &n), MODEL_E_NONFINITE);
   /* A flat (zero-volume) mesh has no hull. */
   model_mesh_t flat = {0};
   const double hf[3] = {0.03, 0.02, 0.0};
   bp_box(&flat, hf, 0.0);
-  ck_assert_int_eq(balance_faces_find(&flat, c, NULL, f, 2, &n), BALANCE_E_MESH);
+  ck_assert_int_eq(model_faces_find(&flat, c, NULL, f, 2, &n), MODEL_E_HULL);
   model_mesh_free(&flat);
   model_mesh_free(&m);
 }

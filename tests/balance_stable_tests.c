@@ -73,8 +73,8 @@ START_TEST(box_with_offset_com) {
   size_t n = 0, trials = 0;
   ck_assert_int_eq(balance_stable_find(w, obj, com, NULL, NULL, poses, 8, &n, &trials), BALANCE_OK);
   ck_assert_uint_eq(n, 6);
-  balance_regime_config_t rc;
-  balance_regime_config_default(&rc);
+  model_regime_config_t rc;
+  model_regime_config_default(&rc);
   rc.min_com_margin_m = 0.006;
   ck_assert_int_eq(balance_stable_find(w, obj, com, &rc, NULL, poses, 8, &n, &trials), BALANCE_OK);
   ck_assert_uint_eq(n, 2);
@@ -114,9 +114,9 @@ START_TEST(com_outside_support_is_not_confirmed) {
   ck_assert(trials > n); /* the bottom face was tried and rejected */
   for (size_t i = 0; i < n; ++i) ck_assert(fabs(poses[i].face.normal_link[2]) < 0.99);
   /* With the true CoM as the guess the bottom face is not even tried. */
-  balance_face_t f[8];
+  model_face_t f[8];
   size_t nf = 0;
-  ck_assert_int_eq(balance_faces_find(&m, truth.com_m, NULL, f, 8, &nf), BALANCE_OK);
+  ck_assert_int_eq(model_faces_find(&m, truth.com_m, NULL, f, 8, &nf), MODEL_OK);
   for (size_t i = 0; i < nf; ++i) {
     if (f[i].normal_link[2] < -0.99) ck_assert(!f[i].candidate);
   }
@@ -173,8 +173,8 @@ START_TEST(bad_input_gives_status) {
   ck_assert_int_eq(ok, 0);
   ck_assert_int_eq(balance_stable_confirm(w, obj, q_nan, com, NULL, NULL, &ok), BALANCE_E_NONFINITE);
   ck_assert_int_eq(balance_stable_confirm(w, obj, up, c_nan, NULL, NULL, &ok), BALANCE_E_NONFINITE);
-  balance_stable_config_t sc;
-  balance_stable_config_default(&sc);
+  model_stable_config_t sc;
+  model_stable_config_default(&sc);
   sc.max_rotation_rad = -1.0;
   ck_assert_int_eq(balance_stable_confirm(w, obj, up, com, &sc, NULL, &ok), BALANCE_E_ARG);
   sc.max_rotation_rad = NAN;

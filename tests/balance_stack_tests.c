@@ -27,7 +27,7 @@ typedef struct {
   model_mesh_t mesh;
   balance_world_t *w;
   balance_object_t *obj[2];
-  balance_pose_t pose[2];
+  model_pose_t pose[2];
 } two_boxes_t;
 
 static void two_boxes(two_boxes_t *t, double top_x) {
@@ -39,7 +39,7 @@ static void two_boxes(two_boxes_t *t, double top_x) {
   t->w = world_new();
   for (int i = 0; i < 2; ++i)
     ck_assert_int_eq(balance_object_create(t->w, &t->mesh, &mass, &t->obj[i]), BALANCE_OK);
-  const balance_pose_t bottom = {{0.0, 0.0, kBoxH[2] - 1e-6}, {1, 0, 0, 0}};
+  const model_pose_t bottom = {{0.0, 0.0, kBoxH[2] - 1e-6}, {1, 0, 0, 0}};
   t->pose[0] = bottom;
   const double at[2] = {top_x, 0.0};
   ck_assert_int_eq(balance_stack_pose_above(&t->mesh, &bottom, &t->mesh, kUp, com, at, 1e-6,
@@ -60,7 +60,7 @@ START_TEST(pose_above_is_exact_for_boxes) {
   ck_assert_double_eq_tol(t.pose[1].position_m[0], 0.01, 1e-15);
   /* Turned 45 degrees about z, the top box still rests on the bottom's top face. */
   const double q45[4] = {cos(CL_PI / 8), 0, 0, sin(CL_PI / 8)}, c[3] = {0, 0, 0}, at[2] = {0, 0};
-  balance_pose_t p;
+  model_pose_t p;
   ck_assert_int_eq(balance_stack_pose_above(&t.mesh, &t.pose[0], &t.mesh, q45, c, at, 0.0, &p),
                    BALANCE_OK);
   ck_assert_double_eq_tol(p.position_m[2], 3.0 * kBoxH[2] - 1e-6, 1e-15);
@@ -171,7 +171,7 @@ static void box_box_rock(double top_x, const balance_stack_config_t *cfg,
   bp_rock_load(&rock, 1, 1);
   balance_object_t *obj[3] = {t.obj[0], t.obj[1], NULL};
   ck_assert_int_eq(balance_object_create(t.w, &rock.obj.mesh, &rock.truth, &obj[2]), BALANCE_OK);
-  balance_pose_t pose[3] = {t.pose[0], t.pose[1], {{0}, {0}}};
+  model_pose_t pose[3] = {t.pose[0], t.pose[1], {{0}, {0}}};
   const double at[2] = {top_x, 0.0};
   ck_assert_int_eq(balance_stack_pose_above(&t.mesh, &t.pose[1], &rock.obj.mesh, kUp,
                                             rock.truth.com_m, at, 1e-6, &pose[2]),
@@ -215,7 +215,7 @@ START_TEST(bad_input_gives_status) {
   ck_assert_int_eq(balance_stack_run(other, t.obj, t.pose, 2, NULL, &r, NULL), BALANCE_E_ARG);
   balance_object_t *dup[2] = {t.obj[0], t.obj[0]};
   ck_assert_int_eq(balance_stack_run(t.w, dup, t.pose, 2, NULL, &r, NULL), BALANCE_E_ARG);
-  balance_pose_t bad[2] = {t.pose[0], t.pose[1]};
+  model_pose_t bad[2] = {t.pose[0], t.pose[1]};
   bad[1].orientation_wxyz[0] = 1.5;
   ck_assert_int_eq(balance_stack_run(t.w, t.obj, bad, 2, NULL, &r, NULL), BALANCE_E_POSE);
   bad[1].orientation_wxyz[0] = NAN;
@@ -231,7 +231,7 @@ START_TEST(bad_input_gives_status) {
   ck_assert_int_eq(balance_stack_run(t.w, t.obj, t.pose, 2, &cfg, &r, NULL), BALANCE_E_NONFINITE);
   /* pose_above */
   const double c[3] = {0, 0, 0}, at[2] = {0, 0}, q_bad[4] = {0.5, 0, 0, 0};
-  balance_pose_t p;
+  model_pose_t p;
   ck_assert_int_eq(balance_stack_pose_above(&t.mesh, &t.pose[0], &t.mesh, q_bad, c, at, 0.0, &p),
                    BALANCE_E_POSE);
   ck_assert_int_eq(balance_stack_pose_above(NULL, &t.pose[0], &t.mesh, kUp, c, at, 0.0, &p),

@@ -60,7 +60,7 @@ START_TEST(status_strings_and_config) {
   ck_assert_int_eq(balance_world_create(&cfg, NULL), BALANCE_E_ARG);
   balance_world_destroy(NULL);
   double n[3], d;
-  balance_edge_line(cfg.base_size_m, BALANCE_EDGE_NY, n, &d);
+  model_edge_line(cfg.base_size_m, MODEL_EDGE_NY, n, &d);
   ck_assert(n[0] == 0.0 && n[1] == -1.0 && n[2] == 0.0 && d == 0.15);
 }
 END_TEST
@@ -69,7 +69,7 @@ START_TEST(stays_in_the_middle_tips_beyond_the_edge) {
   for (int path = 0; path < 2; path++) {
     fixture_t f;
     box_fixture(&f, (balance_contact_t)path);
-    balance_pose_t pose = {{0.0, 0.0, 0.025 - 1e-6}, {1, 0, 0, 0}};
+    model_pose_t pose = {{0.0, 0.0, 0.025 - 1e-6}, {1, 0, 0, 0}};
     balance_trial_result_t r;
     ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, NULL, &r), BALANCE_OK);
     ck_assert_int_eq(r.outcome, BALANCE_STAYS);
@@ -79,7 +79,7 @@ START_TEST(stays_in_the_middle_tips_beyond_the_edge) {
     ck_assert_double_eq_tol(r.sim_time_s, r.steps * 1e-3, 1e-12);
     /* CoM 5 mm beyond the +X edge. */
     const double p[3] = {-0.005, 0, 0};
-    ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, p, 0.0, 1e-6, &pose),
+    ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, MODEL_EDGE_PX, p, 0.0, 1e-6, &pose),
                      BALANCE_OK);
     ck_assert_double_eq_tol(pose.position_m[0], 0.155, 1e-15);
     ck_assert_double_eq_tol(pose.position_m[2], 0.025 - 1e-6, 1e-15);
@@ -88,7 +88,7 @@ START_TEST(stays_in_the_middle_tips_beyond_the_edge) {
     ck_assert_double_gt(r.rotation_rad, 1e-4);
     /* 5 mm inside: stays, settled where it was released (within the contact settling). */
     const double p2[3] = {0.005, 0, 0};
-    ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, p2, 0.0, 1e-6, &pose),
+    ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, MODEL_EDGE_PX, p2, 0.0, 1e-6, &pose),
                      BALANCE_OK);
     ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, NULL, &r), BALANCE_OK);
     ck_assert_int_eq(r.outcome, BALANCE_STAYS);
@@ -112,8 +112,8 @@ START_TEST(release_touches_within_one_micrometre) {
   const double ax[3] = {0.0, 0.0, 1.0};
   double q[4];
   cl_quat_from_axis_angle(ax, 0.7, q); /* yawed: the -z face down, the edge crossing it obliquely */
-  balance_pose_t pose;
-  ck_assert_int_eq(balance_pose_over_edge(w, o, q, BALANCE_EDGE_NY, ms.com_m, 0.01, 1e-6, &pose),
+  model_pose_t pose;
+  ck_assert_int_eq(balance_pose_over_edge(w, o, q, MODEL_EDGE_NY, ms.com_m, 0.01, 1e-6, &pose),
                    BALANCE_OK);
   ck_assert_double_eq_tol(balance_object_penetration_m(o, &pose), 1e-6, 1e-9);
   ck_assert_double_eq_tol(balance_object_bottom_z(o, q) + pose.position_m[2], -1e-6, 1e-12);
@@ -136,11 +136,11 @@ START_TEST(deterministic) {
     ck_assert_int_eq(balance_world_create(&cfg, &w), BALANCE_OK);
     ck_assert_int_eq(balance_object_create(w, &obj.mesh, &ms, &o), BALANCE_OK);
     ck_assert_int_eq(balance_object_create(w, &obj.mesh, &ms, &o2), BALANCE_OK);
-    balance_pose_t near, far;
+    model_pose_t near, far;
     const double p[3] = {ms.com_m[0] - 2e-6, ms.com_m[1], ms.com_m[2]};
     const double p2[3] = {ms.com_m[0] + 0.004, ms.com_m[1], ms.com_m[2]};
-    ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, BALANCE_EDGE_PX, p, 0, 1e-6, &near), 0);
-    ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, BALANCE_EDGE_PX, p2, 0, 1e-6, &far), 0);
+    ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, MODEL_EDGE_PX, p, 0, 1e-6, &near), 0);
+    ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, MODEL_EDGE_PX, p2, 0, 1e-6, &far), 0);
     balance_trial_result_t a, b, c;
     balance_noise_t noise = {42, 3e-4, 2e-4};
     ck_assert_int_eq(balance_trial_run(w, o, &near, &noise, &a), BALANCE_OK);
@@ -166,7 +166,7 @@ END_TEST
 START_TEST(noise_hooks) {
   fixture_t f;
   box_fixture(&f, BALANCE_CONTACT_FAST);
-  balance_pose_t pose = {{0.0, 0.0, 0.025 - 1e-6}, {1, 0, 0, 0}};
+  model_pose_t pose = {{0.0, 0.0, 0.025 - 1e-6}, {1, 0, 0, 0}};
   balance_trial_result_t r0, r1, r2;
   ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, NULL, &r0), BALANCE_OK);
   balance_noise_t zero = {7, 0.0, 0.0};
@@ -202,7 +202,7 @@ START_TEST(bad_poses) {
   fixture_t f;
   box_fixture(&f, BALANCE_CONTACT_FAST);
   balance_trial_result_t r;
-  balance_pose_t ok = {{0.0, 0.0, 0.025 - 1e-6}, {1, 0, 0, 0}}, p;
+  model_pose_t ok = {{0.0, 0.0, 0.025 - 1e-6}, {1, 0, 0, 0}}, p;
   p = ok;
   p.position_m[1] = NAN;
   ck_assert_int_eq(balance_trial_run(f.w, f.o, &p, NULL, &r), BALANCE_E_NONFINITE);
@@ -233,18 +233,18 @@ START_TEST(bad_poses) {
   ck_assert_int_eq(balance_trial_run(NULL, f.o, &ok, NULL, &r), BALANCE_E_ARG);
   /* pose_over_edge */
   const double p0[3] = {0, 0, 0}, pnan[3] = {0, NAN, 0}, qbad[4] = {1, 1, 0, 0};
-  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, pnan, 0, 1e-6, &p),
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, MODEL_EDGE_PX, pnan, 0, 1e-6, &p),
                    BALANCE_E_NONFINITE);
-  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, qbad, BALANCE_EDGE_PX, p0, 0, 1e-6, &p),
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, qbad, MODEL_EDGE_PX, p0, 0, 1e-6, &p),
                    BALANCE_E_POSE);
-  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, (balance_edge_t)9, p0, 0, 1e-6, &p),
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, (model_edge_t)9, p0, 0, 1e-6, &p),
                    BALANCE_E_ARG);
-  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, p0, 0.2, 1e-6, &p),
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, MODEL_EDGE_PX, p0, 0.2, 1e-6, &p),
                    BALANCE_E_POSE); /* beyond the end of the edge */
-  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, p0, 0, -1e-6, &p),
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, MODEL_EDGE_PX, p0, 0, -1e-6, &p),
                    BALANCE_E_ARG);
   const double far_in[3] = {-0.03, 0, 0}; /* the whole box beyond the edge */
-  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, far_in, 0, 1e-6, &p),
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, MODEL_EDGE_PX, far_in, 0, 1e-6, &p),
                    BALANCE_E_POSE);
   ck_assert(isnan(balance_object_bottom_z(f.o, qbad)));
   /* The world is still usable after all that. */
@@ -354,7 +354,7 @@ START_TEST(reduction_keeps_support) {
     p[i].id = (uint32_t)i;
   }
   p[17].depth_m = 5e-6;
-  p[3].edge_plane = p[9].edge_plane = p[30].edge_plane = BALANCE_EDGE_PX;
+  p[3].edge_plane = p[9].edge_plane = p[30].edge_plane = MODEL_EDGE_PX;
   const size_t n = balance_points_reduce(p, 40, 6);
   ck_assert_uint_eq(n, 6);
   int has3 = 0, has30 = 0, has17 = 0;
@@ -386,7 +386,7 @@ static void chord_end_points(balance_point_t p[12], double depth7) {
   p[1].pos_m[1] = -0.0404 + 3e-7;
   p[1].id = 9;
   p[2].pos_m[1] = 0.0368; /* the high end */
-  p[0].edge_plane = p[1].edge_plane = p[2].edge_plane = BALANCE_EDGE_PX;
+  p[0].edge_plane = p[1].edge_plane = p[2].edge_plane = MODEL_EDGE_PX;
 }
 
 static void reduced_has(balance_point_t p[12], int *has7, int *has9) {
@@ -426,12 +426,12 @@ START_TEST(two_objects_step) {
   ck_assert_ptr_eq(balance_world_object(f.w, 1), top);
   ck_assert_ptr_null(balance_world_object(f.w, 2));
   balance_world_reset(f.w);
-  balance_pose_t a = {{0, 0, 0.025 - 1e-6}, {1, 0, 0, 0}}, b = {{0, 0, 0.075 - 2e-6}, {1, 0, 0, 0}};
+  model_pose_t a = {{0, 0, 0.025 - 1e-6}, {1, 0, 0, 0}}, b = {{0, 0, 0.075 - 2e-6}, {1, 0, 0, 0}};
   ck_assert_int_eq(balance_object_place(f.o, &a), BALANCE_OK);
   ck_assert_int_eq(balance_object_place(top, &b), BALANCE_OK);
   for (int i = 0; i < 300; i++) ck_assert_int_eq(balance_world_step(f.w), BALANCE_OK);
   ck_assert_double_eq_tol(balance_world_time(f.w), 0.3, 1e-9);
-  balance_pose_t now;
+  model_pose_t now;
   balance_object_pose_get(top, &now);
   ck_assert_msg(fabs(now.position_m[2] - 0.075) < 5e-5, "top box z %g", now.position_m[2]);
   ck_assert(fabs(now.position_m[0]) < 1e-5 && fabs(now.position_m[1]) < 1e-5);
@@ -530,8 +530,8 @@ START_TEST(sphere_beyond_the_edge_rests_on_the_edge_line) {
   const double ds[3] = {0.005, 0.015, 0.025};
   for (int k = 0; k < 3; k++) {
     const double d = ds[k], p[3] = {-d, 0.0, 0.0}; /* the link point -d x over the edge */
-    balance_pose_t pose;
-    ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, BALANCE_EDGE_PX, p, 0.0, 1e-6, &pose),
+    model_pose_t pose;
+    ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, MODEL_EDGE_PX, p, 0.0, 1e-6, &pose),
                      BALANCE_OK);
     ck_assert_double_eq_tol(pose.position_m[0], hx + d, 1e-15);
     const double exact = hull_height_over_line(&mesh, d);
@@ -548,7 +548,7 @@ START_TEST(sphere_beyond_the_edge_rests_on_the_edge_line) {
     const size_t n = balance_fast_contacts(w, o, pts, cap);
     ck_assert_uint_ge(n, 1);
     for (size_t i = 0; i < n; i++) {
-      ck_assert_int_eq(pts[i].edge_plane, BALANCE_EDGE_PX);
+      ck_assert_int_eq(pts[i].edge_plane, MODEL_EDGE_PX);
       ck_assert_double_eq_tol(pts[i].pos_m[0], hx, 1e-12);
       ck_assert(pts[i].depth_m <= 1e-6 + 1e-12);
     }
@@ -560,8 +560,8 @@ START_TEST(sphere_beyond_the_edge_rests_on_the_edge_line) {
   }
   /* Entirely beyond the edge: nothing over B. */
   const double far[3] = {-0.031, 0.0, 0.0};
-  balance_pose_t pose;
-  ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, BALANCE_EDGE_PX, far, 0.0, 1e-6, &pose),
+  model_pose_t pose;
+  ck_assert_int_eq(balance_pose_over_edge(w, o, q_id, MODEL_EDGE_PX, far, 0.0, 1e-6, &pose),
                    BALANCE_E_POSE);
   balance_world_destroy(w);
   model_mesh_free(&mesh);
@@ -575,22 +575,22 @@ START_TEST(tilted_box_rests_on_the_edge_line) {
   fixture_t f;
   box_fixture(&f, BALANCE_CONTACT_FAST);
   const double hx = 0.15;
-  balance_pose_t pose;
+  model_pose_t pose;
   const double p[3] = {0.015, 0.0, 0.0}; /* 5 mm of the 40 mm bottom beyond the edge */
-  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, BALANCE_EDGE_PX, p, 0.0, 1e-6, &pose),
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q_id, MODEL_EDGE_PX, p, 0.0, 1e-6, &pose),
                    BALANCE_OK);
   ck_assert(pose.position_m[2] == 0.025 - 1e-6);
   ck_assert_double_eq_tol(pose.position_m[0], hx - 0.015, 1e-15);
   const double a = 0.2, yaxis[3] = {0, 1, 0}, xaxis[3] = {1, 0, 0}, c0[3] = {0, 0, 0};
   double q[4];
   cl_quat_from_axis_angle(yaxis, a, q); /* +x goes down: the +x bottom edge is the lowest, beyond the edge */
-  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q, BALANCE_EDGE_PX, c0, 0.01, 1e-6, &pose),
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q, MODEL_EDGE_PX, c0, 0.01, 1e-6, &pose),
                    BALANCE_OK);
   ck_assert_double_eq_tol(pose.position_m[2], 0.025 / cos(a) - 1e-6, 1e-12);
   ck_assert_double_eq_tol(pose.position_m[1], 0.01, 1e-15);
   /* The same about x over the -Y edge (-y goes down there: rotate by +a about x). */
   cl_quat_from_axis_angle(xaxis, a, q);
-  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q, BALANCE_EDGE_NY, c0, 0.0, 1e-6, &pose),
+  ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q, MODEL_EDGE_NY, c0, 0.0, 1e-6, &pose),
                    BALANCE_OK);
   ck_assert_double_eq_tol(pose.position_m[2], 0.025 / cos(a) - 1e-6, 1e-12);
   fixture_free(&f);
@@ -613,14 +613,14 @@ START_TEST(point_support_rock_tips_with_com_inside) {
   balance_object_t *o = NULL;
   ck_assert_int_eq(balance_world_create(&cfg, &w), BALANCE_OK);
   ck_assert_int_eq(balance_object_create(w, &obj.mesh, &truth, &o), BALANCE_OK);
-  balance_regime_config_t rc;
-  balance_regime_config_default(&rc);
+  model_regime_config_t rc;
+  model_regime_config_default(&rc);
   rc.min_com_margin_m = 0.5e-3;
-  balance_face_t faces[256];
+  model_face_t faces[256];
   size_t nf = 0;
-  ck_assert_int_eq(balance_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf), BALANCE_OK);
+  ck_assert_int_eq(model_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf), MODEL_OK);
   const double want[3] = {-0.31, 0.34, 0.89};
-  const balance_face_t *face = NULL;
+  const model_face_t *face = NULL;
   for (size_t i = 0; i < nf && i < 256; i++) {
     const double *n = faces[i].normal_link;
     if (!faces[i].flat && faces[i].face_count == 0 && faces[i].candidate &&
@@ -635,16 +635,16 @@ START_TEST(point_support_rock_tips_with_com_inside) {
   ck_assert_int_eq(confirmed, 1);
   double q[4], u[3];
   const double n[3] = {1, 0, 0};
-  balance_orientation_yawed(face->orientation_wxyz, 0.5 * CL_PI, q);
+  model_orientation_yawed(face->orientation_wxyz, 0.5 * CL_PI, q);
   bp_edge_dir_link(q, n, u);
   /* bp_trial_at(p0 = CoM, s): the CoM lies s inside the edge. */
-  ck_assert_int_eq(bp_trial_at(w, o, q, BALANCE_EDGE_PX, truth.com_m, u, 0.003), BALANCE_TIPS);
-  ck_assert_int_eq(bp_trial_at(w, o, q, BALANCE_EDGE_PX, truth.com_m, u, 0.006), BALANCE_TIPS);
-  ck_assert_int_eq(bp_trial_at(w, o, q, BALANCE_EDGE_PX, truth.com_m, u, 0.015), BALANCE_STAYS);
+  ck_assert_int_eq(bp_trial_at(w, o, q, MODEL_EDGE_PX, truth.com_m, u, 0.003), BALANCE_TIPS);
+  ck_assert_int_eq(bp_trial_at(w, o, q, MODEL_EDGE_PX, truth.com_m, u, 0.006), BALANCE_TIPS);
+  ck_assert_int_eq(bp_trial_at(w, o, q, MODEL_EDGE_PX, truth.com_m, u, 0.015), BALANCE_STAYS);
   double uz[3];
   bp_edge_dir_link(q_id, n, uz);
-  ck_assert_int_eq(bp_trial_at(w, o, q_id, BALANCE_EDGE_PX, truth.com_m, uz, 0.003), BALANCE_STAYS);
-  ck_assert_int_eq(bp_trial_at(w, o, q_id, BALANCE_EDGE_PX, truth.com_m, uz, -0.003), BALANCE_TIPS);
+  ck_assert_int_eq(bp_trial_at(w, o, q_id, MODEL_EDGE_PX, truth.com_m, uz, 0.003), BALANCE_STAYS);
+  ck_assert_int_eq(bp_trial_at(w, o, q_id, MODEL_EDGE_PX, truth.com_m, uz, -0.003), BALANCE_TIPS);
   balance_world_destroy(w);
   model_object_free(&obj);
 }

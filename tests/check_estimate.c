@@ -13,7 +13,7 @@
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "comlearn/qlearn_solve.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_test_util.h"
 #include "cli_test_util.h"
@@ -125,7 +125,7 @@ START_TEST(rock_every_component) {
     ck_assert_msg(fabs(r->com_m[k] - truth.com_m[k]) <= r->halfwidth_m[k],
                   "%s component %d: error %.4f mm outside +-%.4f mm", rocks[_i], k,
                   1e3 * fabs(r->com_m[k] - truth.com_m[k]), 1e3 * r->halfwidth_m[k]);
-  /* DESIGN target: every component found, max error <= 0.2 mm */
+  /* docs/design.md target: every component found, max error <= 0.2 mm */
   ck_assert_msg(maxerr <= 2e-4, "%s: max error %.4f mm", rocks[_i], 1e3 * maxerr);
   /* two directions on the first face, one on a second, non-parallel face; all fed */
   ck_assert_uint_eq(r->search_count, 3);
@@ -245,7 +245,7 @@ static int check_covered(const char *what, const estimate_result_t *r, const mod
 static void check_planes_exact(const char *what, const model_object_t *obj,
                                const estimate_result_t *r, const model_mass_t *truth) {
   const double base[3] = {0.30, 0.30, 0.10};
-  balance_regime_t *reg = malloc(sizeof *reg);
+  model_regime_t *reg = malloc(sizeof *reg);
   ck_assert_ptr_nonnull(reg);
   for (size_t i = 0; i < r->search_count; ++i) {
     const estimate_search_t *sr = &r->search[i];
@@ -253,9 +253,9 @@ static void check_planes_exact(const char *what, const model_object_t *obj,
     const int ends[2] = {sr->lo_trial, sr->hi_trial};
     for (int e = 0; e < 2; ++e) {
       ck_assert_int_ge(ends[e], 0);
-      ck_assert_int_eq(balance_regime_classify(&obj->mesh, &r->trial[ends[e]].released, base,
-                                               BALANCE_EDGE_PX, truth->com_m, NULL, reg),
-                       BALANCE_OK);
+      ck_assert_int_eq(model_regime_classify(&obj->mesh, &r->trial[ends[e]].released, base,
+                                               MODEL_EDGE_PX, truth->com_m, NULL, reg),
+                       MODEL_OK);
       ck_assert_msg(reg->flat_patch_regime, "%s: search %zu trial %d: chord margin %.2f mm at the "
                     "truth", what, i, ends[e], 1e3 * reg->chord_margin_m);
     }
@@ -619,7 +619,7 @@ START_TEST(backend_failure_reported) {
   const double lo[3] = {-0.03, -0.025, -0.02}, hi[3] = {0.03, 0.025, 0.02};
   ck_assert_int_eq(model_mesh_box(lo, hi, &box), MODEL_OK);
   int calls = 0;
-  estimate_backend_t b = {&calls, "fake", {0.3, 0.3, 0.1}, failing_run};
+  estimate_backend_t b = {&calls, "fake", {0.3, 0.3, 0.1}, failing_run, NULL, NULL};
   estimate_config_t cfg;
   estimate_config_default(&cfg);
   estimate_result_t *r = malloc(sizeof *r);

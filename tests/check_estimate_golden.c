@@ -13,7 +13,7 @@
 #include <string.h>
 
 #include "comlearn/model.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_direct.h"
 
 #define GOLDEN COMLEARN_TESTDATA_DIR "/estimate_golden.txt"
@@ -38,7 +38,7 @@ static uint64_t fnv_d(uint64_t h, double v) { return fnv(h, &v, sizeof v); }
 
 static uint64_t fnv_i(uint64_t h, long long v) { return fnv(h, &v, sizeof v); }
 
-static uint64_t fnv_pose(uint64_t h, const balance_pose_t *p) {
+static uint64_t fnv_pose(uint64_t h, const model_pose_t *p) {
   for (int k = 0; k < 3; ++k) h = fnv_d(h, p->position_m[k]);
   for (int k = 0; k < 4; ++k) h = fnv_d(h, p->orientation_wxyz[k]);
   return h;

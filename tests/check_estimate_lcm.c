@@ -17,7 +17,7 @@
 
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_test_util.h"
 #include "estimate_lcm.h"

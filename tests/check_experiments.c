@@ -14,7 +14,7 @@
 #include "comlearn/balance.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "cli_test_util.h"
 #include "file_test_util.h"
@@ -88,7 +88,7 @@ static void run_direct(const char *urdf, qlearn_policy_kind_t policy, double res
   model_object_free(&obj);
 }
 
-static int pose_eq(const balance_pose_t *a, const balance_pose_t *b) {
+static int pose_eq(const model_pose_t *a, const model_pose_t *b) {
   return memcmp(a, b, sizeof *a) == 0;
 }
 
@@ -129,7 +129,7 @@ START_TEST(noise_seeding_and_held_pose) {
     balance_noise_t nz = {seed ^ (0x9E3779B97F4A7C15ull * (uint64_t)(i + 1)), pn, qn};
     balance_trial_result_t r;
     ck_assert_int_eq(balance_trial_run(w, o, &a->req[i].release, &nz, &r), BALANCE_OK);
-    ck_assert_msg(r.outcome == a->rep[i].outcome, "trial %zu: outcome %d vs %d", i,
+    ck_assert_msg((int)r.outcome == (int)a->rep[i].outcome, "trial %zu: outcome %d vs %d", i,
                   (int)r.outcome, (int)a->rep[i].outcome);
     ck_assert(pose_eq(&r.settled, &a->rep[i].settled));
     /* the offset the backend hides: horizontal, of the order of the placement noise */

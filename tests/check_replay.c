@@ -28,7 +28,7 @@
 #include "comlearn/model.h"
 #include "comlearn/msg.h"
 #include "comlearn/placement_plan.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_test_util.h"
 
 enum { MAX_CHILDREN = 4, MAX_TRIALS = 256 };
@@ -199,12 +199,12 @@ typedef struct {
   estimate_trial_request_t req[MAX_TRIALS];   /* what the recomputation asked for */
 } log_backend_t;
 
-static balance_outcome_t outcome_from_msg(int8_t o) {
+static estimate_outcome_t outcome_from_msg(int8_t o) {
   switch (o) {
-    case COMLEARN_COM_TRIAL_T_OUTCOME_STAYS: return BALANCE_STAYS;
-    case COMLEARN_COM_TRIAL_T_OUTCOME_TIPS: return BALANCE_TIPS;
-    case COMLEARN_COM_TRIAL_T_OUTCOME_SLIDES: return BALANCE_SLIDES;
-    default: return BALANCE_INVALID;
+    case COMLEARN_COM_TRIAL_T_OUTCOME_STAYS: return ESTIMATE_STAYS;
+    case COMLEARN_COM_TRIAL_T_OUTCOME_TIPS: return ESTIMATE_TIPS;
+    case COMLEARN_COM_TRIAL_T_OUTCOME_SLIDES: return ESTIMATE_SLIDES;
+    default: return ESTIMATE_INVALID;
   }
 }
 
@@ -228,7 +228,7 @@ static int log_run(void *ctx, const estimate_trial_request_t *req, estimate_tria
 
 /* COM_TRIAL poses are in world (yumi_body); the estimator works in B's frame. */
 static void world_to_block(const placement_pose_t *bib, const double p_w[3], const double q_w[4],
-                           balance_pose_t *out) {
+                           model_pose_t *out) {
   for (int i = 0; i < 3; ++i) {
     const double d[3] = {p_w[0] - bib->pos_m[0], p_w[1] - bib->pos_m[1], p_w[2] - bib->pos_m[2]};
     out->position_m[i] = bib->rot[0][i] * d[0] + bib->rot[1][i] * d[1] + bib->rot[2][i] * d[2];

@@ -321,7 +321,7 @@ static size_t count_substr(const char *hay, const char *needle) {
 }
 
 /* Triangles facing the viewer (at -y) of a mesh at a pose: what the picture must draw. */
-static size_t front_facing(const model_mesh_t *m, const balance_pose_t *pose) {
+static size_t front_facing(const model_mesh_t *m, const model_pose_t *pose) {
   double rot[3][3];
   model_quat_to_rot(pose->orientation_wxyz, rot);
   size_t n = 0;
@@ -390,7 +390,7 @@ END_TEST
 START_TEST(stack_svg_side_view) {
   model_mesh_t m[3];
   const model_mesh_t *mp[3];
-  balance_pose_t pose[3];
+  model_pose_t pose[3];
   double com[3][3];
   double z = 0.0;
   size_t want = 0;
@@ -409,7 +409,7 @@ START_TEST(stack_svg_side_view) {
     }
     /* upright, stacked; the middle one turned 90 degrees about z */
     const double h = sqrt(0.5);
-    const balance_pose_t p = {{0.002 * i, 0.0, z - lo}, {i == 1 ? h : 1.0, 0.0, 0.0, i == 1 ? h : 0.0}};
+    const model_pose_t p = {{0.002 * i, 0.0, z - lo}, {i == 1 ? h : 1.0, 0.0, 0.0, i == 1 ? h : 0.0}};
     pose[i] = p;
     z += hi - lo;
     want += front_facing(&m[i], &pose[i]);
@@ -465,7 +465,7 @@ START_TEST(stack_svg_side_view) {
   errno = 0;
   ck_assert_int_eq(stack_svg_write(path, mp, pose, NULL, 0, "t"), -1);
   ck_assert_int_eq(errno, EINVAL);
-  balance_pose_t bad[3];
+  model_pose_t bad[3];
   memcpy(bad, pose, sizeof bad);
   bad[1].position_m[2] = NAN;
   errno = 0;

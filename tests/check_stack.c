@@ -87,7 +87,7 @@ static void boxes_free(boxes_t *b) {
   model_mesh_free(&b->plate);
 }
 
-static void world_com(const balance_pose_t *p, const double com[3], double out[3]) {
+static void world_com(const model_pose_t *p, const double com[3], double out[3]) {
   cl_quat_rotate(p->orientation_wxyz, com, out);
   for (int i = 0; i < 3; ++i) out[i] += p->position_m[i];
 }

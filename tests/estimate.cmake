@@ -9,9 +9,15 @@ add_dependencies(check_estimate comlearn)
 # build, ~40 s under asan (-O0).
 add_test(NAME estimate_no_inertial_symbols
          COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:comlearn_estimate>
-                 -DANCHOR=estimate_run
+                 -DANCHOR=estimate_next
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/no_inertial_symbols.cmake)
 # Every bundled rock's estimate, bit for bit, against tests/data/estimate_golden.txt (written
 # before the estimator moved into lib/estimate).
 comlearn_add_check(check_estimate_golden SOURCES check_estimate_golden.c
   LIBS comlearn_estimate_direct comlearn_estimate comlearn_model_sim TIMEOUT 900)
+add_test(NAME estimate_calls_no_physics
+         COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:comlearn_estimate>
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/estimate_symbols.cmake)
+# lib/estimate's own loop: next / observe, refused replies, caller memory, final failures.
+comlearn_add_check(check_estimate_api SOURCES check_estimate_api.c
+  LIBS comlearn_estimate_direct comlearn_estimate comlearn_model_sim)

@@ -9,7 +9,7 @@
 
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 
 /* A two-material box 60 x 50 x 40 mm centred at (0.004, -0.003, 0.002): density 1000, and 4000
  * where x > 0.014 and (second cut) nothing else; its exact inertial (model_mesh_mass_halfspace)

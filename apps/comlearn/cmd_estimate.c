@@ -19,7 +19,7 @@
 #include "comlearn/balance_poses.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
 #include "log.h"
@@ -67,21 +67,21 @@ static void usage(FILE *out) {
           "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n");
 }
 
-static const char *outcome_name(balance_outcome_t o) {
+static const char *outcome_name(estimate_outcome_t o) {
   switch (o) {
-    case BALANCE_STAYS: return "stays";
-    case BALANCE_TIPS: return "tips";
-    case BALANCE_SLIDES: return "slides";
-    case BALANCE_INVALID: return "invalid";
+    case ESTIMATE_STAYS: return "stays";
+    case ESTIMATE_TIPS: return "tips";
+    case ESTIMATE_SLIDES: return "slides";
+    case ESTIMATE_INVALID: return "invalid";
   }
   return "?";
 }
 
 static const char *regime_name(int r) {
   switch (r) {
-    case BALANCE_REGIME_FLAT_PATCH: return "flat_patch";
-    case BALANCE_REGIME_EDGE_ROLL: return "edge_roll";
-    case BALANCE_REGIME_POINT_SUPPORT: return "point_support";
+    case MODEL_REGIME_FLAT_PATCH: return "flat_patch";
+    case MODEL_REGIME_EDGE_ROLL: return "edge_roll";
+    case MODEL_REGIME_POINT_SUPPORT: return "point_support";
     default: return "none";
   }
 }
@@ -478,11 +478,11 @@ int cmd_estimate(int argc, char **argv) {
     model_object_free(&obj);
     return rc;
   }
-  if (!a.quiet && isatty(STDERR_FILENO)) a.cfg.progress = progress;
+  if (!a.quiet && isatty(STDERR_FILENO)) b.backend.progress = progress;
   const double t0 = out_now_s();
   const estimate_status_t es = estimate_run(&obj.mesh, &b.backend, &a.cfg, res);
   const double wall = out_now_s() - t0;
-  if (a.cfg.progress) fprintf(stderr, "\n");
+  if (b.backend.progress) fprintf(stderr, "\n");
   if (b.lcm) lcm_report(b.lcm, es, res, a.cfg.resolution_m);
   const char *name = b.backend.name;
   backend_close(&b);

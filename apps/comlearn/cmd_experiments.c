@@ -23,7 +23,7 @@
 
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
 #include "experiments_svg.h"

@@ -18,7 +18,7 @@
 
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
 #include "log.h"
@@ -254,7 +254,7 @@ static void print_table(const belief_t *bel, size_t n, stack_com_source_t src,
   for (size_t k = 0; k < n; ++k) {
     const size_t i = plan->order[k];
     const belief_t *b = &bel[i];
-    const balance_pose_t *p = &plan->pose[i];
+    const model_pose_t *p = &plan->pose[i];
     printf("%5zu  %-30s (%6.2f %6.2f %6.2f)  (%6.3f %6.3f %6.3f)  %11.2f  %10.1f  "
            "(%7.2f %7.2f %7.2f)  (%.4f %.4f %.4f %.4f)\n",
            k, b->urdf, 1e3 * b->com_m[0], 1e3 * b->com_m[1], 1e3 * b->com_m[2],

@@ -23,6 +23,17 @@ struct estimate_direct {
  * times the 1-based trial number, xor the run's seed. */
 #define DIRECT_SEED_MUL 0x9E3779B97F4A7C15ull
 
+/* lib/balance's outcome as the estimator's (the same four values). */
+static estimate_outcome_t outcome_of(balance_outcome_t o) {
+  switch (o) {
+    case BALANCE_STAYS: return ESTIMATE_STAYS;
+    case BALANCE_TIPS: return ESTIMATE_TIPS;
+    case BALANCE_SLIDES: return ESTIMATE_SLIDES;
+    case BALANCE_INVALID: break;
+  }
+  return ESTIMATE_INVALID;
+}
+
 static int direct_run(void *ctx, const estimate_trial_request_t *req, estimate_trial_reply_t *reply,
                       char *err, size_t err_size) {
   estimate_direct_t *d = ctx;
@@ -36,7 +47,7 @@ static int direct_run(void *ctx, const estimate_trial_request_t *req, estimate_t
     snprintf(err, err_size, "balance_trial_run: %s", balance_status_str(s));
     return -1;
   }
-  reply->outcome = r.outcome;
+  reply->outcome = outcome_of(r.outcome);
   /* Held, the object's pose is known exactly; where the fingers actually let go (r.released,
    * with the placement offset) is not observable, as in comlearn-sim. */
   reply->released = d->noisy ? req->release : r.released;

@@ -26,7 +26,7 @@
 #include <stdint.h>
 
 #include "comlearn/balance.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 
 typedef struct estimate_direct estimate_direct_t;
 

@@ -12,6 +12,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "comlearn/balance.h" /* its trial settings: the outcome horizon and the slide rule */
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <time.h>
@@ -122,7 +124,7 @@ static int rot_is_identity(const double r[3][3]) {
 /* World (yumi_body) pose from OBJECT_STATE -> B's frame. With B unrotated (the default) only the
  * position moves, so the quaternion passes through bit for bit. */
 static void world_to_block(const estimate_lcm_t *l, const double p_w[3], const double q_w[4],
-                           balance_pose_t *out) {
+                           model_pose_t *out) {
   const placement_pose_t *b = &l->plan_cfg.block_in_base;
   double d[3];
   for (int i = 0; i < 3; ++i) d[i] = p_w[i] - b->pos_m[i];
@@ -137,7 +139,7 @@ static void world_to_block(const estimate_lcm_t *l, const double p_w[3], const d
   }
 }
 
-static void block_to_world(const estimate_lcm_t *l, const balance_pose_t *in, double p_w[3],
+static void block_to_world(const estimate_lcm_t *l, const model_pose_t *in, double p_w[3],
                            double q_w[4]) {
   const placement_pose_t *b = &l->plan_cfg.block_in_base;
   for (int i = 0; i < 3; ++i)
@@ -333,7 +335,7 @@ typedef struct {
 
 /* Top-down grasp for the release pose and a plan from the measured joints. Tries yaws of the
  * fingers 0, 90, -90, 180 degrees with the right arm, then the left. 0 ok, -1 (err). */
-static int plan_trial(estimate_lcm_t *l, const balance_pose_t *rel, trial_plan_t *tp, char *err,
+static int plan_trial(estimate_lcm_t *l, const model_pose_t *rel, trial_plan_t *tp, char *err,
                       size_t err_size) {
   placement_pose_t obj_in_block;
   placement_status_t ps = placement_pose_from_wxyz(rel->position_m, rel->orientation_wxyz,
@@ -427,12 +429,12 @@ static int plan_trial(estimate_lcm_t *l, const balance_pose_t *rel, trial_plan_t
   return -1;
 }
 
-static int8_t outcome_to_msg(balance_outcome_t o) {
+static int8_t outcome_to_msg(estimate_outcome_t o) {
   switch (o) {
-    case BALANCE_STAYS: return COMLEARN_COM_TRIAL_T_OUTCOME_STAYS;
-    case BALANCE_TIPS: return COMLEARN_COM_TRIAL_T_OUTCOME_TIPS;
-    case BALANCE_SLIDES: return COMLEARN_COM_TRIAL_T_OUTCOME_SLIDES;
-    case BALANCE_INVALID: return COMLEARN_COM_TRIAL_T_OUTCOME_INVALID;
+    case ESTIMATE_STAYS: return COMLEARN_COM_TRIAL_T_OUTCOME_STAYS;
+    case ESTIMATE_TIPS: return COMLEARN_COM_TRIAL_T_OUTCOME_TIPS;
+    case ESTIMATE_SLIDES: return COMLEARN_COM_TRIAL_T_OUTCOME_SLIDES;
+    case ESTIMATE_INVALID: return COMLEARN_COM_TRIAL_T_OUTCOME_INVALID;
   }
   return COMLEARN_COM_TRIAL_T_OUTCOME_INVALID;
 }
@@ -451,7 +453,7 @@ static void publish_trial(estimate_lcm_t *l, const estimate_trial_request_t *req
   t.base_top_z_m = l->plan_cfg.block_in_base.pos_m[2];
   if (req->kind == ESTIMATE_TRIAL_EDGE) {
     double n[3], d;
-    balance_edge_line(l->plan_cfg.block_size_m, req->edge, n, &d);
+    model_edge_line(l->plan_cfg.block_size_m, req->edge, n, &d);
     const placement_pose_t *b = &l->plan_cfg.block_in_base;
     for (int i = 0; i < 3; ++i)
       t.edge_normal_world[i] = b->rot[i][0] * n[0] + b->rot[i][1] * n[1] + b->rot[i][2] * n[2];
@@ -480,7 +482,7 @@ static void publish_trial(estimate_lcm_t *l, const estimate_trial_request_t *req
   if (req->kind == ESTIMATE_TRIAL_EDGE) {
     /* the target point at release, beyond the edge line (B's frame: the same distance) */
     double n[3], d, r[3][3], p = 0.0;
-    balance_edge_line(l->plan_cfg.block_size_m, req->edge, n, &d);
+    model_edge_line(l->plan_cfg.block_size_m, req->edge, n, &d);
     model_quat_to_rot(rep->released.orientation_wxyz, r);
     for (int i = 0; i < 3; ++i)
       p += n[i] * (rep->released.position_m[i] + r[i][0] * req->target_link_m[0] +
@@ -561,7 +563,7 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
     return 1;
   }
   world_to_block(l, l->os.position_measured_m, l->os.orientation_measured_wxyz, &reply->settled);
-  if (l->os.at_rest && l->os.on_base) reply->outcome = BALANCE_STAYS;
+  if (l->os.at_rest && l->os.on_base) reply->outcome = ESTIMATE_STAYS;
   else if (!l->os.on_base) {
     /* off B: tipped, unless it clearly slid (lib/balance's test, on the link origin since the
      * CoM is unknown: moved > slide_m horizontally while rotating < tip_angle_rad / 4). A tip is
@@ -571,10 +573,10 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
     const double rot = quat_angle(reply->released.orientation_wxyz,
                                   reply->settled.orientation_wxyz);
     reply->outcome = sqrt(dx * dx + dy * dy) > bc.slide_m && rot < 0.25 * bc.tip_angle_rad
-                         ? BALANCE_SLIDES
-                         : BALANCE_TIPS;
+                         ? ESTIMATE_SLIDES
+                         : ESTIMATE_TIPS;
   } else
-    reply->outcome = BALANCE_INVALID;
+    reply->outcome = ESTIMATE_INVALID;
   /* 5. retreat (the object is no longer held) */
   if (send_waypoint(l, tp.arm, &tp.plan.waypoints[PLACEMENT_WAYPOINT_RETREAT], err, err_size) != 0)
     return 1;

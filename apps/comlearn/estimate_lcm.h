@@ -35,7 +35,7 @@
 #include <sys/types.h>
 
 #include "comlearn/model.h"
-#include "estimate.h"
+#include "estimate_backend.h"
 
 typedef struct estimate_lcm estimate_lcm_t;
 

@@ -61,7 +61,7 @@ void stack_plan_config_default(stack_plan_config_t *cfg);
 typedef struct {
   size_t count;
   size_t order[STACK_MAX_OBJECTS];          /* order[0] rests on B; indices into the input */
-  balance_pose_t pose[STACK_MAX_OBJECTS];   /* per INPUT index: release pose, world, touching */
+  model_pose_t pose[STACK_MAX_OBJECTS];   /* per INPUT index: release pose, world, touching */
   /* Per level (bottom first): the planned worst-case distance, in the contact plane, from the
    * gravity line through the believed CoM of everything above that contact to the edge of the
    * contact's support polygon (level 0: the support on B). Positive inside. */
@@ -114,7 +114,7 @@ stack_status_t stack_rehearse(const stack_object_t *objects, size_t count, const
  * object's believed CoM (com_link_m[i], may be NULL) as a marker, and a title. Writes an SVG file.
  * Returns 0, or -1 with errno set. */
 int stack_svg_write(const char *path, const model_mesh_t *const *meshes_link,
-                    const balance_pose_t *poses, const double (*com_link_m)[3], size_t count,
+                    const model_pose_t *poses, const double (*com_link_m)[3], size_t count,
                     const char *title);
 
 #endif

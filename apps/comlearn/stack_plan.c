@@ -942,7 +942,7 @@ stack_status_t stack_plan(const stack_object_t *objects, size_t count,
           out->order[k] = i;
           out->margin_m[k] = L->margin[k];
           out->tilt_rad[k] = L->tilt[k];
-          balance_pose_t *p = &out->pose[i];
+          model_pose_t *p = &out->pose[i];
           model_rot_to_quat(c->rot[k], p->orientation_wxyz);
           p->position_m[0] = L->pos[k][0] - cm[0] / mt;
           p->position_m[1] = L->pos[k][1] - cm[1] / mt;
@@ -952,10 +952,10 @@ stack_status_t stack_plan(const stack_object_t *objects, size_t count,
         out->pose[c->obj[0]].position_m[2] -= 1e-6;
         for (size_t k = 1; k < count && st == STACK_OK; ++k) {
           const size_t lo = c->obj[k - 1], i = c->obj[k];
-          balance_pose_t *p = &out->pose[i];
+          model_pose_t *p = &out->pose[i];
           const double planned_z = p->position_m[2] - 1e-6 * (double)(k + 1);
           const double origin[3] = {0, 0, 0}, at[2] = {p->position_m[0], p->position_m[1]};
-          balance_pose_t exact;
+          model_pose_t exact;
           balance_status_t bs =
               balance_stack_pose_above(objects[lo].mesh_link, &out->pose[lo], objects[i].mesh_link,
                                        p->orientation_wxyz, origin, at, 1e-6, &exact);

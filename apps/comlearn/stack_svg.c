@@ -67,7 +67,7 @@ static void xml_text(FILE *f, const char *s) {
 }
 
 /* Rotation of a pose (quaternion normalised here), or 0 when it is not usable. */
-static int pose_rot(const balance_pose_t *p, double rot[3][3]) {
+static int pose_rot(const model_pose_t *p, double rot[3][3]) {
   const double *q = p->orientation_wxyz;
   if (!finite3(p->position_m) || !isfinite(q[0]) || !finite3(q + 1)) return 0;
   const double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
@@ -111,7 +111,7 @@ static void cross_marker(FILE *f, double x, double y, const char *label) {
 }
 
 /* Everything after the checks; returns 0 or -1 (errno set by the failing call or ENOMEM). */
-static int render(FILE *f, const model_mesh_t *const *meshes, const balance_pose_t *poses,
+static int render(FILE *f, const model_mesh_t *const *meshes, const model_pose_t *poses,
                   const double (*com_link_m)[3], size_t count, const char *title,
                   double (*rot)[3][3]) {
   size_t total_v = 0, total_t = 0;
@@ -275,7 +275,7 @@ static int render(FILE *f, const model_mesh_t *const *meshes, const balance_pose
 }
 
 int stack_svg_write(const char *path, const model_mesh_t *const *meshes_link,
-                    const balance_pose_t *poses, const double (*com_link_m)[3], size_t count,
+                    const model_pose_t *poses, const double (*com_link_m)[3], size_t count,
                     const char *title) {
   if (path == NULL || path[0] == '\0' || meshes_link == NULL || poses == NULL || count == 0 ||
       count > STACK_MAX_OBJECTS) {

@@ -18,12 +18,15 @@
 
 #include "comlearn/balance.h"
 
-/* Largest penetration into B that a release pose may start with (deeper: BALANCE_E_POSE). */
-#define BALANCE_MAX_START_DEPTH_M 1e-4
-/* Position components beyond this are absurd (BALANCE_E_POSE). */
-#define BALANCE_MAX_POSITION_M 100.0
+/* lib/model's status as ours: the geometry it computes for lib/balance. */
+balance_status_t balance_status_from_model(model_status_t status);
+
+/* Largest penetration into B that a release pose may start with (deeper: BALANCE_E_POSE), and
+ * position components beyond which a pose is absurd: lib/model's, which plans the poses. */
+#define BALANCE_MAX_START_DEPTH_M MODEL_MAX_TOUCH_DEPTH_M
+#define BALANCE_MAX_POSITION_M MODEL_MAX_POSITION_M
 /* A quaternion whose norm differs from 1 by more than this is rejected (BALANCE_E_POSE). */
-#define BALANCE_QUAT_NORM_TOL 1e-6
+#define BALANCE_QUAT_NORM_TOL MODEL_QUAT_UNIT_TOL
 /* Points within this gap above a surface become contacts with a negative depth (speculative
  * contacts, ODE's dContactMotionN: ODE clamps a negative depth to zero otherwise). */
 #define BALANCE_CONTACT_BAND_M 2e-6
@@ -52,7 +55,7 @@ typedef struct {
   double pos_m[3];   /* world */
   double normal[3];  /* unit, world, pointing into the first body (pushes it out) */
   double depth_m;    /* > 0 penetration, < 0 gap (within BALANCE_CONTACT_BAND_M) */
-  int edge_plane;    /* -1, or which vertical plane through a top edge of B (balance_edge_t) */
+  int edge_plane;    /* -1, or which vertical plane through a top edge of B (model_edge_t) */
   uint32_t id;       /* stable identity (vertex / edge of the mesh): breaks ties in reductions */
 } balance_point_t;
 
@@ -145,14 +148,14 @@ double balance_quat_angle(const double a_wxyz[4], const double b_wxyz[4]);
 /* Validate a pose: finite (BALANCE_E_NONFINITE), |position| components <= BALANCE_MAX_POSITION_M
  * and |quaternion| within BALANCE_QUAT_NORM_TOL of 1 (BALANCE_E_POSE). *out gets the pose with the
  * quaternion normalised (may alias in). */
-balance_status_t balance_pose_check(const balance_pose_t *in, balance_pose_t *out);
+balance_status_t balance_pose_check(const model_pose_t *in, model_pose_t *out);
 
 /* ---- objects (object.c) ---- */
 
 /* Place obj at pose_link (link frame in the world), at rest (zero velocities), and make it take
  * part in balance_world_step. The pose is checked (balance_pose_check) and must not start deeper
  * than BALANCE_MAX_START_DEPTH_M inside B (BALANCE_E_POSE). Resets the fast contact cache. */
-balance_status_t balance_object_place(balance_object_t *obj, const balance_pose_t *pose_link);
+balance_status_t balance_object_place(balance_object_t *obj, const model_pose_t *pose_link);
 
 /* Take obj out of the simulation (its body is disabled, no contacts). Idempotent. */
 void balance_object_remove(balance_object_t *obj);
@@ -161,7 +164,7 @@ void balance_object_remove(balance_object_t *obj);
 int balance_object_is_placed(const balance_object_t *obj);
 
 /* Current pose of obj's link frame in the world (last placed / stepped state). */
-void balance_object_pose_get(const balance_object_t *obj, balance_pose_t *out);
+void balance_object_pose_get(const balance_object_t *obj, model_pose_t *out);
 
 /* Current CoM in the world, and its linear (m/s) and angular (rad/s, world axes) velocity.
  * Either output may be NULL. */
@@ -171,7 +174,7 @@ void balance_object_velocity_get(const balance_object_t *obj, double lin_m_s[3],
 
 /* Deepest penetration into B (m, > 0 inside) of obj's mesh at pose_link: vertices inside B's box
  * and mesh edges crossing B's vertical top-edge planes below z = 0. 0 when not inside. Pure. */
-double balance_object_penetration_m(const balance_object_t *obj, const balance_pose_t *pose_link);
+double balance_object_penetration_m(const balance_object_t *obj, const model_pose_t *pose_link);
 
 /* ---- world (world.c) ---- */
 

@@ -95,8 +95,8 @@ size_t balance_fast_contacts(const balance_world_t *w, balance_object_t *o, bala
     code[i] = (uint8_t)((x[0] > hx) | (x[0] < -hx) << 1 | (x[1] > hy) << 2 | (x[1] < -hy) << 3);
     if (code[i] == 0 && x[2] < zmax && x[2] > zmin) push(out, cap, &n, x, -1, fc->verts[i]);
   }
-  static const balance_edge_t planes[4] = {BALANCE_EDGE_PX, BALANCE_EDGE_NX, BALANCE_EDGE_PY,
-                                           BALANCE_EDGE_NY};
+  static const model_edge_t planes[4] = {MODEL_EDGE_PX, MODEL_EDGE_NX, MODEL_EDGE_PY,
+                                           MODEL_EDGE_NY};
   for (uint32_t e = 0; e < fc->edge_count; e++) {
     const uint32_t ia = fc->edges[e][0], ib = fc->edges[e][1];
     const unsigned diff = (unsigned)(code[ia] ^ code[ib]);

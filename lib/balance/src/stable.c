@@ -1,189 +1,17 @@
-/* stable.c - faces of an object's convex hull (the planes it can rest on), and stable poses:
- * candidates from geometry with a CoM guess, confirmed by a trial in the middle of B. */
+/* stable.c - stable poses confirmed in simulation: candidates from lib/model's hull faces
+ * (model_faces_find) with a CoM guess, each confirmed by a trial in the middle of B. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "comlearn/balance_poses.h"
 #include "balance_internal.h"
-#include "poses_geom.h"
-
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const double a[3], const double b[3], double c[3]) {
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-typedef struct {
-  double n[3];
-  double area;
-  size_t index;
-} facet_t;
-
-static int cmp_facet(const void *pa, const void *pb) {
-  const facet_t *a = pa, *b = pb;
-  if (a->area != b->area) return a->area > b->area ? -1 : 1;
-  return a->index < b->index ? -1 : (a->index > b->index);
-}
-
-static int cmp_face(const void *pa, const void *pb) {
-  const balance_face_t *a = pa, *b = pb;
-  if (a->area_m2 != b->area_m2) return a->area_m2 > b->area_m2 ? -1 : 1;
-  for (int k = 0; k < 3; ++k) {
-    if (a->normal_link[k] != b->normal_link[k]) return a->normal_link[k] < b->normal_link[k] ? -1 : 1;
-  }
-  return 0;
-}
-
-/* Analyse the plane with outward unit normal n that supports the mesh. xy: scratch for nv plane
- * coordinates; pts / hull: scratch for nv + 1 points; on: nv bytes, zero on entry and exit. */
-static balance_status_t face_analyse(const model_mesh_t *mesh, const double n[3],
-                                     const double com[3], const balance_regime_config_t *cfg,
-                                     double (*xy)[2], double (*pts)[2], double (*hull)[2],
-                                     unsigned char *on, balance_face_t *f) {
-  const size_t nv = mesh->vertex_count;
-  memset(f, 0, sizeof *f);
-  memcpy(f->normal_link, n, sizeof f->normal_link);
-  double h = -HUGE_VAL;
-  for (size_t v = 0; v < nv; ++v) {
-    const double s = dot3(n, mesh->vertices_m[v]);
-    if (s > h) h = s;
-  }
-  f->offset_m = h;
-  double u[3], w[3];
-  model_plane_basis(n, u, w);
-  size_t np = 0;
-  for (size_t v = 0; v < nv; ++v) {
-    if (h - dot3(n, mesh->vertices_m[v]) > cfg->plane_tol_m) continue;
-    on[v] = 1;
-    xy[v][0] = pts[np][0] = dot3(u, mesh->vertices_m[v]);
-    xy[v][1] = pts[np][1] = dot3(w, mesh->vertices_m[v]);
-    ++np;
-  }
-  size_t nh = model_polygon_hull(pts, np, hull);
-  f->area_m2 = model_polygon_area((const double(*)[2])hull, nh);
-  f->width_m = model_polygon_width((const double(*)[2])hull, nh);
-  const double c2[2] = {dot3(u, com), dot3(w, com)};
-  f->com_margin_m = model_polygon_margin((const double(*)[2])hull, nh, c2);
-  f->candidate = f->com_margin_m >= cfg->min_com_margin_m;
-  /* The real contact: mesh triangles in the plane, grouped into regions. */
-  balance_geom_contact_t ct;
-  const balance_status_t st = balance_geom_contact(mesh, (const double(*)[2])xy, on, NULL, &ct);
-  for (size_t v = 0; v < nv; ++v) on[v] = 0;
-  if (st != BALANCE_OK) return st;
-  f->face_count = ct.triangle_count;
-  f->region_count = ct.region_count;
-  f->patch_area_m2 = ct.region_area_m2;
-  f->patch_width_m = ct.region_width_m;
-  f->flat = f->patch_area_m2 >= cfg->min_patch_area_m2 && f->patch_width_m >= cfg->min_patch_width_m;
-  return balance_orientation_resting(n, f->orientation_wxyz);
-}
-
-balance_status_t balance_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
-                                    const balance_regime_config_t *cfg, balance_face_t *faces,
-                                    size_t capacity, size_t *count) {
-  if (count == NULL || com_guess_link_m == NULL || (faces == NULL && capacity > 0))
-    return BALANCE_E_ARG;
-  *count = 0;
-  balance_regime_config_t c;
-  if (cfg == NULL) {
-    balance_regime_config_default(&c);
-  } else {
-    const balance_status_t cs = balance_regime_config_check(cfg);
-    if (cs != BALANCE_OK) return cs;
-    c = *cfg;
-  }
-  balance_status_t st = balance_geom_mesh_check(mesh_link);
-  if (st != BALANCE_OK) return st;
-  for (int k = 0; k < 3; ++k) {
-    if (!isfinite(com_guess_link_m[k])) return BALANCE_E_NONFINITE;
-  }
-  model_mesh_t hull = {0};
-  if (model_mesh_hull(mesh_link, &hull, NULL) != MODEL_OK) return BALANCE_E_MESH;
-  const size_t nf = hull.triangle_count, nv = mesh_link->vertex_count;
-  facet_t *fac = malloc(nf * sizeof *fac);
-  unsigned char *taken = calloc(nf, 1);
-  unsigned char *used = calloc(nv, 1);
-  double(*xy)[2] = malloc(nv * sizeof *xy);
-  double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
-  double(*poly)[2] = malloc((nv + 1) * sizeof *poly);
-  balance_face_t *tmp = malloc(nf * sizeof *tmp);
-  if (fac == NULL || taken == NULL || used == NULL || xy == NULL || pts == NULL || poly == NULL ||
-      tmp == NULL) {
-    st = BALANCE_E_NOMEM;
-    goto done;
-  }
-  for (size_t t = 0; t < nf; ++t) {
-    const double *a = hull.vertices_m[hull.triangles[t][0]];
-    const double *b = hull.vertices_m[hull.triangles[t][1]];
-    const double *d = hull.vertices_m[hull.triangles[t][2]];
-    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-    cross3(e1, e2, fac[t].n);
-    const double len = sqrt(dot3(fac[t].n, fac[t].n));
-    fac[t].area = 0.5 * len;
-    fac[t].index = t;
-    for (int k = 0; k < 3; ++k) fac[t].n[k] = len > 0.0 ? fac[t].n[k] / len : 0.0;
-  }
-  qsort(fac, nf, sizeof *fac, cmp_facet);
-  const double cos_tol = cos(1e-3);
-  size_t found = 0;
-  for (size_t s = 0; s < nf; ++s) {
-    if (taken[s] || !(fac[s].area > 0.0)) continue;
-    /* Merge every facet coplanar with the seed (on a convex hull they are one convex face). */
-    const double *n0 = fac[s].n;
-    const double h0 = dot3(n0, hull.vertices_m[hull.triangles[fac[s].index][0]]);
-    double nsum[3] = {0.0, 0.0, 0.0}, area = 0.0;
-    for (size_t t = s; t < nf; ++t) {
-      if (taken[t] || dot3(fac[t].n, n0) < cos_tol) continue;
-      int in = 1;
-      for (int k = 0; k < 3; ++k) {
-        if (fabs(dot3(n0, hull.vertices_m[hull.triangles[fac[t].index][k]]) - h0) > c.plane_tol_m)
-          in = 0;
-      }
-      if (!in) continue;
-      taken[t] = 1;
-      area += fac[t].area;
-      for (int k = 0; k < 3; ++k) nsum[k] += fac[t].area * fac[t].n[k];
-    }
-    if (area < c.min_face_area_m2) continue;
-    const double nl = sqrt(dot3(nsum, nsum));
-    const double n[3] = {nsum[0] / nl, nsum[1] / nl, nsum[2] / nl};
-    st = face_analyse(mesh_link, n, com_guess_link_m, &c, xy, pts, poly, used, &tmp[found]);
-    if (st != BALANCE_OK) goto done;
-    if (tmp[found].area_m2 >= c.min_face_area_m2) ++found;
-  }
-  qsort(tmp, found, sizeof *tmp, cmp_face);
-  if (capacity > 0 && found > 0) memcpy(faces, tmp, (found < capacity ? found : capacity) * sizeof *tmp);
-  *count = found;
-done:
-  model_mesh_free(&hull);
-  free(fac);
-  free(taken);
-  free(used);
-  free(xy);
-  free(pts);
-  free(poly);
-  free(tmp);
-  return st;
-}
 
 /* ---- confirmation in simulation ----------------------------------------------------------- */
 
-void balance_stable_config_default(balance_stable_config_t *cfg) {
-  if (cfg == NULL) return;
-  cfg->max_rotation_rad = 0.02;
-  cfg->max_displacement_m = 0.002;
-  cfg->touch_depth_m = 1e-6;
-}
-
-static balance_status_t stable_config_resolve(const balance_stable_config_t *cfg,
-                                              balance_stable_config_t *out) {
-  balance_stable_config_default(out);
+static balance_status_t stable_config_resolve(const model_stable_config_t *cfg,
+                                              model_stable_config_t *out) {
+  model_stable_config_default(out);
   if (cfg == NULL) return BALANCE_OK;
   if (!isfinite(cfg->max_rotation_rad) || !isfinite(cfg->max_displacement_m) ||
       !isfinite(cfg->touch_depth_m))
@@ -198,28 +26,28 @@ static balance_status_t stable_config_resolve(const balance_stable_config_t *cfg
 balance_status_t balance_stable_confirm(balance_world_t *world, balance_object_t *obj,
                                         const double orientation_wxyz[4],
                                         const double center_link_m[3],
-                                        const balance_stable_config_t *cfg,
+                                        const model_stable_config_t *cfg,
                                         balance_trial_result_t *trial, int *confirmed) {
   if (world == NULL || obj == NULL || confirmed == NULL || center_link_m == NULL) return BALANCE_E_ARG;
   *confirmed = 0;
   if (obj->world != world) return BALANCE_E_ARG;
   const model_mesh_t *mesh_link = &obj->mesh_link;
-  balance_stable_config_t sc;
+  model_stable_config_t sc;
   balance_status_t st = stable_config_resolve(cfg, &sc);
   if (st != BALANCE_OK) return st;
   for (int k = 0; k < 3; ++k) {
     if (!isfinite(center_link_m[k])) return BALANCE_E_NONFINITE;
   }
-  balance_pose_t pose;
-  st = balance_geom_quat_check(orientation_wxyz, pose.orientation_wxyz);
+  model_pose_t pose;
+  st = balance_status_from_model(model_quat_unit(orientation_wxyz, pose.orientation_wxyz));
   if (st != BALANCE_OK) return st;
   double zmin = HUGE_VAL, cw[3];
   for (size_t v = 0; v < mesh_link->vertex_count; ++v) {
     double w[3];
-    balance_geom_quat_rotate(pose.orientation_wxyz, mesh_link->vertices_m[v], w);
+    model_quat_rotate(pose.orientation_wxyz, mesh_link->vertices_m[v], w);
     if (w[2] < zmin) zmin = w[2];
   }
-  balance_geom_quat_rotate(pose.orientation_wxyz, center_link_m, cw);
+  model_quat_rotate(pose.orientation_wxyz, center_link_m, cw);
   pose.position_m[0] = -cw[0];
   pose.position_m[1] = -cw[1];
   pose.position_m[2] = -zmin - sc.touch_depth_m;
@@ -234,8 +62,8 @@ balance_status_t balance_stable_confirm(balance_world_t *world, balance_object_t
 
 balance_status_t balance_stable_find(balance_world_t *world, balance_object_t *obj,
                                      const double com_guess_link_m[3],
-                                     const balance_regime_config_t *regime_cfg,
-                                     const balance_stable_config_t *stable_cfg,
+                                     const model_regime_config_t *regime_cfg,
+                                     const model_stable_config_t *stable_cfg,
                                      balance_stable_pose_t *poses, size_t capacity, size_t *count,
                                      size_t *trials_run) {
   if (world == NULL || obj == NULL || count == NULL || (poses == NULL && capacity > 0) ||
@@ -245,11 +73,12 @@ balance_status_t balance_stable_find(balance_world_t *world, balance_object_t *o
   *count = 0;
   if (trials_run != NULL) *trials_run = 0;
   size_t nf = 0;
-  balance_status_t st = balance_faces_find(mesh_link, com_guess_link_m, regime_cfg, NULL, 0, &nf);
+  balance_status_t st =
+      balance_status_from_model(model_faces_find(mesh_link, com_guess_link_m, regime_cfg, NULL, 0, &nf));
   if (st != BALANCE_OK) return st;
-  balance_face_t *faces = malloc((nf > 0 ? nf : 1) * sizeof *faces);
+  model_face_t *faces = malloc((nf > 0 ? nf : 1) * sizeof *faces);
   if (faces == NULL) return BALANCE_E_NOMEM;
-  st = balance_faces_find(mesh_link, com_guess_link_m, regime_cfg, faces, nf, &nf);
+  st = balance_status_from_model(model_faces_find(mesh_link, com_guess_link_m, regime_cfg, faces, nf, &nf));
   size_t confirmed_count = 0;
   for (size_t i = 0; st == BALANCE_OK && i < nf; ++i) {
     if (!faces[i].candidate) continue;

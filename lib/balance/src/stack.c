@@ -6,7 +6,7 @@
 
 #include "balance_internal.h"
 #include "comlearn/balance_stack.h"
-#include "poses_geom.h"
+#include "comlearn/model_support.h"
 
 void balance_stack_config_default(balance_stack_config_t *cfg) {
   if (cfg == NULL) return;
@@ -32,7 +32,7 @@ static balance_status_t stack_config_resolve(const balance_stack_config_t *cfg,
 }
 
 balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *const *objects,
-                                   const balance_pose_t *poses, size_t count,
+                                   const model_pose_t *poses, size_t count,
                                    const balance_stack_config_t *cfg,
                                    balance_stack_result_t *result,
                                    balance_stack_object_t *per_object) {
@@ -46,7 +46,7 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
     for (size_t j = 0; j < i; ++j) {
       if (objects[j] == objects[i]) return BALANCE_E_ARG;
     }
-    balance_pose_t checked;
+    model_pose_t checked;
     st = balance_pose_check(&poses[i], &checked);
     if (st != BALANCE_OK) return st;
   }
@@ -57,7 +57,7 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
     balance_world_reset(world);
     return st;
   }
-  balance_pose_t *released = malloc(count * sizeof *released);
+  model_pose_t *released = malloc(count * sizeof *released);
   double *track = malloc(3 * count * sizeof *track);
   if (released == NULL || track == NULL) {
     free(released);
@@ -81,13 +81,13 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
     if (st != BALANCE_OK) break;
     const double t = balance_world_time(world);
     for (size_t i = 0; i < count; ++i) {
-      balance_pose_t p;
+      model_pose_t p;
       balance_object_pose_get(objects[i], &p);
       const double dx = p.position_m[0] - released[i].position_m[0];
       const double dy = p.position_m[1] - released[i].position_m[1];
       const double dz = p.position_m[2] - released[i].position_m[2];
       const double d = sqrt(dx * dx + dy * dy + dz * dz);
-      const double a = balance_geom_quat_angle(p.orientation_wxyz, released[i].orientation_wxyz);
+      const double a = model_quat_angle(p.orientation_wxyz, released[i].orientation_wxyz);
       if (d > disp[i]) disp[i] = d;
       if (a > rot[i]) rot[i] = a;
       if (moved[i] < 0.0 && (d > sc.max_displacement_m || a > sc.max_rotation_rad)) {
@@ -135,7 +135,7 @@ static balance_status_t placed_build(const model_mesh_t *m, const double q[4], c
   out->e = malloc(3 * m->triangle_count * sizeof *out->e);
   if (out->w == NULL || out->e == NULL) return BALANCE_E_NOMEM;
   for (size_t v = 0; v < m->vertex_count; ++v) {
-    balance_geom_quat_rotate(q, m->vertices_m[v], out->w[v]);
+    model_quat_rotate(q, m->vertices_m[v], out->w[v]);
     for (int k = 0; k < 3; ++k) out->w[v][k] += p[k];
   }
   /* A closed mesh has every edge once in each direction: keep the increasing one. Open or
@@ -215,16 +215,16 @@ static double rise_needed(const placed_t *lo, const placed_t *up) {
 }
 
 balance_status_t balance_stack_pose_above(const model_mesh_t *below_link,
-                                          const balance_pose_t *below_pose,
+                                          const model_pose_t *below_pose,
                                           const model_mesh_t *mesh_link,
                                           const double orientation_wxyz[4],
                                           const double point_link_m[3], const double at_xy_m[2],
-                                          double touch_depth_m, balance_pose_t *out) {
+                                          double touch_depth_m, model_pose_t *out) {
   if (below_pose == NULL || orientation_wxyz == NULL || point_link_m == NULL || at_xy_m == NULL ||
       out == NULL)
     return BALANCE_E_ARG;
-  balance_status_t st = balance_geom_mesh_check(below_link);
-  if (st == BALANCE_OK) st = balance_geom_mesh_check(mesh_link);
+  balance_status_t st = balance_status_from_model(model_mesh_usable(below_link));
+  if (st == BALANCE_OK) st = balance_status_from_model(model_mesh_usable(mesh_link));
   if (st != BALANCE_OK) return st;
   if (!isfinite(touch_depth_m) || !isfinite(at_xy_m[0]) || !isfinite(at_xy_m[1]))
     return BALANCE_E_NONFINITE;
@@ -233,11 +233,11 @@ balance_status_t balance_stack_pose_above(const model_mesh_t *below_link,
   }
   if (touch_depth_m < 0.0 || touch_depth_m > 1e-3) return BALANCE_E_ARG;
   double qb[4], qu[4];
-  st = balance_geom_quat_check(below_pose->orientation_wxyz, qb);
-  if (st == BALANCE_OK) st = balance_geom_quat_check(orientation_wxyz, qu);
+  st = balance_status_from_model(model_quat_unit(below_pose->orientation_wxyz, qb));
+  if (st == BALANCE_OK) st = balance_status_from_model(model_quat_unit(orientation_wxyz, qu));
   if (st != BALANCE_OK) return st;
   double pw[3];
-  balance_geom_quat_rotate(qu, point_link_m, pw);
+  model_quat_rotate(qu, point_link_m, pw);
   const double pos[3] = {at_xy_m[0] - pw[0], at_xy_m[1] - pw[1], 0.0};
   placed_t lo = {0}, up = {0};
   st = placed_build(below_link, qb, below_pose->position_m, &lo);

@@ -1,4 +1,4 @@
-/* status.c - status strings, edge lines and the default configuration. */
+/* status.c - status strings (and lib/model's mapped to ours) and the default configuration. */
 #include <math.h>
 
 #include "balance_internal.h"
@@ -18,15 +18,16 @@ const char *balance_status_str(balance_status_t status) {
   return "unknown status";
 }
 
-void balance_edge_line(const double base_size_m[3], balance_edge_t edge, double normal[3],
-                       double *offset_m) {
-  normal[0] = normal[1] = normal[2] = 0.0;
-  switch (edge) {
-    case BALANCE_EDGE_PX: normal[0] = 1.0; *offset_m = 0.5 * base_size_m[0]; break;
-    case BALANCE_EDGE_NX: normal[0] = -1.0; *offset_m = 0.5 * base_size_m[0]; break;
-    case BALANCE_EDGE_PY: normal[1] = 1.0; *offset_m = 0.5 * base_size_m[1]; break;
-    case BALANCE_EDGE_NY: normal[1] = -1.0; *offset_m = 0.5 * base_size_m[1]; break;
-    default: *offset_m = 0.0; break;
+
+balance_status_t balance_status_from_model(model_status_t status) {
+  switch (status) {
+    case MODEL_OK: return BALANCE_OK;
+    case MODEL_E_ARG: return BALANCE_E_ARG;
+    case MODEL_E_NONFINITE: return BALANCE_E_NONFINITE;
+    case MODEL_E_POSE: return BALANCE_E_POSE;
+    case MODEL_E_NOMEM: return BALANCE_E_NOMEM;
+    case MODEL_E_CAPACITY: return BALANCE_E_CAPACITY;
+    default: return BALANCE_E_MESH; /* the mesh does not give the geometry asked for */
   }
 }
 

@@ -27,11 +27,11 @@ static void gauss2(uint64_t *s, double out[2]) {
 static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
 balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
-                                   const balance_pose_t *release, const balance_noise_t *noise,
+                                   const model_pose_t *release, const balance_noise_t *noise,
                                    balance_trial_result_t *out) {
   if (!w || !obj || !release || !out || obj->world != w) return BALANCE_E_ARG;
   memset(out, 0, sizeof *out);
-  balance_pose_t rel;
+  model_pose_t rel;
   balance_status_t st = balance_pose_check(release, &rel);
   if (st != BALANCE_OK) return st;
   uint64_t rng = 0;
@@ -69,7 +69,7 @@ balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
       balance_object_remove(obj);
       return st;
     }
-    balance_pose_t now;
+    model_pose_t now;
     balance_object_pose_get(obj, &now);
     double com[3], v[3], om[3];
     balance_object_com_get(obj, com);

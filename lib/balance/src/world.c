@@ -32,7 +32,7 @@ double balance_quat_angle(const double a[4], const double b[4]) {
   return 2.0 * atan2(sqrt(x * x + y * y + z * z), fabs(w));
 }
 
-balance_status_t balance_pose_check(const balance_pose_t *in, balance_pose_t *out) {
+balance_status_t balance_pose_check(const model_pose_t *in, model_pose_t *out) {
   if (!in || !out) return BALANCE_E_ARG;
   for (int i = 0; i < 3; i++)
     if (!isfinite(in->position_m[i])) return BALANCE_E_NONFINITE;
@@ -43,7 +43,7 @@ balance_status_t balance_pose_check(const balance_pose_t *in, balance_pose_t *ou
   const double *q = in->orientation_wxyz;
   const double n = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (!(fabs(n - 1.0) <= BALANCE_QUAT_NORM_TOL)) return BALANCE_E_POSE;
-  balance_pose_t p = *in;
+  model_pose_t p = *in;
   for (int i = 0; i < 4; i++) p.orientation_wxyz[i] = q[i] / n;
   *out = p;
   return BALANCE_OK;
@@ -194,10 +194,10 @@ static void tag_edge_points(const balance_world_t *w, balance_point_t *pts, size
   const double tol = 1e-7;
   for (size_t i = 0; i < n; i++) {
     const double *p = pts[i].pos_m;
-    if (fabs(p[0] - hx) < tol) pts[i].edge_plane = BALANCE_EDGE_PX;
-    else if (fabs(p[0] + hx) < tol) pts[i].edge_plane = BALANCE_EDGE_NX;
-    else if (fabs(p[1] - hy) < tol) pts[i].edge_plane = BALANCE_EDGE_PY;
-    else if (fabs(p[1] + hy) < tol) pts[i].edge_plane = BALANCE_EDGE_NY;
+    if (fabs(p[0] - hx) < tol) pts[i].edge_plane = MODEL_EDGE_PX;
+    else if (fabs(p[0] + hx) < tol) pts[i].edge_plane = MODEL_EDGE_NX;
+    else if (fabs(p[1] - hy) < tol) pts[i].edge_plane = MODEL_EDGE_PY;
+    else if (fabs(p[1] + hy) < tol) pts[i].edge_plane = MODEL_EDGE_NY;
   }
 }
 

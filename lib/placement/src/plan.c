@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "comlearn/model_support.h"
 #include "plan_geom.h"
 
 static void set_err(placement_error_t *err, const char *fmt, ...) {
@@ -173,7 +174,7 @@ placement_status_t placement_plan_touch_z(const model_mesh_t *mesh_link,
   }
   if (!in_range(touch_depth_m, 0.0, 1e-4)) return PLACEMENT_E_ARG;
   double lowest = 0.0;
-  if (!plan_mesh_lowest_over_rect(mesh_link, object_in_block->rot, x_m, y_m,
+  if (!model_mesh_lowest_over_rect(mesh_link, object_in_block->rot, x_m, y_m,
                                   0.5 * block_size_m[0], 0.5 * block_size_m[1], &lowest)) {
     return PLACEMENT_E_GEOMETRY;
   }

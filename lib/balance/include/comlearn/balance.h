@@ -27,7 +27,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "comlearn/model.h"
+#include "comlearn/model_support.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -48,19 +48,6 @@ typedef enum {
 
 /* A static English description of a status; never NULL. */
 const char *balance_status_str(balance_status_t status);
-
-/* The four top edges of B, by outward normal (world frame). */
-typedef enum {
-  BALANCE_EDGE_PX = 0, /* x = +sx/2, normal (+1, 0, 0) */
-  BALANCE_EDGE_NX = 1, /* x = -sx/2, normal (-1, 0, 0) */
-  BALANCE_EDGE_PY = 2, /* y = +sy/2, normal (0, +1, 0) */
-  BALANCE_EDGE_NY = 3  /* y = -sy/2, normal (0, -1, 0) */
-} balance_edge_t;
-
-/* Outward unit normal of an edge and its offset d: points p of the edge line satisfy
- * normal . p = d, p.z = 0. */
-void balance_edge_line(const double base_size_m[3], balance_edge_t edge, double normal[3],
-                       double *offset_m);
 
 /* How contacts between an object and B are generated. */
 typedef enum {
@@ -107,12 +94,6 @@ void balance_config_default(balance_config_t *cfg);
 
 /* Check every field of cfg (finite, in range); BALANCE_E_ARG / BALANCE_E_NONFINITE otherwise. */
 balance_status_t balance_config_check(const balance_config_t *cfg);
-
-/* A pose of an object's link frame in the world: position and unit quaternion (w, x, y, z). */
-typedef struct {
-  double position_m[3];
-  double orientation_wxyz[4];
-} balance_pose_t;
 
 typedef struct balance_world balance_world_t;   /* opaque: ODE world, space, B */
 typedef struct balance_object balance_object_t; /* opaque: one object's body, geometry, mass */
@@ -169,9 +150,9 @@ double balance_object_bottom_z(const balance_object_t *obj, const double orienta
  * point_link_m beyond 100 m, or no part of the mesh over B's top or its edges: it would not rest
  * on B). */
 balance_status_t balance_pose_over_edge(const balance_world_t *world, const balance_object_t *obj,
-                                        const double orientation_wxyz[4], balance_edge_t edge,
+                                        const double orientation_wxyz[4], model_edge_t edge,
                                         const double point_link_m[3], double along_m,
-                                        double touch_depth_m, balance_pose_t *out);
+                                        double touch_depth_m, model_pose_t *out);
 
 /* Outcome of a trial; the values equal comlearn_com_trial_t's OUTCOME_* constants. */
 typedef enum {
@@ -193,8 +174,8 @@ typedef struct {
 
 typedef struct {
   balance_outcome_t outcome;
-  balance_pose_t released;   /* the pose actually released (after placement noise), world */
-  balance_pose_t settled;    /* the pose when the trial ended (perceived: pose noise added) */
+  model_pose_t released;   /* the pose actually released (after placement noise), world */
+  model_pose_t settled;    /* the pose when the trial ended (perceived: pose noise added) */
   double displacement_m;     /* |settled - released| of the link origin */
   double rotation_rad;       /* angle between released and settled orientations, [0, pi] */
   double sim_time_s;         /* steps * dt_s */
@@ -212,7 +193,7 @@ typedef struct {
  * 0.1 mm inside B), BALANCE_E_DIVERGED (non-finite state: reported, not aborted),
  * BALANCE_E_NOMEM. *out is filled only on BALANCE_OK (zeroed otherwise). */
 balance_status_t balance_trial_run(balance_world_t *world, balance_object_t *obj,
-                                   const balance_pose_t *release, const balance_noise_t *noise,
+                                   const model_pose_t *release, const balance_noise_t *noise,
                                    balance_trial_result_t *out);
 
 #ifdef __cplusplus

@@ -34,7 +34,7 @@ void balance_stack_config_default(balance_stack_config_t *cfg);
 
 /* One object of a stack after the run. */
 typedef struct {
-  balance_pose_t final_pose;  /* world, when the run ended */
+  model_pose_t final_pose;  /* world, when the run ended */
   double displacement_m;      /* largest |link origin - released| seen during the run */
   double rotation_rad;        /* largest angle from the released orientation seen */
   double moved_at_s;          /* first time it passed a threshold; -1 if it never did */
@@ -56,7 +56,7 @@ typedef struct {
  * BALANCE_E_DIVERGED, BALANCE_E_NOMEM. Deterministic. Allocates two small arrays, and what
  * stepping does. */
 balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *const *objects,
-                                   const balance_pose_t *poses, size_t count,
+                                   const model_pose_t *poses, size_t count,
                                    const balance_stack_config_t *cfg,
                                    balance_stack_result_t *result,
                                    balance_stack_object_t *per_object);
@@ -70,11 +70,11 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
  * BALANCE_E_NONFINITE, BALANCE_E_MESH, BALANCE_E_POSE, BALANCE_E_NOMEM. Allocates temporary
  * memory (both meshes in world coordinates). */
 balance_status_t balance_stack_pose_above(const model_mesh_t *below_link,
-                                          const balance_pose_t *below_pose,
+                                          const model_pose_t *below_pose,
                                           const model_mesh_t *mesh_link,
                                           const double orientation_wxyz[4],
                                           const double point_link_m[3], const double at_xy_m[2],
-                                          double touch_depth_m, balance_pose_t *out);
+                                          double touch_depth_m, model_pose_t *out);
 
 #ifdef __cplusplus
 }

@@ -48,7 +48,9 @@ typedef enum {
   MODEL_E_REGION = -14,       /* a density region that is not valid (zero normal, ...) */
   MODEL_E_HULL = -15,         /* convex hull failed (all points coplanar, iteration cap) */
   MODEL_E_CHAIN = -16,        /* no kinematic chain between two links, or an unusable joint */
-  MODEL_E_IMPLAUSIBLE = -17   /* mass properties no real object of that shape can have */
+  MODEL_E_IMPLAUSIBLE = -17,  /* mass properties no real object of that shape can have */
+  MODEL_E_POSE = -18,         /* absurd pose: not a unit quaternion, nothing of the object over B */
+  MODEL_E_CAPACITY = -19      /* an output array or a fixed table too small */
 } model_status_t;
 
 /* A static English description of a status; never NULL. */
@@ -205,6 +207,22 @@ void model_quat_to_rot(const double q_wxyz[4], double rot[3][3]);
  * normalised). The inverse of model_quat_to_rot up to the sign of q. C11 does not convert
  * double (*)[3] to const double (*)[3] implicitly: cast a non-const matrix. */
 void model_rot_to_quat(const double rot[3][3], double q_wxyz[4]);
+
+/* |q| within this of 1 is accepted as a unit quaternion (model_quat_unit). */
+#define MODEL_QUAT_UNIT_TOL 1e-6
+
+/* Validate q (finite, |q| within MODEL_QUAT_UNIT_TOL of 1) and write it normalised to unit.
+ * MODEL_E_ARG (NULL), MODEL_E_NONFINITE, MODEL_E_POSE (not unit). */
+model_status_t model_quat_unit(const double q_wxyz[4], double unit[4]);
+
+/* v' = R(q) v for a unit quaternion (w, x, y, z). out may alias v. */
+void model_quat_rotate(const double q_wxyz[4], const double v[3], double out[3]);
+
+/* The product a * b (apply b, then a). out may alias a or b. */
+void model_quat_mul(const double a[4], const double b[4], double out[4]);
+
+/* Angle between the rotations of two unit quaternions, [0, pi]. */
+double model_quat_angle(const double a[4], const double b[4]);
 
 /* An object as the estimator sees it: the collision geometry of one URDF link. */
 typedef struct {

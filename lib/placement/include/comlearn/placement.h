@@ -189,8 +189,8 @@ typedef struct {
  * (every seed failed: unreachable, or so near the workspace boundary that no seed converged;
  * out->q_rad is the best attempt and the errors say how far it is). cfg NULL means
  * PLACEMENT_IK_CONFIG_INIT. A seed outside the limits is moved into them. No allocation; cost in
- * docs/placement.md (median about 30 us without and 150 us with the redundancy phase; an
- * unreachable pose costs all seeds, about 10 ms). */
+ * docs/placement.md (median about 25 us without and 130-160 us with the redundancy phase; an
+ * unreachable pose costs all seeds, about 7 ms). */
 placement_status_t placement_ik(const placement_arm_t *arm, const placement_pose_t *target,
                                 const double q_seed_rad[PLACEMENT_JOINTS],
                                 const placement_ik_config_t *cfg, placement_ik_result_t *out);

@@ -71,8 +71,9 @@ typedef struct {
   double min_duration_s;          /* no segment shorter; default 0.1, [0, 60] */
   double gripper_speed_m_s;       /* opening speed (ABB's MAX_SPEED 25 mm/s); default 0.025, > 0 */
   double release_opening_m;       /* RELEASE width = grip width + this; default 0.01, [0, 0.05] */
-  double gripper_max_width_m;     /* largest opening; default 0.05 (2 x the URDF's 0.025 per
-                                     finger; ABB's software caps 25 mm: see docs) */
+  double gripper_max_width_m;     /* largest opening; default 0.05, comlearn-sim's limit (the
+                                     URDF's fingers travel 0.0125 m each, 0.025 m in all, ABB's
+                                     software cap: see docs/placement.md) */
   double clearance_m;             /* the gripper boxes must stay this far from B (B's box grown by
                                      it on every side); default 0.002, [0, 0.1] */
   unsigned approach_steps;        /* PREPLACE and RETREAT are solved along the straight tcp line
@@ -133,7 +134,7 @@ typedef struct {
   unsigned ik_iterations;           /* summed over the three IK solves (diagnostics) */
 } placement_plan_t;
 
-/* Convert a position and a quaternion (w, x, y, z), e.g. a balance_pose_t's fields, to a pose.
+/* Convert a position and a quaternion (w, x, y, z), e.g. a model_pose_t's fields, to a pose.
  * The quaternion is normalised; PLACEMENT_E_ROTATION when its norm is off 1 by more than 1e-6,
  * PLACEMENT_E_NONFINITE, PLACEMENT_E_ARG (NULL). *out is unchanged on error. */
 placement_status_t placement_pose_from_wxyz(const double position_m[3],

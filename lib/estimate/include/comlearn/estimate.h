@@ -1,44 +1,59 @@
 /*
- * estimate.h - the CoM estimator of `comlearn estimate`: geometry in, trials out through a
- * backend, CoM (with half widths and found flags) back.
+ * comlearn/estimate.h - the CoM estimator as a library: geometry in, placements out, outcomes in,
+ * the CoM (with half widths, found flags and reasons) back. The caller owns the loop, as with
+ * lib/qlearn's policies:
  *
- * The estimator side (estimate.c) sees only what perception gives: the object's mesh in its URDF
- * link frame (comlearn/model.h) and, per trial, the released and settled poses the backend
- * reports. It never reads the URDF <inertial>: estimate.c does not include
- * comlearn/model_inertial.h and its library target does not link comlearn_model_sim.
+ *   estimate_t *est;
+ *   estimate_create(&mesh_link, base_size_m, &cfg, &est);
+ *   estimate_trial_request_t req;
+ *   while (estimate_next(est, &req) == ESTIMATE_OK) {
+ *     estimate_trial_reply_t reply = run_the_trial(&req);  // a robot, comlearn-sim, lib/balance
+ *     estimate_observe(est, &reply);
+ *   }
+ *   const estimate_result_t *r = estimate_result(est);      // estimate_next said ESTIMATE_DONE
+ *   estimate_destroy(est);
  *
- * The simulator side is a backend (estimate_backend_t): it places the object as asked and reports
- * what happened. estimate_direct.c runs the trials in-process on lib/balance with the URDF truth;
- * a later LCM backend sends YuMi commands to comlearn-sim and waits for its status and object
- * state, without any change here.
+ * What the estimator sees is only what perception gives: the object's mesh in its URDF link frame
+ * (comlearn/model.h) and, per trial, the outcome and the released and settled poses. It never
+ * reads the URDF <inertial>: this library links lib/model's geometry (comlearn_model) and
+ * lib/qlearn only; no physics engine (tests/estimate.cmake checks the archive's symbols).
  *
- * Frames and units: SI. World as in comlearn/balance.h (z up, B's top at z = 0, its edges along
- * X and Y). Object: the URDF link frame. A pose is the link frame's pose in the world.
+ * Frames and units: SI. World as in comlearn/model_support.h (z up, B's top at z = 0, its edges
+ * along X and Y). Object: the URDF link frame. A pose is the link frame's pose in the world.
  *
- * Memory: estimate_run allocates (the planning world, the hull in balance_faces_find) and frees
- * everything before returning; the result is caller-owned and fixed size. Nothing here prints;
- * progress goes through the caller's callback. Not thread-safe per backend.
+ * Memory: estimate_create makes one allocation of estimate_size() bytes (or estimate_init uses
+ * the caller's); the estimator allocates nothing after that (lib/model's geometry functions it
+ * calls allocate temporary memory and free it before returning). The mesh is the caller's and
+ * must outlive the estimate. Nothing here prints or does I/O. One thread per estimate; separate
+ * estimates are independent.
  */
-#ifndef COMLEARN_APP_ESTIMATE_H
-#define COMLEARN_APP_ESTIMATE_H
+#ifndef COMLEARN_ESTIMATE_H
+#define COMLEARN_ESTIMATE_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-#include "comlearn/balance.h"
 #include "comlearn/model.h"
+#include "comlearn/model_support.h"
 #include "comlearn/qlearn.h"
 
-/* One status enum: 0 success, negative errors. */
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* One status enum: 0 success, negative errors; ESTIMATE_DONE (positive) from estimate_next when
+ * the estimate is complete. */
 typedef enum {
+  ESTIMATE_DONE = 1,        /* no more trials: estimate_result holds the estimate */
   ESTIMATE_OK = 0,
   ESTIMATE_E_ARG = -1,      /* NULL, bad option value, non-finite number */
   ESTIMATE_E_GEOMETRY = -2, /* the mesh gives no flat face to rest on, or no usable yaw */
-  ESTIMATE_E_BACKEND = -3,  /* the backend failed (its own message in estimate_result_t) */
+  ESTIMATE_E_BACKEND = -3,  /* for drivers: the trial runner failed (not returned by this library) */
   ESTIMATE_E_NOPOSE = -4,   /* no candidate resting face was confirmed stable */
   ESTIMATE_E_CAPACITY = -5, /* more trials or searches than the result holds */
   ESTIMATE_E_LEARNER = -6,  /* lib/qlearn refused (status in the message) */
-  ESTIMATE_E_NOMEM = -7
+  ESTIMATE_E_NOMEM = -7,
+  ESTIMATE_E_STATE = -8     /* estimate_observe with no trial pending (call estimate_next) */
 } estimate_status_t;
 
 const char *estimate_status_str(estimate_status_t s);
@@ -48,7 +63,16 @@ const char *estimate_status_str(estimate_status_t s);
 const char *estimate_policy_name(qlearn_policy_kind_t k);
 int estimate_policy_parse(const char *s, qlearn_policy_kind_t *k);
 
-/* ---- the trial backend -------------------------------------------------------------------- */
+/* ---- one trial ------------------------------------------------------------------------------ */
+
+/* Outcome of a trial; the values equal comlearn/balance.h's balance_outcome_t and the COM_TRIAL
+ * message's OUTCOME_* constants. */
+typedef enum {
+  ESTIMATE_INVALID = 0, /* no usable outcome (e.g. still moving when the observation ended) */
+  ESTIMATE_STAYS = 1,   /* came to rest on B */
+  ESTIMATE_TIPS = 2,    /* rotated over the edge: tipped off */
+  ESTIMATE_SLIDES = 3   /* translated along / off B without tipping: says nothing of the CoM */
+} estimate_outcome_t;
 
 typedef enum {
   ESTIMATE_TRIAL_STABLE = 0, /* a resting-pose check: the object set down in the middle of B */
@@ -57,20 +81,20 @@ typedef enum {
 
 /* What the estimator asks for: the pose to release the object in (world; touching B, never
  * dropped), and for edge tests the edge. A real robot achieves the pose only approximately; the
- * backend reports the pose it actually released. */
+ * caller reports the pose it actually released. */
 typedef struct {
   estimate_trial_kind_t kind;
-  balance_edge_t edge;       /* ESTIMATE_TRIAL_EDGE only */
-  balance_pose_t release;    /* requested release pose, world */
-  /* What the estimator knows of the trial, for records (the LCM backend's COM_TRIAL); a backend
-   * that only runs trials (estimate_direct.c) ignores it. */
+  model_edge_t edge;       /* ESTIMATE_TRIAL_EDGE only */
+  model_pose_t release;    /* requested release pose, world */
+  /* What the estimator knows of the trial, for records (e.g. comlearn's COM_TRIAL messages); a
+   * caller that only runs trials ignores it. */
   int search;                /* search index (estimate_result_t.search), -1 for a stable check */
   int component;             /* link axis (0 x, 1 y, 2 z) the search's direction (dir_link)
                                 determines most: its largest |component|; -1 for a stable check */
   int direction;             /* sign of dir_link[component] (+1: that link axis points along the
                                 edge's outward normal), 0 for a stable check */
   double target_link_m[3];   /* link point placed over the edge (stable check: over B's centre) */
-  int flat_patch;            /* the requested pose is in the flat-patch regime (balance_regime_
+  int flat_patch;            /* the requested pose is in the flat-patch regime (model_regime_
                                 classify with the running estimate, default thresholds); 0 for a
                                 stable check */
   double sideways_margin_m;  /* its chord margin [m] (-HUGE_VAL without a chord); 0 for a stable
@@ -80,22 +104,10 @@ typedef struct {
 } estimate_trial_request_t;
 
 typedef struct {
-  balance_outcome_t outcome; /* STAYS / TIPS / SLIDES / INVALID (comlearn/balance.h) */
-  balance_pose_t released;   /* pose actually released (measured), world */
-  balance_pose_t settled;    /* pose after the trial (perceived), world */
+  estimate_outcome_t outcome;
+  model_pose_t released;   /* pose actually released (measured), world */
+  model_pose_t settled;    /* pose after the trial (perceived), world */
 } estimate_trial_reply_t;
-
-/* A place to run trials. `run` places the object per req and fills *reply; it returns 0 on
- * success and a negative value on failure, with a message in err (err_size bytes, NUL-terminated).
- * base_size_m is the size of B (world x, y, z), needed for planning. ctx belongs to the backend.
- * The backend owns the simulated truth; the estimator never asks it for anything else. */
-typedef struct {
-  void *ctx;
-  const char *name; /* "direct", "lcm", ... */
-  double base_size_m[3];
-  int (*run)(void *ctx, const estimate_trial_request_t *req, estimate_trial_reply_t *reply,
-             char *err, size_t err_size);
-} estimate_backend_t;
 
 /* ---- settings and results ----------------------------------------------------------------- */
 
@@ -112,8 +124,8 @@ typedef struct {
   double max_halfwidth_m;      /* widest half width still called found; default 1e-3 */
   double z;                    /* half width = z * sigma; default 1.96 */
   uint64_t seed;               /* for the MLP policy; default 1 */
-  /* Chord margin wanted for edge tests (flat-patch regime, see balance_poses.h); the regime
-   * classification itself uses balance_regime_config_default's 3 mm. Default 0.003 m. */
+  /* Chord margin wanted for edge tests (flat-patch regime, see comlearn/model_support.h); the regime
+   * classification itself uses model_regime_config_default's 3 mm. Default 0.003 m. */
   double min_chord_margin_m;
   /* Smallest angle between a second test direction and the first on one face; default 60 deg. */
   double min_dir_angle_rad;
@@ -142,9 +154,6 @@ typedef struct {
    * the estimate, until all hold (at most max_retests new searches; default 3, in [0, 6]). */
   double verify_margin_m;
   uint32_t max_retests;
-  /* Called after every trial (may be NULL). */
-  void (*progress)(void *ctx, size_t trial_index, const char *what);
-  void *progress_ctx;
 } estimate_config_t;
 
 void estimate_config_default(estimate_config_t *cfg);
@@ -165,13 +174,13 @@ typedef struct {
   double x_m;               /* edge tests: the 1-D coordinate placed over the edge */
   double target_link_m[3];  /* the link point the request placed over the edge (stable checks:
                                over B's centre); = the request's target_link_m */
-  balance_outcome_t outcome;
-  int regime;               /* balance_regime_kind_t of the released pose (edge tests), -1 */
+  estimate_outcome_t outcome;
+  int regime;               /* model_regime_kind_t of the released pose (edge tests), -1 */
   double chord_margin_m;    /* of the released pose (edge tests) */
   int flagged;              /* edge test outside the flat-patch regime, or an unclear outcome
                                (INVALID / SLIDES: not observed, retried): not fed to the solve */
-  balance_pose_t released;
-  balance_pose_t settled;
+  model_pose_t released;
+  model_pose_t settled;
 } estimate_trial_t;
 
 /* One 1-D search along a horizontal direction of a resting face. */
@@ -237,11 +246,51 @@ typedef struct {
   char msg[512];            /* detail of a failure, or a note (e.g. why a component is missing) */
 } estimate_result_t;
 
-/* Estimate the CoM of the object whose link-frame geometry is mesh_link, running every trial
- * through backend. Fills *out (also on error, as far as it got). Returns ESTIMATE_OK when the
- * estimate ran (found[] may still hold 0s, each with its reason[]: a component that the trials
- * cannot determine honestly is reported missing, never invented), or an error. */
-estimate_status_t estimate_run(const model_mesh_t *mesh_link, const estimate_backend_t *backend,
-                               const estimate_config_t *cfg, estimate_result_t *out);
+/* ---- the loop ------------------------------------------------------------------------------- */
+
+typedef struct estimate estimate_t; /* opaque */
+
+/* Bytes an estimate needs (for estimate_init): a few hundred KiB, fixed. */
+size_t estimate_size(void);
+
+/* Start an estimate of the object whose link-frame geometry is mesh_link (kept by pointer: it must
+ * outlive the estimate) on a block B of size base_size_m (world x, y, z). cfg is copied.
+ * estimate_create allocates estimate_size() bytes; estimate_init uses the caller's `size` bytes
+ * at mem (aligned for a double). ESTIMATE_E_ARG for NULL, an empty mesh, a base size that is not
+ * finite and positive or a setting out of its documented range (*out NULL); ESTIMATE_E_NOMEM. */
+estimate_status_t estimate_create(const model_mesh_t *mesh_link, const double base_size_m[3],
+                                  const estimate_config_t *cfg, estimate_t **out);
+estimate_status_t estimate_init(void *mem, size_t size, const model_mesh_t *mesh_link,
+                                const double base_size_m[3], const estimate_config_t *cfg,
+                                estimate_t **out);
+
+/* Free an estimate of estimate_create (not one of estimate_init). NULL is fine. */
+void estimate_destroy(estimate_t *est);
+
+/* The placement to try next, in *req: ESTIMATE_OK. ESTIMATE_DONE when the estimate is complete
+ * (estimate_result). An error when the estimate failed (the same error from then on; the result
+ * holds what was learned so far and a message): ESTIMATE_E_GEOMETRY (no usable flat face or yaw),
+ * ESTIMATE_E_NOPOSE (no face confirmed stable), ESTIMATE_E_CAPACITY, ESTIMATE_E_LEARNER,
+ * ESTIMATE_E_NOMEM. The first call plans (the hull faces, ~20 ms for a 1000-vertex rock). Calling
+ * it again before estimate_observe returns the same request. */
+estimate_status_t estimate_next(estimate_t *est, estimate_trial_request_t *req);
+
+/* What happened to the pending trial: plans the next one. A reply with an outcome out of range or
+ * a pose that is not finite or not a unit quaternion is refused with ESTIMATE_E_ARG and changes
+ * nothing (the trial stays pending: run it again or give up); ESTIMATE_E_STATE when no trial is
+ * pending. Otherwise ESTIMATE_OK, or the failure that ended the estimate (as estimate_next). */
+estimate_status_t estimate_observe(estimate_t *est, const estimate_trial_reply_t *reply);
+
+/* The estimate so far (complete once estimate_next returned ESTIMATE_DONE): owned by est, valid
+ * until estimate_destroy. ESTIMATE_OK (found[] may hold 0s, each with its reason[]: a component
+ * that the trials cannot determine honestly is reported missing, never invented). */
+const estimate_result_t *estimate_result(const estimate_t *est);
+
+/* ESTIMATE_OK while trials remain, ESTIMATE_DONE, or the error that ended the estimate. */
+estimate_status_t estimate_status(const estimate_t *est);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

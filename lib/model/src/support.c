@@ -1,73 +1,31 @@
 /* regime.c - the geometry of a placement over an edge: the resting patch, its chord on the edge
  * line, the regime verdict, yaws that make the chord span the CoM; and the private geometry
- * helpers of poses_geom.h. Pure geometry: no ODE. */
+ * helpers of support_geom.h. Pure geometry: no ODE. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "comlearn/balance_poses.h"
-#include "poses_geom.h"
+#include "comlearn/model_support.h"
+#include "support_geom.h"
 
-/* ---- private helpers (poses_geom.h) ------------------------------------------------------- */
+/* ---- private helpers (support_geom.h) ------------------------------------------------------- */
 
-balance_status_t balance_geom_quat_check(const double q[4], double unit[4]) {
-  if (q == NULL) return BALANCE_E_ARG;
-  double n2 = 0.0;
-  for (int k = 0; k < 4; ++k) {
-    if (!isfinite(q[k])) return BALANCE_E_NONFINITE;
-    n2 += q[k] * q[k];
-  }
-  const double n = sqrt(n2);
-  if (!(fabs(n - 1.0) <= BALANCE_GEOM_QUAT_TOL)) return BALANCE_E_POSE;
-  for (int k = 0; k < 4; ++k) unit[k] = q[k] / n;
-  return BALANCE_OK;
-}
-
-void balance_geom_quat_rotate(const double q[4], const double v[3], double out[3]) {
-  /* v' = v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z). */
-  const double w = q[0], u[3] = {q[1], q[2], q[3]};
-  const double t[3] = {2.0 * (u[1] * v[2] - u[2] * v[1]), 2.0 * (u[2] * v[0] - u[0] * v[2]),
-                       2.0 * (u[0] * v[1] - u[1] * v[0])};
-  const double r[3] = {v[0] + w * t[0] + (u[1] * t[2] - u[2] * t[1]),
-                       v[1] + w * t[1] + (u[2] * t[0] - u[0] * t[2]),
-                       v[2] + w * t[2] + (u[0] * t[1] - u[1] * t[0])};
-  out[0] = r[0];
-  out[1] = r[1];
-  out[2] = r[2];
-}
-
-void balance_geom_quat_mul(const double a[4], const double b[4], double out[4]) {
-  const double r[4] = {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
-                       a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
-                       a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
-                       a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
-  memcpy(out, r, sizeof r);
-}
-
-double balance_geom_quat_angle(const double a[4], const double b[4]) {
-  double d = 0.0;
-  for (int k = 0; k < 4; ++k) d += a[k] * b[k];
-  d = fabs(d);
-  if (d > 1.0) d = 1.0;
-  return 2.0 * acos(d);
-}
-
-balance_status_t balance_geom_mesh_check(const model_mesh_t *mesh) {
+model_status_t model_mesh_usable(const model_mesh_t *mesh) {
   if (mesh == NULL || mesh->vertices_m == NULL || mesh->triangles == NULL ||
       mesh->vertex_count == 0 || mesh->triangle_count == 0)
-    return BALANCE_E_ARG;
+    return MODEL_E_ARG;
   for (size_t v = 0; v < mesh->vertex_count; ++v) {
     for (int k = 0; k < 3; ++k) {
-      if (!isfinite(mesh->vertices_m[v][k])) return BALANCE_E_NONFINITE;
+      if (!isfinite(mesh->vertices_m[v][k])) return MODEL_E_NONFINITE;
     }
   }
   for (size_t t = 0; t < mesh->triangle_count; ++t) {
     for (int k = 0; k < 3; ++k) {
-      if (mesh->triangles[t][k] >= mesh->vertex_count) return BALANCE_E_MESH;
+      if (mesh->triangles[t][k] >= mesh->vertex_count) return MODEL_E_DEGENERATE;
     }
   }
-  return BALANCE_OK;
+  return MODEL_OK;
 }
 
 static uint32_t region_root(uint32_t *parent, uint32_t v) {
@@ -78,18 +36,18 @@ static uint32_t region_root(uint32_t *parent, uint32_t v) {
   return v;
 }
 
-balance_status_t balance_geom_contact(const model_mesh_t *mesh, const double (*xy)[2],
+model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy)[2],
                                       const unsigned char *on, double (*tri_xy)[3][2],
-                                      balance_geom_contact_t *out) {
+                                      model_support_contact_t *out) {
   const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
   memset(out, 0, sizeof *out);
   uint32_t *parent = malloc(nv * sizeof *parent);
   double *area = calloc(nv, sizeof *area);
   double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
   double(*hull)[2] = malloc((nv + 1) * sizeof *hull);
-  balance_status_t st = BALANCE_OK;
+  model_status_t st = MODEL_OK;
   if (parent == NULL || area == NULL || pts == NULL || hull == NULL) {
-    st = BALANCE_E_NOMEM;
+    st = MODEL_E_NOMEM;
     goto done;
   }
   for (size_t v = 0; v < nv; ++v) parent[v] = (uint32_t)v;
@@ -149,7 +107,7 @@ done:
   return st;
 }
 
-int balance_geom_tris_chord(const double (*tri_xy)[3][2], size_t n, const double p[2],
+int model_support_tris_chord(const double (*tri_xy)[3][2], size_t n, const double p[2],
                             const double d[2], double *s0, double *s1) {
   double lo = HUGE_VAL, hi = -HUGE_VAL;
   for (size_t t = 0; t < n; ++t) {
@@ -180,7 +138,7 @@ int balance_geom_tris_chord(const double (*tri_xy)[3][2], size_t n, const double
 
 /* ---- configuration ------------------------------------------------------------------------ */
 
-void balance_regime_config_default(balance_regime_config_t *cfg) {
+void model_regime_config_default(model_regime_config_t *cfg) {
   if (cfg == NULL) return;
   cfg->plane_tol_m = 1e-6;
   cfg->min_patch_area_m2 = 1e-4;
@@ -190,48 +148,48 @@ void balance_regime_config_default(balance_regime_config_t *cfg) {
   cfg->min_face_area_m2 = 1e-5;
 }
 
-balance_status_t balance_regime_config_check(const balance_regime_config_t *cfg) {
-  if (cfg == NULL) return BALANCE_E_ARG;
+model_status_t model_regime_config_check(const model_regime_config_t *cfg) {
+  if (cfg == NULL) return MODEL_E_ARG;
   const double all[6] = {cfg->plane_tol_m,        cfg->min_patch_area_m2, cfg->min_patch_width_m,
                          cfg->min_chord_margin_m, cfg->min_com_margin_m,  cfg->min_face_area_m2};
   for (int k = 0; k < 6; ++k) {
-    if (!isfinite(all[k])) return BALANCE_E_NONFINITE;
+    if (!isfinite(all[k])) return MODEL_E_NONFINITE;
   }
   if (!(cfg->plane_tol_m > 0.0) || !(cfg->min_patch_area_m2 > 0.0) ||
       !(cfg->min_patch_width_m > 0.0) || !(cfg->min_face_area_m2 > 0.0))
-    return BALANCE_E_ARG;
-  return BALANCE_OK;
+    return MODEL_E_ARG;
+  return MODEL_OK;
 }
 
-static balance_status_t config_resolve(const balance_regime_config_t *cfg,
-                                       balance_regime_config_t *out) {
+static model_status_t config_resolve(const model_regime_config_t *cfg,
+                                       model_regime_config_t *out) {
   if (cfg == NULL) {
-    balance_regime_config_default(out);
-    return BALANCE_OK;
+    model_regime_config_default(out);
+    return MODEL_OK;
   }
-  const balance_status_t st = balance_regime_config_check(cfg);
-  if (st == BALANCE_OK) *out = *cfg;
+  const model_status_t st = model_regime_config_check(cfg);
+  if (st == MODEL_OK) *out = *cfg;
   return st;
 }
 
 /* ---- orientations ------------------------------------------------------------------------- */
 
-void balance_orientation_yawed(const double orientation_wxyz[4], double yaw_rad, double out[4]) {
+void model_orientation_yawed(const double orientation_wxyz[4], double yaw_rad, double out[4]) {
   const double rz[4] = {cos(0.5 * yaw_rad), 0.0, 0.0, sin(0.5 * yaw_rad)};
   double r[4];
-  balance_geom_quat_mul(rz, orientation_wxyz, r);
+  model_quat_mul(rz, orientation_wxyz, r);
   const double n = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
   for (int k = 0; k < 4; ++k) out[k] = r[k] / n;
 }
 
-balance_status_t balance_orientation_resting(const double normal_link[3], double out[4]) {
-  if (normal_link == NULL || out == NULL) return BALANCE_E_ARG;
+model_status_t model_orientation_resting(const double normal_link[3], double out[4]) {
+  if (normal_link == NULL || out == NULL) return MODEL_E_ARG;
   for (int k = 0; k < 3; ++k) {
-    if (!isfinite(normal_link[k])) return BALANCE_E_NONFINITE;
+    if (!isfinite(normal_link[k])) return MODEL_E_NONFINITE;
   }
   const double len = sqrt(normal_link[0] * normal_link[0] + normal_link[1] * normal_link[1] +
                           normal_link[2] * normal_link[2]);
-  if (!(len > 0.0) || !isfinite(len)) return BALANCE_E_ARG;
+  if (!(len > 0.0) || !isfinite(len)) return MODEL_E_ARG;
   const double n[3] = {normal_link[0] / len, normal_link[1] / len, normal_link[2] / len};
   /* Shortest rotation n -> m = (0, 0, -1): q ~ (1 + n.m, n x m). */
   const double c = -n[2];
@@ -240,12 +198,12 @@ balance_status_t balance_orientation_resting(const double normal_link[3], double
     out[1] = 1.0;
     out[2] = 0.0;
     out[3] = 0.0;
-    return BALANCE_OK;
+    return MODEL_OK;
   }
   double q[4] = {1.0 + c, -n[1], n[0], 0.0}; /* n x (0,0,-1) = (-n_y, n_x, 0) */
   const double qn = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
   for (int k = 0; k < 4; ++k) out[k] = q[k] / qn;
-  return BALANCE_OK;
+  return MODEL_OK;
 }
 
 /* ---- resting patch ------------------------------------------------------------------------ */
@@ -253,9 +211,9 @@ balance_status_t balance_orientation_resting(const double normal_link[3], double
 /* The patch of the mesh in orientation q (unit) with the link origin at pos. When tris is not
  * NULL it receives the in-plane triangles in world x, y (malloc'd, out->face_count of them; the
  * caller frees it; NULL when there are none). */
-static balance_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
-                                      const double pos[3], const balance_regime_config_t *cfg,
-                                      balance_patch_t *out, double (**tris)[3][2]) {
+static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
+                                      const double pos[3], const model_regime_config_t *cfg,
+                                      model_patch_t *out, double (**tris)[3][2]) {
   const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
   double(*w)[3] = malloc(nv * sizeof *w);
   double(*xy)[2] = malloc(nv * sizeof *xy);
@@ -263,17 +221,17 @@ static balance_status_t patch_compute(const model_mesh_t *mesh, const double q[4
   double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
   double(*hull)[2] = malloc((nv + 1) * sizeof *hull);
   double(*tri_xy)[3][2] = tris != NULL ? malloc(nt * sizeof *tri_xy) : NULL;
-  balance_status_t st = BALANCE_OK;
+  model_status_t st = MODEL_OK;
   if (tris != NULL) *tris = NULL;
   if (w == NULL || xy == NULL || touch == NULL || pts == NULL || hull == NULL ||
       (tris != NULL && tri_xy == NULL)) {
-    st = BALANCE_E_NOMEM;
+    st = MODEL_E_NOMEM;
     goto done;
   }
   memset(out, 0, sizeof *out);
   double zmin = HUGE_VAL;
   for (size_t v = 0; v < nv; ++v) {
-    balance_geom_quat_rotate(q, mesh->vertices_m[v], w[v]);
+    model_quat_rotate(q, mesh->vertices_m[v], w[v]);
     for (int k = 0; k < 3; ++k) w[v][k] += pos[k];
     xy[v][0] = w[v][0];
     xy[v][1] = w[v][1];
@@ -286,9 +244,9 @@ static balance_status_t patch_compute(const model_mesh_t *mesh, const double q[4
       ++out->touch_count;
     }
   }
-  balance_geom_contact_t ct;
-  st = balance_geom_contact(mesh, (const double(*)[2])xy, touch, tri_xy, &ct);
-  if (st != BALANCE_OK) goto done;
+  model_support_contact_t ct;
+  st = model_support_contact(mesh, (const double(*)[2])xy, touch, tri_xy, &ct);
+  if (st != MODEL_OK) goto done;
   out->face_count = ct.triangle_count;
   out->faces_area_m2 = ct.area_m2;
   out->region_count = ct.region_count;
@@ -308,8 +266,8 @@ static balance_status_t patch_compute(const model_mesh_t *mesh, const double q[4
       }
     }
     const size_t nh = model_polygon_hull(pts, np, hull);
-    if (nh > BALANCE_PATCH_MAX_VERTICES) {
-      st = BALANCE_E_CAPACITY;
+    if (nh > MODEL_PATCH_MAX_VERTICES) {
+      st = MODEL_E_CAPACITY;
       goto done;
     }
     out->vertex_count = nh;
@@ -333,51 +291,51 @@ done:
   return st;
 }
 
-static balance_status_t pose_check(const balance_pose_t *pose, double q[4]) {
-  if (pose == NULL) return BALANCE_E_ARG;
+static model_status_t pose_check(const model_pose_t *pose, double q[4]) {
+  if (pose == NULL) return MODEL_E_ARG;
   for (int k = 0; k < 3; ++k) {
-    if (!isfinite(pose->position_m[k])) return BALANCE_E_NONFINITE;
+    if (!isfinite(pose->position_m[k])) return MODEL_E_NONFINITE;
   }
-  return balance_geom_quat_check(pose->orientation_wxyz, q);
+  return model_quat_unit(pose->orientation_wxyz, q);
 }
 
-static balance_status_t vec_check(const double v[3]) {
-  if (v == NULL) return BALANCE_E_ARG;
+static model_status_t vec_check(const double v[3]) {
+  if (v == NULL) return MODEL_E_ARG;
   for (int k = 0; k < 3; ++k) {
-    if (!isfinite(v[k])) return BALANCE_E_NONFINITE;
+    if (!isfinite(v[k])) return MODEL_E_NONFINITE;
   }
-  return BALANCE_OK;
+  return MODEL_OK;
 }
 
 /* The checks every patch function makes: config (resolved into *c), mesh, pose (q: unit). */
-static balance_status_t patch_args(const model_mesh_t *mesh_link, const balance_pose_t *pose,
-                                   const balance_regime_config_t *cfg, balance_regime_config_t *c,
+static model_status_t patch_args(const model_mesh_t *mesh_link, const model_pose_t *pose,
+                                   const model_regime_config_t *cfg, model_regime_config_t *c,
                                    double q[4]) {
-  balance_status_t st = config_resolve(cfg, c);
-  if (st == BALANCE_OK) st = balance_geom_mesh_check(mesh_link);
-  if (st == BALANCE_OK) st = pose_check(pose, q);
+  model_status_t st = config_resolve(cfg, c);
+  if (st == MODEL_OK) st = model_mesh_usable(mesh_link);
+  if (st == MODEL_OK) st = pose_check(pose, q);
   return st;
 }
 
-balance_status_t balance_patch_resting(const model_mesh_t *mesh_link, const balance_pose_t *pose,
-                                       const balance_regime_config_t *cfg, balance_patch_t *out) {
-  if (out == NULL) return BALANCE_E_ARG;
-  balance_regime_config_t c;
+model_status_t model_patch_resting(const model_mesh_t *mesh_link, const model_pose_t *pose,
+                                       const model_regime_config_t *cfg, model_patch_t *out) {
+  if (out == NULL) return MODEL_E_ARG;
+  model_regime_config_t c;
   double q[4];
-  const balance_status_t st = patch_args(mesh_link, pose, cfg, &c, q);
-  if (st != BALANCE_OK) return st;
+  const model_status_t st = patch_args(mesh_link, pose, cfg, &c, q);
+  if (st != MODEL_OK) return st;
   return patch_compute(mesh_link, q, pose->position_m, &c, out, NULL);
 }
 
 /* ---- chords and regimes ------------------------------------------------------------------- */
 
 /* Outward normal (x, y) of an edge and the unit direction of the "along" coordinate. */
-static int edge_axes(balance_edge_t edge, double normal[2], double along[2]) {
+static int edge_axes(model_edge_t edge, double normal[2], double along[2]) {
   switch (edge) {
-  case BALANCE_EDGE_PX: normal[0] = 1.0; normal[1] = 0.0; break;
-  case BALANCE_EDGE_NX: normal[0] = -1.0; normal[1] = 0.0; break;
-  case BALANCE_EDGE_PY: normal[0] = 0.0; normal[1] = 1.0; break;
-  case BALANCE_EDGE_NY: normal[0] = 0.0; normal[1] = -1.0; break;
+  case MODEL_EDGE_PX: normal[0] = 1.0; normal[1] = 0.0; break;
+  case MODEL_EDGE_NX: normal[0] = -1.0; normal[1] = 0.0; break;
+  case MODEL_EDGE_PY: normal[0] = 0.0; normal[1] = 1.0; break;
+  case MODEL_EDGE_NY: normal[0] = 0.0; normal[1] = -1.0; break;
   default: return 0;
   }
   along[0] = normal[0] != 0.0 ? 0.0 : 1.0;
@@ -387,7 +345,7 @@ static int edge_axes(balance_edge_t edge, double normal[2], double along[2]) {
 
 /* A resting patch with its in-plane triangles (world x, y), for chords. */
 typedef struct {
-  balance_patch_t patch;
+  model_patch_t patch;
   double (*tris)[3][2]; /* patch.face_count triangles, malloc'd */
 } contact_t;
 
@@ -397,22 +355,22 @@ static void contact_free(contact_t *c) {
 }
 
 /* The patch of mesh_link resting in `pose` with its triangles; *out NULL on error. */
-static balance_status_t contact_build(const model_mesh_t *mesh_link, const balance_pose_t *pose,
-                                      const balance_regime_config_t *cfg, contact_t **out) {
+static model_status_t contact_build(const model_mesh_t *mesh_link, const model_pose_t *pose,
+                                      const model_regime_config_t *cfg, contact_t **out) {
   *out = NULL;
-  balance_regime_config_t c;
+  model_regime_config_t c;
   double q[4];
-  balance_status_t st = patch_args(mesh_link, pose, cfg, &c, q);
-  if (st != BALANCE_OK) return st;
+  model_status_t st = patch_args(mesh_link, pose, cfg, &c, q);
+  if (st != MODEL_OK) return st;
   contact_t *ct = calloc(1, sizeof *ct);
-  if (ct == NULL) return BALANCE_E_NOMEM;
+  if (ct == NULL) return MODEL_E_NOMEM;
   st = patch_compute(mesh_link, q, pose->position_m, &c, &ct->patch, &ct->tris);
-  if (st != BALANCE_OK) {
+  if (st != MODEL_OK) {
     contact_free(ct);
     return st;
   }
   *out = ct;
-  return BALANCE_OK;
+  return MODEL_OK;
 }
 
 /* Chord margin of the line through p along `dir` (unit) across the real contact of a flat patch:
@@ -422,7 +380,7 @@ static double chord_margin(const contact_t *ct, const double p[2], const double 
                            double *s0, double *s1) {
   double lo = 0.0, hi = 0.0;
   if (!ct->patch.flat ||
-      !balance_geom_tris_chord((const double(*)[3][2])ct->tris, ct->patch.face_count, p, dir, &lo,
+      !model_support_tris_chord((const double(*)[3][2])ct->tris, ct->patch.face_count, p, dir, &lo,
                                &hi))
     return -HUGE_VAL;
   if (s0 != NULL) *s0 = lo;
@@ -430,31 +388,31 @@ static double chord_margin(const contact_t *ct, const double p[2], const double 
   return fmin(-lo, hi);
 }
 
-balance_status_t balance_regime_classify(const model_mesh_t *mesh_link, const balance_pose_t *pose,
-                                         const double base_size_m[3], balance_edge_t edge,
+model_status_t model_regime_classify(const model_mesh_t *mesh_link, const model_pose_t *pose,
+                                         const double base_size_m[3], model_edge_t edge,
                                          const double com_estimate_link_m[3],
-                                         const balance_regime_config_t *cfg,
-                                         balance_regime_t *out) {
-  if (out == NULL || base_size_m == NULL) return BALANCE_E_ARG;
-  balance_status_t st = vec_check(com_estimate_link_m);
-  if (st == BALANCE_OK) st = vec_check(base_size_m);
-  if (st != BALANCE_OK) return st;
+                                         const model_regime_config_t *cfg,
+                                         model_regime_t *out) {
+  if (out == NULL || base_size_m == NULL) return MODEL_E_ARG;
+  model_status_t st = vec_check(com_estimate_link_m);
+  if (st == MODEL_OK) st = vec_check(base_size_m);
+  if (st != MODEL_OK) return st;
   double normal[2], along[2];
-  if (!edge_axes(edge, normal, along)) return BALANCE_E_ARG;
+  if (!edge_axes(edge, normal, along)) return MODEL_E_ARG;
   for (int k = 0; k < 3; ++k) {
-    if (!(base_size_m[k] > 0.0)) return BALANCE_E_ARG;
+    if (!(base_size_m[k] > 0.0)) return MODEL_E_ARG;
   }
   memset(out, 0, sizeof *out);
   contact_t *ct = NULL;
   st = contact_build(mesh_link, pose, cfg, &ct);
-  if (st != BALANCE_OK) return st;
+  if (st != MODEL_OK) return st;
   out->patch = ct->patch;
-  balance_regime_config_t c;
-  balance_regime_config_default(&c);
+  model_regime_config_t c;
+  model_regime_config_default(&c);
   if (cfg != NULL) c = *cfg; /* checked by contact_build */
   double q[4], cw[3];
-  balance_geom_quat_check(pose->orientation_wxyz, q);
-  balance_geom_quat_rotate(q, com_estimate_link_m, cw);
+  model_quat_unit(pose->orientation_wxyz, q);
+  model_quat_rotate(q, com_estimate_link_m, cw);
   const double p[2] = {cw[0] + pose->position_m[0], cw[1] + pose->position_m[1]};
   const double half = 0.5 * (normal[0] != 0.0 ? base_size_m[0] : base_size_m[1]);
   out->com_along_m = p[0] * along[0] + p[1] * along[1];
@@ -463,7 +421,7 @@ balance_status_t balance_regime_classify(const model_mesh_t *mesh_link, const ba
   const double on[2] = {p[0] - out->com_beyond_m * normal[0], p[1] - out->com_beyond_m * normal[1]};
   double s0 = 0.0, s1 = 0.0;
   out->chord_margin_m = -HUGE_VAL;
-  if (balance_geom_tris_chord((const double(*)[3][2])ct->tris, ct->patch.face_count, on, along,
+  if (model_support_tris_chord((const double(*)[3][2])ct->tris, ct->patch.face_count, on, along,
                               &s0, &s1)) {
     out->chord_valid = 1;
     out->chord_m[0] = out->com_along_m + s0;
@@ -474,14 +432,14 @@ balance_status_t balance_regime_classify(const model_mesh_t *mesh_link, const ba
   if (!out->patch.flat || !out->chord_valid) {
     /* No flat patch on the edge line. A patch that exists but is too small still meets the edge
      * along a short segment: that rolls, it does not drop. */
-    out->kind = out->chord_valid ? BALANCE_REGIME_EDGE_ROLL : BALANCE_REGIME_POINT_SUPPORT;
+    out->kind = out->chord_valid ? MODEL_REGIME_EDGE_ROLL : MODEL_REGIME_POINT_SUPPORT;
   } else if (out->chord_margin_m >= c.min_chord_margin_m) {
-    out->kind = BALANCE_REGIME_FLAT_PATCH;
+    out->kind = MODEL_REGIME_FLAT_PATCH;
   } else {
-    out->kind = BALANCE_REGIME_EDGE_ROLL;
+    out->kind = MODEL_REGIME_EDGE_ROLL;
   }
-  out->flat_patch_regime = out->kind == BALANCE_REGIME_FLAT_PATCH;
-  return BALANCE_OK;
+  out->flat_patch_regime = out->kind == MODEL_REGIME_FLAT_PATCH;
+  return MODEL_OK;
 }
 
 /* ---- yaws --------------------------------------------------------------------------------- */
@@ -495,53 +453,53 @@ static double yaw_margin(const contact_t *ct, const double p[2], const double al
   return chord_margin(ct, p, d, NULL, NULL);
 }
 
-static balance_status_t yaw_setup(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
-                                  const double com_estimate_link_m[3], balance_edge_t edge,
+static model_status_t yaw_setup(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
+                                  const double com_estimate_link_m[3], model_edge_t edge,
                                   const double *out1, const double *out2,
-                                  const balance_regime_config_t *cfg, contact_t **ct,
+                                  const model_regime_config_t *cfg, contact_t **ct,
                                   double p[2], double along[2]) {
   *ct = NULL;
-  if (out1 == NULL || out2 == NULL || orientation_wxyz == NULL) return BALANCE_E_ARG;
+  if (out1 == NULL || out2 == NULL || orientation_wxyz == NULL) return MODEL_E_ARG;
   double normal[2];
-  if (!edge_axes(edge, normal, along)) return BALANCE_E_ARG;
-  balance_status_t st = vec_check(com_estimate_link_m);
-  if (st != BALANCE_OK) return st;
-  balance_pose_t pose = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
+  if (!edge_axes(edge, normal, along)) return MODEL_E_ARG;
+  model_status_t st = vec_check(com_estimate_link_m);
+  if (st != MODEL_OK) return st;
+  model_pose_t pose = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
   memcpy(pose.orientation_wxyz, orientation_wxyz, sizeof pose.orientation_wxyz);
   st = contact_build(mesh_link, &pose, cfg, ct);
-  if (st != BALANCE_OK) return st;
+  if (st != MODEL_OK) return st;
   double q[4], cw[3];
-  balance_geom_quat_check(orientation_wxyz, q);
-  balance_geom_quat_rotate(q, com_estimate_link_m, cw);
+  model_quat_unit(orientation_wxyz, q);
+  model_quat_rotate(q, com_estimate_link_m, cw);
   p[0] = cw[0];
   p[1] = cw[1];
-  return BALANCE_OK;
+  return MODEL_OK;
 }
 
-balance_status_t balance_yaw_margins(const model_mesh_t *mesh_link,
-                                     const double orientation_wxyz[4], balance_edge_t edge,
-                                     const balance_regime_config_t *cfg, size_t n,
+model_status_t model_yaw_margins(const model_mesh_t *mesh_link,
+                                     const double orientation_wxyz[4], model_edge_t edge,
+                                     const model_regime_config_t *cfg, size_t n,
                                      const double *yaw_rad, const double (*com_estimate_link_m)[3],
                                      double *margin_m) {
-  if (n == 0) return BALANCE_OK;
-  if (yaw_rad == NULL || com_estimate_link_m == NULL) return BALANCE_E_ARG;
+  if (n == 0) return MODEL_OK;
+  if (yaw_rad == NULL || com_estimate_link_m == NULL) return MODEL_E_ARG;
   for (size_t i = 0; i < n; ++i) {
-    if (!isfinite(yaw_rad[i])) return BALANCE_E_NONFINITE;
-    const balance_status_t st = vec_check(com_estimate_link_m[i]);
-    if (st != BALANCE_OK) return st;
+    if (!isfinite(yaw_rad[i])) return MODEL_E_NONFINITE;
+    const model_status_t st = vec_check(com_estimate_link_m[i]);
+    if (st != MODEL_OK) return st;
   }
   contact_t *ct = NULL;
   double p[2], along[2];
   const double dummy = 0.0;
   /* the contact depends on the orientation only: built once for every (yaw, point) */
-  balance_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m[0], edge,
+  model_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m[0], edge,
                                   margin_m, &dummy, cfg, &ct, p, along);
-  if (st == BALANCE_OK) {
+  if (st == MODEL_OK) {
     double q[4];
-    balance_geom_quat_check(orientation_wxyz, q);
+    model_quat_unit(orientation_wxyz, q);
     for (size_t i = 0; i < n; ++i) {
       double cw[3];
-      balance_geom_quat_rotate(q, com_estimate_link_m[i], cw);
+      model_quat_rotate(q, com_estimate_link_m[i], cw);
       const double pi[2] = {cw[0], cw[1]};
       margin_m[i] = yaw_margin(ct, pi, along, yaw_rad[i]);
     }
@@ -550,24 +508,24 @@ balance_status_t balance_yaw_margins(const model_mesh_t *mesh_link,
   return st;
 }
 
-balance_status_t balance_yaw_margin(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
-                                    const double com_estimate_link_m[3], balance_edge_t edge,
-                                    double yaw_rad, const balance_regime_config_t *cfg,
+model_status_t model_yaw_margin(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
+                                    const double com_estimate_link_m[3], model_edge_t edge,
+                                    double yaw_rad, const model_regime_config_t *cfg,
                                     double *margin_m) {
-  if (com_estimate_link_m == NULL) return BALANCE_E_ARG;
-  return balance_yaw_margins(mesh_link, orientation_wxyz, edge, cfg, 1, &yaw_rad,
+  if (com_estimate_link_m == NULL) return MODEL_E_ARG;
+  return model_yaw_margins(mesh_link, orientation_wxyz, edge, cfg, 1, &yaw_rad,
                              (const double(*)[3])com_estimate_link_m, margin_m);
 }
 
-balance_status_t balance_yaw_best(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
-                                  const double com_estimate_link_m[3], balance_edge_t edge,
-                                  const balance_regime_config_t *cfg, double *yaw_rad,
+model_status_t model_yaw_best(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
+                                  const double com_estimate_link_m[3], model_edge_t edge,
+                                  const model_regime_config_t *cfg, double *yaw_rad,
                                   double *margin_m) {
   contact_t *ct = NULL;
   double p[2], along[2];
-  balance_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m, edge, yaw_rad,
+  model_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m, edge, yaw_rad,
                                   margin_m, cfg, &ct, p, along);
-  if (st != BALANCE_OK) return st;
+  if (st != MODEL_OK) return st;
   enum { STEPS = 360, GOLDEN_ITERS = 40 };
   const double pi = 3.14159265358979323846, step = pi / STEPS;
   int best = -1;
@@ -611,5 +569,5 @@ balance_status_t balance_yaw_best(const model_mesh_t *mesh_link, const double or
   *yaw_rad = best_psi;
   *margin_m = best_m;
   contact_free(ct);
-  return BALANCE_OK;
+  return MODEL_OK;
 }

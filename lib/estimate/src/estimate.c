@@ -1,0 +1,1356 @@
+/*
+ * estimate.c - the estimator side of `comlearn estimate` (see estimate.h and docs/estimate.md).
+ * Geometry only: this file must never include comlearn/model_inertial.h.
+ */
+#include "comlearn/estimate.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "comlearn/model_support.h"
+#include "comlearn/qlearn_solve.h"
+
+#define PI 3.14159265358979323846
+enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw sweep over [0, pi) */
+
+/* Bound on the threshold bias of one flat-patch edge test in lib/balance (docs/physics.md: <= 2.4 um
+ * measured down to a 0.97 mm chord margin, <= 5 um asserted by the accuracy tests). */
+#define ESTIMATE_PHYSICS_BIAS_M 5e-6
+/* How far from the estimate (along the test direction) a planned edge line is checked. */
+#define ESTIMATE_PLAN_OFFSET_M 3e-3
+
+const char *estimate_policy_name(qlearn_policy_kind_t k) {
+  switch (k) {
+    case QLEARN_POLICY_BISECT: return "bisect";
+    case QLEARN_POLICY_PBA: return "pba";
+    case QLEARN_POLICY_PAPER_QTABLE: return "paper-qtable";
+    case QLEARN_POLICY_PAPER_MLP: return "paper-mlp";
+  }
+  return "?";
+}
+
+int estimate_policy_parse(const char *s, qlearn_policy_kind_t *k) {
+  static const qlearn_policy_kind_t all[] = {QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA,
+                                             QLEARN_POLICY_PAPER_QTABLE, QLEARN_POLICY_PAPER_MLP};
+  for (size_t i = 0; s && i < sizeof all / sizeof all[0]; ++i)
+    if (strcmp(s, estimate_policy_name(all[i])) == 0) {
+      *k = all[i];
+      return 0;
+    }
+  return -1;
+}
+
+const char *estimate_status_str(estimate_status_t s) {
+  switch (s) {
+    case ESTIMATE_OK: return "ok";
+    case ESTIMATE_E_ARG: return "bad argument";
+    case ESTIMATE_E_GEOMETRY: return "no usable flat face in the geometry";
+    case ESTIMATE_E_BACKEND: return "trial backend failed";
+    case ESTIMATE_E_NOPOSE: return "no resting face confirmed stable";
+    case ESTIMATE_E_CAPACITY: return "too many trials";
+    case ESTIMATE_E_LEARNER: return "learner error";
+    case ESTIMATE_E_NOMEM: return "out of memory";
+    case ESTIMATE_E_STATE: return "no trial is pending";
+    case ESTIMATE_DONE: return "done";
+  }
+  return "unknown status";
+}
+
+void estimate_config_default(estimate_config_t *cfg) {
+  memset(cfg, 0, sizeof *cfg);
+  cfg->policy = QLEARN_POLICY_BISECT;
+  cfg->resolution_m = 1e-4;
+  cfg->max_halfwidth_m = 1e-3;
+  cfg->z = 1.96;
+  cfg->seed = 1;
+  cfg->min_chord_margin_m = 0.003;
+  cfg->min_dir_angle_rad = PI / 3.0;
+  cfg->min_face_angle_rad = PI / 6.0;
+  cfg->noise_max_trials = 48;
+  cfg->verify_margin_m = 0.001;
+  cfg->max_retests = 3;
+}
+
+typedef struct {
+  int face;
+  double yaw[2];
+  double margin[2];
+  double score;
+} face_plan_t;
+
+/* What one search needs while its trials run. */
+typedef struct {
+  int si;           /* its index in out->search */
+  int log_face;     /* its face in out->face */
+  int comp;         /* the link axis it determines most */
+  double q[4];      /* the resting orientation, yawed */
+  double u[3];      /* the test direction, link frame */
+  double lo, hi;    /* its range */
+} search_ctx_t;
+
+typedef enum {
+  PHASE_START = 0,      /* nothing planned yet: the first estimate_next plans face 1 */
+  PHASE_FACE1,          /* stable checks of face 1's candidates, in plan order */
+  PHASE_FACE1_SEARCH0,  /* face 1's first search */
+  PHASE_FACE1_SEARCH1,  /* face 1's second search */
+  PHASE_FACE2,          /* stable checks of face 2's candidates */
+  PHASE_FACE2_SEARCH,   /* face 2's search */
+  PHASE_RETEST,         /* a search again, from the check at the estimate */
+  PHASE_DONE,
+  PHASE_FAILED
+} phase_t;
+
+/* The search whose trials are running: its context and where its walk stands. */
+typedef struct {
+  search_ctx_t sc;
+  qlearn_policy_t *pol;          /* the walking policy: &est->policy, then &est->handover */
+  qlearn_policy_config_t pc;     /* the walk's config (the handover starts from its range) */
+  int in_handover;               /* the PBA handover after a noisy walk is running */
+  uint32_t n;                    /* trials the current walk observed */
+  double x;                      /* the policy's proposed x for the trial in flight */
+  int attempt;                   /* retries of that x after unclear outcomes */
+  uint32_t *ran;                 /* counts the handover's trials (NULL during the walk) */
+  char stopped[ESTIMATE_NOTE_SIZE]; /* why the walk ended early ("" when it did not) */
+} walk_t;
+
+/* Everything one estimate needs, in the one allocation of estimate_create; nothing is allocated
+ * after that by the estimator itself (lib/model's geometry allocates temporary memory inside its
+ * calls, and frees it before returning). */
+struct estimate {
+  const model_mesh_t *mesh;     /* the caller's, link frame; must outlive the estimate */
+  double base_size_m[3];        /* B */
+  estimate_config_t cfg_copy;
+  const estimate_config_t *cfg; /* = &cfg_copy */
+  estimate_result_t result;
+  estimate_result_t *out;       /* = &result */
+  phase_t phase;
+  estimate_status_t status;     /* of the failure, once phase is PHASE_FAILED */
+  /* The trial asked for and not yet observed, with what its log entry needs. */
+  int pending;
+  int refused;                  /* the last reply was refused (its message is in out->msg) */
+  estimate_trial_request_t req;
+  int req_face;                 /* its face in out->face */
+  double req_x_m;               /* edge trial: the x planned */
+  /* Face choice: the candidate plans being confirmed, in order. */
+  size_t np, ci;                /* plans and the one being checked */
+  face_plan_t chosen;           /* the confirmed plan of face 1 / face 2 */
+  int chosen_log;               /* its index in out->face */
+  int face1;                    /* face 1's index in faces[] */
+  walk_t walk;
+  uint32_t retests;             /* verify_loop: retests spent, the pass, the search redone */
+  int pass;
+  int retest_of;
+  double uniform_com_m[3];      /* the mesh's uniform-density CoM (planning) */
+  double guess_m[3];            /* current CoM estimate, link frame (planning) */
+  double start_m[3];            /* where the next search starts: cfg->start, moved alike */
+  double halfwidth_m[3];        /* its half widths (INFINITY until a solve finds the component) */
+  int noisy;                    /* cfg->noise_sigma_m > 0 */
+  char face2_note[ESTIMATE_NOTE_SIZE]; /* why the second face gave no search ("" if it did) */
+  int face_src[ESTIMATE_MAX_FACES];    /* out->face[i] is faces[face_src[i]] */
+  model_face_t faces[FACE_CAP];
+  size_t nfaces;
+  face_plan_t plans[FACE_CAP];  /* the candidates of face 1, then of face 2 */
+  model_regime_t regime;        /* scratch (~4 KiB) */
+  qlearn_policy_t policy;       /* the current search (~12 KiB for PBA) */
+  qlearn_policy_t handover;     /* PBA after a noisy walk */
+  qlearn_solve_t solve;
+  qlearn_solve_result_t res;    /* the latest solve */
+  qlearn_solve_result_t last;   /* the latest solve (update_guess), for planning */
+  int have_solve;
+};
+typedef struct estimate est_t;
+
+static double dot3(const double a[3], const double b[3]) {
+  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Link-frame direction of world +x (the +X edge's normal) for orientation q: R^T e_x. */
+static void dir_of(const double q[4], double dir[3]) {
+  double r[3][3];
+  model_quat_to_rot(q, r);
+  for (int k = 0; k < 3; ++k) dir[k] = r[0][k];
+}
+
+/* The threshold plane of a trial released at `pose` over the +X edge: n_obj . c = d. */
+static void trial_plane(const est_t *est, const model_pose_t *pose, double n_obj[3],
+                        double *d_m) {
+  double n[3], d_edge, r[3][3];
+  model_edge_line(est->base_size_m, MODEL_EDGE_PX, n, &d_edge);
+  model_quat_to_rot(pose->orientation_wxyz, r);
+  for (int k = 0; k < 3; ++k) n_obj[k] = r[0][k] * n[0] + r[1][k] * n[1] + r[2][k] * n[2];
+  *d_m = d_edge - dot3(n, pose->position_m);
+}
+
+static double quat_angle(const double a[4], const double b[4]) {
+  double c = fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]);
+  return 2.0 * acos(c > 1.0 ? 1.0 : c);
+}
+
+static estimate_status_t fail(est_t *est, estimate_status_t s, const char *what) {
+  snprintf(est->out->msg, sizeof est->out->msg, "%s", what);
+  return s;
+}
+
+/* The request fields every trial carries for records: the running estimate before it. */
+static void request_common(const est_t *est, estimate_trial_request_t *req) {
+  memcpy(req->com_before_m, est->guess_m, sizeof req->com_before_m);
+  memcpy(req->halfwidth_before_m, est->halfwidth_m, sizeof req->halfwidth_before_m);
+}
+
+/* Ask for a trial: it is pending until estimate_observe brings its reply. */
+static estimate_status_t request(est_t *est, const estimate_trial_request_t *req, int face,
+                                 double x_m) {
+  if (est->out->trial_count >= ESTIMATE_MAX_TRIALS)
+    return fail(est, ESTIMATE_E_CAPACITY, "trial log full");
+  est->req = *req;
+  est->req_face = face;
+  est->req_x_m = x_m;
+  est->pending = 1;
+  return ESTIMATE_OK;
+}
+
+/* Log the pending trial with its reply. */
+static estimate_trial_t *log_trial(est_t *est, const estimate_trial_reply_t *reply) {
+  estimate_result_t *out = est->out;
+  const estimate_trial_request_t *req = &est->req;
+  estimate_trial_t *t = &out->trial[out->trial_count++];
+  memset(t, 0, sizeof *t);
+  t->kind = req->kind;
+  memcpy(t->target_link_m, req->target_link_m, sizeof t->target_link_m);
+  t->face = est->req_face;
+  t->search = req->search;
+  t->x_m = est->req_x_m;
+  t->outcome = reply->outcome;
+  t->regime = -1;
+  t->chord_margin_m = NAN;
+  t->released = reply->released;
+  t->settled = reply->settled;
+  if (req->kind == ESTIMATE_TRIAL_STABLE) {
+    ++out->stable_trials;
+  } else {
+    /* Classify what was actually released, with the current estimate: only flat-patch trials
+     * measure the CoM (docs/physics.md, "Where an edge test measures the CoM exactly"). */
+    model_regime_t *reg = &est->regime;
+    model_status_t ms = model_regime_classify(est->mesh, &reply->released, est->base_size_m,
+                                              req->edge, est->guess_m, NULL, reg);
+    if (ms == MODEL_OK) {
+      t->regime = (int)reg->kind;
+      t->chord_margin_m = reg->chord_margin_m;
+    }
+    t->flagged = ms != MODEL_OK || !reg->flat_patch_regime ||
+                 (reply->outcome != ESTIMATE_STAYS && reply->outcome != ESTIMATE_TIPS);
+    if (t->flagged) ++out->flagged_trials;
+  }
+  est->pending = 0;
+  return t;
+}
+
+/* Set the object down in `face`'s resting orientation with the current estimate over B's middle;
+ * it rests stably when it stays, barely moved (stable_reply). */
+static estimate_status_t stable_request(est_t *est, int face_index, int log_face) {
+  const model_face_t *f = &est->faces[face_index];
+  estimate_trial_request_t req;
+  memset(&req, 0, sizeof req);
+  req.kind = ESTIMATE_TRIAL_STABLE;
+  req.edge = MODEL_EDGE_PX;
+  req.search = -1;
+  req.component = -1;
+  req.direction = 0;
+  memcpy(req.target_link_m, est->guess_m, sizeof req.target_link_m);
+  request_common(est, &req);
+  double r[3][3];
+  memcpy(req.release.orientation_wxyz, f->orientation_wxyz, sizeof f->orientation_wxyz);
+  model_quat_to_rot(f->orientation_wxyz, r);
+  double bottom = model_mesh_bottom_z(est->mesh, f->orientation_wxyz);
+  if (!isfinite(bottom)) return fail(est, ESTIMATE_E_GEOMETRY, "resting orientation not usable");
+  for (int i = 0; i < 2; ++i)
+    req.release.position_m[i] = -(r[i][0] * est->guess_m[0] + r[i][1] * est->guess_m[1] +
+                                  r[i][2] * est->guess_m[2]);
+  req.release.position_m[2] = -bottom - 1e-6; /* touching: 1 um pre-penetrated, never dropped */
+  return request(est, &req, log_face, 0.0);
+}
+
+/* Did the stable check t confirm its face? */
+static int stable_confirmed(const estimate_trial_t *t) {
+  model_stable_config_t sc;
+  model_stable_config_default(&sc);
+  double dx = t->settled.position_m[0] - t->released.position_m[0];
+  double dy = t->settled.position_m[1] - t->released.position_m[1];
+  double dz = t->settled.position_m[2] - t->released.position_m[2];
+  return t->outcome == ESTIMATE_STAYS &&
+         quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz) <=
+             sc.max_rotation_rad &&
+         sqrt(dx * dx + dy * dy + dz * dz) <= sc.max_displacement_m;
+}
+
+/* The range of a search along u: the object's extent along u, 1 mm inside at each end (a CoM
+ * cannot lie on the hull surface, and a point at the very extreme over the edge leaves nothing
+ * of the object over B to set it down on). */
+static void search_range(const est_t *est, const double u[3], double *lo, double *hi) {
+  *lo = HUGE_VAL;
+  *hi = -HUGE_VAL;
+  for (size_t i = 0; i < est->mesh->vertex_count; ++i) {
+    const double p = dot3(est->mesh->vertices_m[i], u);
+    if (p < *lo) *lo = p;
+    if (p > *hi) *hi = p;
+  }
+  *lo += 1e-3;
+  *hi -= 1e-3;
+}
+
+
+/* Plan the placement of link point g + (x - u.g) u over the +X edge and ask for it. */
+static estimate_status_t edge_request(est_t *est, const search_ctx_t *sc, double xa) {
+  estimate_result_t *out = est->out;
+  double p_link[3];
+  const double gx = dot3(est->guess_m, sc->u);
+  for (int k = 0; k < 3; ++k) p_link[k] = est->guess_m[k] + (xa - gx) * sc->u[k];
+  estimate_trial_request_t req;
+  memset(&req, 0, sizeof req);
+  req.kind = ESTIMATE_TRIAL_EDGE;
+  req.edge = MODEL_EDGE_PX;
+  model_status_t ms = model_pose_over_edge(est->mesh, est->base_size_m, sc->q, MODEL_EDGE_PX,
+                                           p_link, 0.0, 1e-6, &req.release);
+  if (ms != MODEL_OK) {
+    snprintf(out->msg, sizeof out->msg, "planning a placement at x = %.6f m: %s", xa,
+             model_status_str(ms));
+    return ESTIMATE_E_GEOMETRY;
+  }
+  req.search = sc->si;
+  req.component = sc->comp;
+  req.direction = sc->u[sc->comp] >= 0.0 ? 1 : -1;
+  memcpy(req.target_link_m, p_link, sizeof p_link);
+  request_common(est, &req);
+  /* the planned pose's regime, as log_trial classifies the released one */
+  req.flat_patch = 0;
+  req.sideways_margin_m = -HUGE_VAL;
+  if (model_regime_classify(est->mesh, &req.release, est->base_size_m, req.edge, est->guess_m,
+                            NULL, &est->regime) == MODEL_OK) {
+    req.flat_patch = est->regime.flat_patch_regime != 0;
+    req.sideways_margin_m = est->regime.chord_margin_m;
+  }
+  return request(est, &req, sc->log_face, xa);
+}
+
+/* Log an edge trial's reply; t->x_m becomes the x actually achieved. */
+static estimate_trial_t *edge_logged(est_t *est, const search_ctx_t *sc,
+                                     const estimate_trial_reply_t *reply) {
+  const double xa = est->req_x_m;
+  estimate_trial_t *t = log_trial(est, reply);
+  ++est->out->search[sc->si].trials;
+  /* The placement actually achieved: its plane's offset along u (equal to xa when exact). */
+  double n_obj[3], d;
+  trial_plane(est, &t->released, n_obj, &d);
+  double x_got = dot3(n_obj, sc->u) > 0.99 ? d / dot3(n_obj, sc->u) : xa;
+  if (!(x_got >= sc->lo && x_got <= sc->hi)) x_got = xa;
+  t->x_m = x_got;
+  return t;
+}
+
+static int clear_outcome(const estimate_trial_t *t) {
+  return t->outcome == ESTIMATE_STAYS || t->outcome == ESTIMATE_TIPS;
+}
+
+/* Record a clear trial's outcome in a policy. */
+static qlearn_status_t observe_trial(qlearn_policy_t *pol, const estimate_trial_t *t) {
+  return qlearn_policy_observe(pol, t->x_m, t->outcome == ESTIMATE_STAYS ? QLEARN_STAYS : QLEARN_TIPS);
+}
+
+/* Does trial i (of search sr, clear) set the threshold? Noiseless: it is one of the two
+ * bracketing trials; with a noise model: it lies within c +- (h + 3 sigma). */
+static int deciding_trial(const est_t *est, const estimate_search_t *sr, size_t i) {
+  if (!est->noisy) return (int)i == sr->lo_trial || (int)i == sr->hi_trial;
+  return fabs(est->out->trial[i].x_m - sr->c_m) <= sr->halfwidth_m + 3.0 * est->cfg->noise_sigma_m;
+}
+
+/* The probit noise model of cfg->noise_sigma_m in a PBA config; its searches stop at
+ * max(resolution, sigma), at most the range. */
+static void probit_config(const est_t *est, qlearn_policy_config_t *pc) {
+  pc->noise = QLEARN_NOISE_PROBIT;
+  pc->sigma_m = est->cfg->noise_sigma_m;
+  pc->resolution_m = fmax(est->cfg->resolution_m, est->cfg->noise_sigma_m);
+  if (pc->resolution_m > pc->range_hi_m - pc->range_lo_m)
+    pc->resolution_m = pc->range_hi_m - pc->range_lo_m;
+}
+
+static estimate_status_t search_done(est_t *est);
+static estimate_status_t walk_end(est_t *est);
+static void search_plane(est_t *est, const search_ctx_t *sc);
+static void search_estimate(est_t *est, const search_ctx_t *sc, const qlearn_policy_t *pol);
+
+/* Ask for the walk's trial at its x, moved by a quarter of the resolution per retry. */
+static estimate_status_t walk_request(est_t *est) {
+  walk_t *w = &est->walk;
+  const int attempt = w->attempt;
+  double xa = w->x + 0.25 * est->cfg->resolution_m * attempt * (attempt % 2 ? 1.0 : -1.0);
+  if (xa < w->sc.lo) xa = w->sc.lo;
+  if (xa > w->sc.hi) xa = w->sc.hi;
+  return edge_request(est, &w->sc, xa);
+}
+
+/* The next trial the walking policy asks for, or the walk's end. */
+static estimate_status_t walk_next(est_t *est) {
+  walk_t *w = &est->walk;
+  if (!(w->n < QLEARN_MAX_TRIALS && !qlearn_policy_done(w->pol))) return walk_end(est);
+  qlearn_status_t qs = qlearn_policy_next(w->pol, &w->x);
+  if (qs == QLEARN_E_DONE) return walk_end(est);
+  if (qs != QLEARN_OK) {
+    snprintf(est->out->msg, sizeof est->out->msg, "policy next: %s", qlearn_status_str(qs));
+    return ESTIMATE_E_LEARNER;
+  }
+  w->attempt = 0;
+  return walk_request(est);
+}
+
+/* An edge trial's reply. An unclear outcome (INVALID: still moving at the horizon, or SLIDES) says
+ * nothing about the CoM: it is logged, flagged and not observed; the placement is retried a
+ * quarter of the resolution further on (at most ESTIMATE_RETRIES times; the simulation is
+ * deterministic, so the same pose would give the same answer). The walk stops early, with a reason
+ * in w->stopped, when no retry gives a clear outcome or the outcomes contradict a noiseless
+ * bracket (only bisect refuses those). */
+static estimate_status_t walk_reply(est_t *est, const estimate_trial_reply_t *reply) {
+  walk_t *w = &est->walk;
+  const estimate_trial_t *t = edge_logged(est, &w->sc, reply);
+  if (w->ran) ++*w->ran;
+  if (!clear_outcome(t)) {
+    if (++w->attempt <= ESTIMATE_RETRIES) return walk_request(est);
+    snprintf(w->stopped, sizeof w->stopped, "no clear outcome near x = %.3f mm", 1e3 * w->x);
+    return walk_end(est);
+  }
+  qlearn_status_t qs = observe_trial(w->pol, t);
+  if (qs == QLEARN_E_RANGE) {
+    snprintf(w->stopped, sizeof w->stopped,
+             "outcome at x = %.3f mm contradicts the earlier ones (noise, or physics the "
+             "noiseless model does not cover)", 1e3 * t->x_m);
+    return walk_end(est);
+  }
+  if (qs != QLEARN_OK) {
+    snprintf(est->out->msg, sizeof est->out->msg, "search %d: outcome refused by the policy: %s",
+             w->sc.si, qlearn_status_str(qs));
+    return ESTIMATE_E_LEARNER;
+  }
+  ++w->n;
+  return walk_next(est);
+}
+
+/* Noisy walk: hand over to PBA with the probit noise model, starting from the posterior of every
+ * clear trial the walk made, and run it until its interval is narrow enough. */
+static estimate_status_t handover_start(est_t *est) {
+  estimate_result_t *out = est->out;
+  walk_t *w = &est->walk;
+  const search_ctx_t *sc = &w->sc;
+  estimate_search_t *sr = &out->search[sc->si];
+  qlearn_policy_config_t pc;
+  qlearn_policy_config_default(QLEARN_POLICY_PBA, &pc);
+  pc.range_lo_m = w->pc.range_lo_m;
+  pc.range_hi_m = w->pc.range_hi_m;
+  pc.prior_m = w->pc.prior_m;
+  probit_config(est, &pc);
+  pc.max_trials = QLEARN_MAX_TRIALS;
+  qlearn_policy_t *pba = &est->handover;
+  qlearn_status_t qs = qlearn_policy_init(pba, &pc);
+  uint32_t seen = 0;
+  for (size_t i = 0; qs == QLEARN_OK && i < out->trial_count; ++i) {
+    const estimate_trial_t *t = &out->trial[i];
+    if (t->search != sc->si || !clear_outcome(t)) continue;
+    qs = observe_trial(pba, t);
+    ++seen;
+  }
+  if (qs == QLEARN_E_DONE) qs = QLEARN_OK; /* already narrow enough */
+  if (qs != QLEARN_OK) {
+    snprintf(out->msg, sizeof out->msg, "search %d: handover: %s", sc->si, qlearn_status_str(qs));
+    return ESTIMATE_E_LEARNER;
+  }
+  pba->cfg.max_trials = seen + est->cfg->noise_max_trials; /* cap the extra trials */
+  if (pba->cfg.max_trials > QLEARN_MAX_TRIALS) pba->cfg.max_trials = QLEARN_MAX_TRIALS;
+  w->in_handover = 1;
+  w->pol = pba;
+  w->ran = &sr->handover_trials;
+  w->n = 0;
+  w->stopped[0] = '\0';
+  return walk_next(est);
+}
+
+/* The walk ended: hand over (noisy, not PBA), or take the search's estimate and plane. */
+static estimate_status_t walk_end(est_t *est) {
+  walk_t *w = &est->walk;
+  estimate_search_t *sr = &est->out->search[w->sc.si];
+  if (!w->in_handover) {
+    if (est->noisy && est->cfg->policy != QLEARN_POLICY_PBA) return handover_start(est);
+    if (w->stopped[0]) {
+      snprintf(sr->note, sizeof sr->note, "%s", w->stopped);
+      return search_done(est);
+    }
+  } else if (w->stopped[0]) {
+    snprintf(sr->note, sizeof sr->note, "%s", w->stopped);
+  }
+  search_estimate(est, &w->sc, w->pol);
+  if (!sr->note[0]) search_plane(est, &w->sc);
+  return search_done(est);
+}
+
+/* The threshold plane of a search, from its bracketing trials (noiseless) or the trials nearest
+ * to its estimate (noisy), moved to the estimate c. It is used only when the trials that set it
+ * were in the flat-patch regime; with a noise model every trial within c +- (h + 3 sigma) must
+ * be. Otherwise the search gets a note and is not fed. */
+static void search_plane(est_t *est, const search_ctx_t *sc) {
+  estimate_result_t *out = est->out;
+  estimate_search_t *sr = &out->search[sc->si];
+  const double c = sr->c_m;
+  const int ends[2] = {sr->lo_trial, sr->hi_trial};
+  double n_obj[3] = {0, 0, 0}, d = 0.0;
+  int nb = 0;
+  for (int e = 0; e < 2; ++e) {
+    if (ends[e] < 0) continue;
+    const estimate_trial_t *t = &out->trial[ends[e]];
+    double ne[3], de;
+    trial_plane(est, &t->released, ne, &de);
+    de += (c - t->x_m) * dot3(ne, sc->u); /* move it to the estimate c */
+    for (int k = 0; k < 3; ++k) n_obj[k] += ne[k];
+    d += de;
+    ++nb;
+  }
+  if (nb < 2 && !est->noisy) {
+    snprintf(sr->note, sizeof sr->note, "the threshold was not bracketed (all trials %s)",
+             sr->lo_trial < 0 ? "stayed" : "tipped");
+    return;
+  }
+  if (nb == 0) {
+    snprintf(sr->note, sizeof sr->note, "no clear trial");
+    return;
+  }
+  for (size_t i = 0; i < out->trial_count; ++i) {
+    const estimate_trial_t *t = &out->trial[i];
+    if (t->search != sc->si || !clear_outcome(t)) continue;
+    if (deciding_trial(est, sr, i) && t->flagged) {
+      sr->flat_failed = 1;
+      snprintf(sr->note, sizeof sr->note,
+               "a trial that sets the threshold (x = %.3f mm) is not in the flat-patch regime "
+               "(%s, chord margin %.2f mm)", 1e3 * t->x_m,
+               t->regime == MODEL_REGIME_EDGE_ROLL ? "edge roll" :
+               t->regime == MODEL_REGIME_POINT_SUPPORT ? "point support" : "unclassified",
+               1e3 * t->chord_margin_m);
+      return;
+    }
+  }
+  const double len = sqrt(dot3(n_obj, n_obj));
+  for (int k = 0; k < 3; ++k) sr->plane_n_obj[k] = n_obj[k] / len;
+  sr->plane_d_m = d / len;
+  sr->bias_m = ESTIMATE_PHYSICS_BIAS_M;
+  sr->fed = 1;
+}
+
+/* The estimate of a search: noiseless, the bracket of its clear trials (the largest x that
+ * tipped, the smallest that stayed), whatever the policy; with a noise model, the policy's
+ * posterior (PBA). */
+static void search_estimate(est_t *est, const search_ctx_t *sc, const qlearn_policy_t *pol) {
+  estimate_result_t *out = est->out;
+  estimate_search_t *sr = &out->search[sc->si];
+  sr->lo_trial = sr->hi_trial = -1;
+  for (size_t i = 0; i < out->trial_count; ++i) {
+    const estimate_trial_t *t = &out->trial[i];
+    if (t->search != sc->si || !clear_outcome(t)) continue;
+    if (t->outcome == ESTIMATE_TIPS && (sr->lo_trial < 0 || t->x_m >= out->trial[sr->lo_trial].x_m))
+      sr->lo_trial = (int)i;
+    if (t->outcome == ESTIMATE_STAYS && (sr->hi_trial < 0 || t->x_m <= out->trial[sr->hi_trial].x_m))
+      sr->hi_trial = (int)i;
+  }
+  const double lo = sr->lo_trial >= 0 ? out->trial[sr->lo_trial].x_m : sc->lo;
+  const double hi = sr->hi_trial >= 0 ? out->trial[sr->hi_trial].x_m : sc->hi;
+  if (est->noisy) {
+    double c, hw;
+    if (qlearn_policy_estimate(pol, &c, &hw) != QLEARN_OK) {
+      snprintf(sr->note, sizeof sr->note, "the posterior gives no estimate");
+      return;
+    }
+    sr->c_m = c;
+    sr->halfwidth_m = hw;
+  } else if (hi >= lo) {
+    sr->c_m = 0.5 * (lo + hi);
+    sr->halfwidth_m = 0.5 * (hi - lo);
+  } else {
+    /* A trial tipped above one that stayed: the noiseless model does not hold here. */
+    sr->c_m = 0.5 * (lo + hi);
+    sr->halfwidth_m = 0.5 * (lo - hi);
+    snprintf(sr->note, sizeof sr->note, "trials contradict each other: tipped at %.3f mm, stayed "
+             "at %.3f mm (noise, or physics the noiseless model does not cover)", 1e3 * lo, 1e3 * hi);
+  }
+}
+
+/* Start a 1-D search along the test direction of face_index at yaw_rad; search_done follows
+ * when its trials are over. */
+static estimate_status_t search_start(est_t *est, int face_index, int log_face, double yaw_rad,
+                                      double margin_m, int retest_of) {
+  estimate_result_t *out = est->out;
+  if (out->search_count >= ESTIMATE_MAX_SEARCHES)
+    return fail(est, ESTIMATE_E_CAPACITY, "too many searches");
+  walk_t *w = &est->walk;
+  memset(w, 0, sizeof *w);
+  search_ctx_t *sc = &w->sc;
+  sc->si = (int)out->search_count++;
+  sc->log_face = log_face;
+  estimate_search_t *sr = &out->search[sc->si];
+  memset(sr, 0, sizeof *sr);
+  sr->face = log_face;
+  sr->yaw_rad = yaw_rad;
+  sr->chord_margin_m = margin_m;
+  sr->verified_margin_m = NAN;
+  sr->lo_trial = sr->hi_trial = -1;
+  sr->retest_of = retest_of;
+  model_orientation_yawed(est->faces[face_index].orientation_wxyz, yaw_rad, sc->q);
+  dir_of(sc->q, sc->u);
+  memcpy(sr->dir_link, sc->u, sizeof sc->u);
+  sc->comp = 0;
+  for (int k = 1; k < 3; ++k)
+    if (fabs(sc->u[k]) > fabs(sc->u[sc->comp])) sc->comp = k;
+  search_range(est, sc->u, &sc->lo, &sc->hi);
+  double prior = dot3(est->start_m, sc->u);
+  if (prior < sc->lo) prior = sc->lo;
+  if (prior > sc->hi) prior = sc->hi;
+  sr->prior_m = prior;
+  sr->range_lo_m = sc->lo;
+  sr->range_hi_m = sc->hi;
+
+  qlearn_policy_config_t *pc = &w->pc;
+  qlearn_policy_config_default(est->cfg->policy, pc);
+  pc->range_lo_m = sc->lo;
+  pc->range_hi_m = sc->hi;
+  pc->prior_m = prior;
+  pc->resolution_m = est->cfg->resolution_m;
+  pc->seed = est->cfg->seed;
+  if (est->cfg->policy == QLEARN_POLICY_PBA && est->noisy) probit_config(est, pc);
+  w->pol = &est->policy;
+  qlearn_status_t qs = qlearn_policy_init(w->pol, pc);
+  if (qs != QLEARN_OK) {
+    snprintf(out->msg, sizeof out->msg, "policy init: %s", qlearn_status_str(qs));
+    return ESTIMATE_E_LEARNER;
+  }
+  return walk_next(est);
+}
+
+/* A fed plane's sigma in the solve: the bracket's uniform spread h / sqrt 3 (noiseless) or the
+ * 95 % interval's h / 1.96 (noise model); at least 1 nm (a collapsed, knife-edge bracket). */
+static double plane_sigma(const est_t *est, const estimate_search_t *sr) {
+  const double sigma = est->noisy ? sr->halfwidth_m / 1.96 : sr->halfwidth_m / sqrt(3.0);
+  return sigma > 1e-9 ? sigma : 1e-9;
+}
+
+/* The 3-D solve over the fed planes. Each plane's sigma: the bracket's uniform spread h / sqrt 3
+ * (noiseless) or the 95 % interval's h / 1.96 (noise model). Every component the planes
+ * determine is reported (found[] here means determined; the caller applies the width limit). */
+static estimate_status_t solve_all(est_t *est, qlearn_solve_result_t *res) {
+  qlearn_solve_t *solve = &est->solve;
+  qlearn_solve_init(solve);
+  for (size_t i = 0; i < est->out->search_count; ++i) {
+    const estimate_search_t *sr = &est->out->search[i];
+    if (!sr->fed) continue;
+    qlearn_status_t qs =
+        qlearn_solve_add_plane(solve, sr->plane_n_obj, sr->plane_d_m, plane_sigma(est, sr));
+    if (qs != QLEARN_OK) {
+      snprintf(est->out->msg, sizeof est->out->msg, "solve: %s", qlearn_status_str(qs));
+      return ESTIMATE_E_LEARNER;
+    }
+  }
+  memset(res, 0, sizeof *res);
+  if (solve->count == 0) {
+    for (int k = 0; k < 3; ++k) res->halfwidth_m[k] = INFINITY;
+    return ESTIMATE_OK;
+  }
+  qlearn_status_t qs = qlearn_solve_compute(solve, est->cfg->z, 1e9, res);
+  if (qs != QLEARN_OK && qs != QLEARN_E_SINGULAR) {
+    snprintf(est->out->msg, sizeof est->out->msg, "solve: %s", qlearn_status_str(qs));
+    return ESTIMATE_E_LEARNER;
+  }
+  return ESTIMATE_OK;
+}
+
+/* Is direction a determined by the fed planes (orthogonal to the solve's null space)? */
+static int dir_determined(const qlearn_solve_result_t *res, const double a[3]) {
+  if (res->rank == 0) return 0;
+  double leak = 0.0;
+  for (int e = 0; e < 3 - res->rank; ++e) {
+    const double p = dot3(res->eigenvector[e], a);
+    leak += p * p;
+  }
+  return leak <= QLEARN_SOLVE_NULL_LEAK;
+}
+
+/* The coefficient of fed plane sr in the solve's estimate of a . c: p = w a . (A^+ n),
+ * w = 1 / sigma^2 (dimensionless: a . c = sum over planes of p d). */
+static double plane_coef(const est_t *est, const qlearn_solve_result_t *res, const double a[3],
+                         const estimate_search_t *sr) {
+  double p = 0.0;
+  for (int e = 3 - res->rank; e < 3; ++e)
+    p += dot3(res->eigenvector[e], a) * dot3(res->eigenvector[e], sr->plane_n_obj) /
+         res->eigenvalue[e];
+  const double sigma = plane_sigma(est, sr);
+  return p / (sigma * sigma);
+}
+
+/* The half width of a . c (a unit, link frame) that holds, INFINITY when the planes do not
+ * determine it. The solve's estimate is linear in the planes' offsets, a . c = sum_j p_j d_j with
+ * p_j = w_j a . (A^+ n_j) (A^+ the pseudo-inverse of the normal matrix over its non-null
+ * eigenvectors, exact for a orthogonal to the null space). Noiseless, each offset is known within
+ * its bracket h_j plus its regime's bias b_j, so |error| <= sum_j |p_j| (h_j + b_j): a bound, also
+ * when the planes are oblique or fewer than three. With a noise model: the solve's z sigma (95 %)
+ * plus the bias budget sum_j |p_j| b_j. */
+static double dir_halfwidth(const est_t *est, const qlearn_solve_result_t *res, const double a[3]) {
+  if (!dir_determined(res, a)) return INFINITY;
+  const int first = 3 - res->rank; /* eigenvalues ascend: the null ones come first */
+  double bound = 0.0, bias = 0.0, var = 0.0;
+  for (int e = first; e < 3; ++e) {
+    const double p = dot3(res->eigenvector[e], a);
+    var += p * p / res->eigenvalue[e];
+  }
+  for (size_t i = 0; i < est->out->search_count; ++i) {
+    const estimate_search_t *sr = &est->out->search[i];
+    if (!sr->fed) continue;
+    const double p = plane_coef(est, res, a, sr);
+    bound += fabs(p) * (sr->halfwidth_m + sr->bias_m);
+    bias += fabs(p) * sr->bias_m;
+  }
+  return est->noisy ? est->cfg->z * sqrt(var) + bias : bound;
+}
+
+/* The first fed search that a . c depends on (a coefficient above rounding) but that is not
+ * verified, or -1. */
+static int dir_unverified(const est_t *est, const qlearn_solve_result_t *res, const double a[3]) {
+  for (size_t i = 0; i < est->out->search_count; ++i) {
+    const estimate_search_t *sr = &est->out->search[i];
+    if (sr->fed && !sr->verified && fabs(plane_coef(est, res, a, sr)) > 1e-9) return (int)i;
+  }
+  return -1;
+}
+
+/* Solve and move the estimate: the guess (and the start point) take the solution's components in
+ * the determined subspace, keep theirs in the null space; est->halfwidth_m per link axis. */
+static estimate_status_t update_guess(est_t *est, qlearn_solve_result_t *res) {
+  estimate_status_t s = solve_all(est, res);
+  if (s != ESTIMATE_OK) return s;
+  est->last = *res;
+  est->have_solve = 1;
+  for (int k = 0; k < 3; ++k) { /* INFINITY while a component is not found */
+    const double e[3] = {k == 0, k == 1, k == 2};
+    const double hw = dir_halfwidth(est, res, e);
+    est->halfwidth_m[k] = hw <= est->cfg->max_halfwidth_m ? hw : INFINITY;
+  }
+  if (res->rank == 0) return ESTIMATE_OK;
+  double *pts[2] = {est->guess_m, est->start_m};
+  for (int i = 0; i < 2; ++i) {
+    double delta[3], corr[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k) delta[k] = res->com_m[k] - pts[i][k];
+    for (int j = 3 - res->rank; j < 3; ++j) {
+      const double p = dot3(res->eigenvector[j], delta);
+      for (int k = 0; k < 3; ++k) corr[k] += p * res->eigenvector[j][k];
+    }
+    for (int k = 0; k < 3; ++k) pts[i][k] += corr[k];
+  }
+  return ESTIMATE_OK;
+}
+
+
+/* Chord margins of face f at yaws k * pi / YAW_STEPS (pure geometry), robust to where the edge
+ * line will be: the threshold line passes through the true CoM, which may lie +-e along the test
+ * direction u from the estimate (e: the estimate's half width along u, at most
+ * ESTIMATE_PLAN_OFFSET_M), so each margin is the smallest over lines at -e, 0 and +e. On a convex
+ * patch that changes little; where the contact has gaps (two feet) a line that just crosses both
+ * at the estimate but misses one a few mm away is not chosen. */
+static estimate_status_t yaw_margins(est_t *est, const model_face_t *f, double m[YAW_STEPS]) {
+  enum { N = 3 * YAW_STEPS };
+  double yaw[N], com[N][3], mj[N];
+  for (int k = 0; k < YAW_STEPS; ++k) {
+    double q[4], u[3];
+    model_orientation_yawed(f->orientation_wxyz, k * PI / YAW_STEPS, q);
+    dir_of(q, u);
+    const double e = est->have_solve ? fmin(dir_halfwidth(est, &est->last, u), ESTIMATE_PLAN_OFFSET_M)
+                                     : ESTIMATE_PLAN_OFFSET_M;
+    for (int j = 0; j < 3; ++j) {
+      yaw[3 * k + j] = k * PI / YAW_STEPS;
+      for (int i = 0; i < 3; ++i) com[3 * k + j][i] = est->guess_m[i] + (j - 1) * e * u[i];
+    }
+  }
+  model_status_t ms = model_yaw_margins(est->mesh, f->orientation_wxyz, MODEL_EDGE_PX, NULL,
+                                            N, yaw, (const double(*)[3])com, mj);
+  if (ms != MODEL_OK) return fail(est, ESTIMATE_E_GEOMETRY, model_status_str(ms));
+  for (int k = 0; k < YAW_STEPS; ++k) m[k] = fmin(mj[3 * k], fmin(mj[3 * k + 1], mj[3 * k + 2]));
+  return ESTIMATE_OK;
+}
+
+/* Face 1: two test directions at least min_dir_angle apart, both with a good chord margin. */
+static estimate_status_t plan_first(est_t *est, int fi, face_plan_t *p) {
+  double m[YAW_STEPS];
+  estimate_status_t s = yaw_margins(est, &est->faces[fi], m);
+  if (s != ESTIMATE_OK) return s;
+  p->face = fi;
+  p->score = -HUGE_VAL;
+  int min_sep = (int)ceil(est->cfg->min_dir_angle_rad / (PI / YAW_STEPS) - 1e-9);
+  for (int i = 0; i < YAW_STEPS; ++i) {
+    for (int j = i + min_sep; j <= i + YAW_STEPS - min_sep; ++j) {
+      int jj = j % YAW_STEPS;
+      double sc = fmin(m[i], m[jj]);
+      /* prefer perpendicular directions among near-equal margins */
+      double sep = fabs(sin((j - i) * PI / YAW_STEPS));
+      sc += 1e-4 * sep;
+      if (sc > p->score) {
+        p->score = sc;
+        p->yaw[0] = i * PI / YAW_STEPS;
+        p->yaw[1] = jj * PI / YAW_STEPS;
+        p->margin[0] = m[i];
+        p->margin[1] = m[jj];
+      }
+    }
+  }
+  return ESTIMATE_OK;
+}
+
+/* Face 1's second direction, planned after the first search moved the estimate: among yaws at
+ * least min_dir_angle from yaw0 with a chord margin of twice the minimum (or the minimum when
+ * none has that), the most perpendicular one, so that its sideways coordinate (along the edge) is
+ * the one the first search measured. Keeps *yaw1 / *margin1 when no yaw qualifies. */
+static estimate_status_t plan_partner(est_t *est, int fi, double yaw0, double *yaw1,
+                                      double *margin1) {
+  double m[YAW_STEPS];
+  estimate_status_t s = yaw_margins(est, &est->faces[fi], m);
+  if (s != ESTIMATE_OK) return s;
+  for (int pass = 0; pass < 2; ++pass) {
+    const double need = est->cfg->min_chord_margin_m * (pass == 0 ? 2.0 : 1.0);
+    double best = -1.0;
+    for (int k = 0; k < YAW_STEPS; ++k) {
+      const double sep = fabs(sin(k * PI / YAW_STEPS - yaw0));
+      if (!(m[k] >= need) || sep < sin(est->cfg->min_dir_angle_rad) - 1e-9) continue;
+      const double sc = sep + 1e-6 * m[k]; /* ties: the larger margin */
+      if (sc > best) {
+        best = sc;
+        *yaw1 = k * PI / YAW_STEPS;
+        *margin1 = m[k];
+      }
+    }
+    if (best >= 0.0) break;
+  }
+  return ESTIMATE_OK;
+}
+
+/* Face 2: one direction with the largest component along the first face's normal, among yaws
+ * with a chord margin of twice the minimum (or the minimum when none has that). */
+static estimate_status_t plan_second(est_t *est, int fi, const double n1[3], face_plan_t *p) {
+  double m[YAW_STEPS];
+  estimate_status_t s = yaw_margins(est, &est->faces[fi], m);
+  if (s != ESTIMATE_OK) return s;
+  p->face = fi;
+  p->score = -HUGE_VAL;
+  for (int pass = 0; pass < 2 && p->score == -HUGE_VAL; ++pass) {
+    double need = est->cfg->min_chord_margin_m * (pass == 0 ? 2.0 : 1.0);
+    for (int k = 0; k < YAW_STEPS; ++k) {
+      if (!(m[k] >= need)) continue;
+      double q[4], u[3];
+      model_orientation_yawed(est->faces[fi].orientation_wxyz, k * PI / YAW_STEPS, q);
+      dir_of(q, u);
+      double sc = fabs(dot3(u, n1));
+      if (sc > p->score) {
+        p->score = sc;
+        p->yaw[0] = k * PI / YAW_STEPS;
+        p->margin[0] = m[k];
+      }
+    }
+  }
+  return ESTIMATE_OK;
+}
+
+static int plan_cmp(const void *a, const void *b) {
+  double sa = ((const face_plan_t *)a)->score, sb = ((const face_plan_t *)b)->score;
+  return sa < sb ? 1 : sa > sb ? -1 : 0;
+}
+
+static int record_face(est_t *est, int fi) {
+  estimate_result_t *out = est->out;
+  if (out->face_count >= ESTIMATE_MAX_FACES) return -1;
+  estimate_face_t *f = &out->face[out->face_count];
+  memcpy(f->normal_link, est->faces[fi].normal_link, sizeof f->normal_link);
+  f->area_m2 = est->faces[fi].area_m2;
+  f->contact_area_m2 = est->faces[fi].patch_area_m2;
+  f->regions = est->faces[fi].region_count;
+  f->com_margin_m = est->faces[fi].com_margin_m;
+  f->confirmed = 0;
+  est->face_src[out->face_count] = fi;
+  return (int)out->face_count++;
+}
+
+static estimate_status_t confirm_none(est_t *est);
+static estimate_status_t confirmed(est_t *est);
+
+/* Check the plans in order with a stable-pose trial, from est->ci on; the first confirmed one
+ * becomes est->chosen (confirmed), none: confirm_none. */
+static estimate_status_t confirm_next(est_t *est) {
+  if (est->ci >= est->np) return confirm_none(est);
+  const int rec = record_face(est, est->plans[est->ci].face);
+  if (rec < 0) return confirm_none(est);
+  est->chosen_log = rec;
+  return stable_request(est, est->plans[est->ci].face, rec);
+}
+
+static estimate_status_t confirm_reply(est_t *est, const estimate_trial_reply_t *reply) {
+  const estimate_trial_t *t = log_trial(est, reply);
+  const int conf = stable_confirmed(t);
+  est->out->face[est->chosen_log].confirmed = conf;
+  if (conf) {
+    est->chosen = est->plans[est->ci];
+    return confirmed(est);
+  }
+  ++est->ci;
+  return confirm_next(est);
+}
+
+/* Face 1: the flat, stable-candidate faces with the best pairs of chord margins, to confirm in
+ * that order; two searches on the first confirmed. */
+static estimate_status_t face_one(est_t *est) {
+  size_t np = 0;
+  for (size_t i = 0; i < est->nfaces; ++i) {
+    if (!est->faces[i].flat || !est->faces[i].candidate) continue;
+    estimate_status_t s = plan_first(est, (int)i, &est->plans[np]);
+    if (s != ESTIMATE_OK) return s;
+    if (est->plans[np].score >= est->cfg->min_chord_margin_m) ++np;
+  }
+  if (np == 0) return fail(est, ESTIMATE_E_GEOMETRY, "no flat face with two usable edge directions");
+  qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
+  est->np = np;
+  est->ci = 0;
+  est->phase = PHASE_FACE1;
+  return confirm_next(est);
+}
+
+static estimate_status_t verify_begin(est_t *est);
+
+/* Face 2: the flat stable faces whose normals are not (anti)parallel to face 1's, to confirm;
+ * one search on the first confirmed. */
+static estimate_status_t face_two(est_t *est) {
+  const double *n1 = est->faces[est->face1].normal_link;
+  const double cos_max = cos(est->cfg->min_face_angle_rad);
+  size_t np = 0;
+  for (size_t i = 0; i < est->nfaces; ++i) {
+    const model_face_t *f = &est->faces[i];
+    if (!f->flat || !f->candidate || (int)i == est->face1) continue;
+    if (fabs(dot3(f->normal_link, n1)) > cos_max) continue;
+    estimate_status_t s = plan_second(est, (int)i, n1, &est->plans[np]);
+    if (s != ESTIMATE_OK) return s;
+    if (est->plans[np].score > 0.0) ++np;
+  }
+  if (np == 0) {
+    snprintf(est->face2_note, sizeof est->face2_note,
+             "no second flat resting face at >= %.0f deg to the first",
+             est->cfg->min_face_angle_rad * 180.0 / PI);
+    return verify_begin(est);
+  }
+  qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
+  est->np = np;
+  est->ci = 0;
+  est->phase = PHASE_FACE2;
+  return confirm_next(est);
+}
+
+/* No candidate of the current face was confirmed stable. */
+static estimate_status_t confirm_none(est_t *est) {
+  if (est->phase == PHASE_FACE1)
+    return fail(est, ESTIMATE_E_NOPOSE, "no flat resting face was confirmed stable");
+  snprintf(est->face2_note, sizeof est->face2_note, "no second flat face was confirmed stable");
+  return verify_begin(est);
+}
+
+/* est->chosen was confirmed stable: search on it. */
+static estimate_status_t confirmed(est_t *est) {
+  const face_plan_t *p = &est->chosen;
+  if (est->phase == PHASE_FACE1) {
+    est->phase = PHASE_FACE1_SEARCH0;
+    return search_start(est, p->face, est->chosen_log, p->yaw[0], p->margin[0], -1);
+  }
+  est->phase = PHASE_FACE2_SEARCH;
+  return search_start(est, p->face, est->chosen_log, p->yaw[0], p->margin[0], -1);
+}
+
+/* How far the CoM can be from the current estimate along a (unit, link frame) at most: to the
+ * farthest vertex, as it lies inside the object. */
+static double hull_extent(const est_t *est, const double a[3]) {
+  double ext = 0.0;
+  const double g = dot3(est->guess_m, a);
+  for (size_t i = 0; i < est->mesh->vertex_count; ++i)
+    ext = fmax(ext, fabs(dot3(est->mesh->vertices_m[i], a) - g));
+  return ext;
+}
+
+/* The deciding trials of search si (its bracket; with a noise model every clear trial within
+ * c +- (h + 3 sigma)), checked at the current estimate: the smallest chord margin, less the
+ * estimate's half width along the edge line (and 3 sigma of sideways placement noise). */
+static double search_verified_margin(est_t *est, int si, const qlearn_solve_result_t *res,
+                                     int *bounded) {
+  const estimate_result_t *out = est->out;
+  const estimate_search_t *sr = &out->search[si];
+  const double sigma = est->cfg->noise_sigma_m;
+  double worst = HUGE_VAL;
+  *bounded = 1;
+  for (size_t i = 0; i < out->trial_count; ++i) {
+    const estimate_trial_t *t = &out->trial[i];
+    if (t->search != si || !clear_outcome(t) || !deciding_trial(est, sr, i)) continue;
+    if (model_regime_classify(est->mesh, &t->released, est->base_size_m,
+                                MODEL_EDGE_PX, est->guess_m, NULL, &est->regime) != MODEL_OK ||
+        !est->regime.patch.flat)
+      return -HUGE_VAL;
+    double r[3][3], along[3];
+    model_quat_to_rot(t->released.orientation_wxyz, r);
+    for (int k = 0; k < 3; ++k) along[k] = r[1][k]; /* world +y, the +X edge line, in the link */
+    double ext = dir_halfwidth(est, res, along);
+    if (!isfinite(ext)) {
+      ext = hull_extent(est, along); /* the CoM is inside the object */
+      *bounded = 0;
+    }
+    const double m = est->regime.chord_margin_m - ext - 3.0 * sigma;
+    if (m < worst) worst = m;
+  }
+  return worst;
+}
+
+/* Search again on the face of search si, with the yaw of largest chord margin at the current
+ * estimate among directions that keep the solve's shape: at least min_dir_angle from every
+ * other search fed on that face (or, when no yaw qualifies, half that: an oblique pair still
+ * determines the face's plane, and the bound widens with it), or (none fed there) within 30
+ * degrees of the old direction; and at least 20 degrees from every direction that failed there. */
+static int retest_yaw(est_t *est, const estimate_search_t *old, int fi, const double m[YAW_STEPS],
+                      double min_angle) {
+  const estimate_result_t *out = est->out;
+  int siblings = 0;
+  for (size_t j = 0; j < out->search_count; ++j)
+    siblings += out->search[j].fed && out->search[j].face == old->face;
+  int best = -1;
+  for (int k = 0; k < 2 * YAW_STEPS; ++k) { /* yaw and yaw + pi share a chord */
+    double q[4], u[3];
+    model_orientation_yawed(est->faces[fi].orientation_wxyz, k * PI / YAW_STEPS, q);
+    dir_of(q, u);
+    int ok = m[k % YAW_STEPS] >= est->cfg->min_chord_margin_m &&
+             (siblings > 0 || dot3(u, old->dir_link) >= cos(PI / 6.0));
+    for (size_t j = 0; ok && j < out->search_count; ++j) {
+      const estimate_search_t *o = &out->search[j];
+      if (o->face != old->face) continue;
+      const double c = fabs(dot3(u, o->dir_link));
+      if (o->fed && c > cos(min_angle) + 1e-9) ok = 0;
+      if (!o->fed && c > cos(PI / 9.0)) ok = 0;
+    }
+    if (ok && (best < 0 || m[k % YAW_STEPS] > m[best % YAW_STEPS])) best = k;
+  }
+  return best;
+}
+
+/* Search again in place of search si (retest_yaw); *started = 0 when no search could be started
+ * (no room, or no yaw qualifies: a note on si says so). */
+static estimate_status_t retest_start(est_t *est, int si, int *started) {
+  estimate_result_t *out = est->out;
+  *started = 0;
+  if (out->search_count >= ESTIMATE_MAX_SEARCHES) return ESTIMATE_OK;
+  const estimate_search_t old = out->search[si];
+  const int fi = est->face_src[old.face];
+  double m[YAW_STEPS];
+  estimate_status_t s = yaw_margins(est, &est->faces[fi], m);
+  if (s != ESTIMATE_OK) return s;
+  int best = retest_yaw(est, &old, fi, m, est->cfg->min_dir_angle_rad);
+  if (best < 0) best = retest_yaw(est, &old, fi, m, 0.5 * est->cfg->min_dir_angle_rad);
+  estimate_search_t *sr = &out->search[si];
+  if (best < 0) {
+    const size_t len = strlen(sr->note);
+    snprintf(sr->note + len, sizeof sr->note - len, "; no other yaw spans the estimate");
+    return ESTIMATE_OK;
+  }
+  sr->retested = 1;
+  *started = 1;
+  est->phase = PHASE_RETEST;
+  est->retest_of = si;
+  return search_start(est, fi, old.face, best * PI / YAW_STEPS, m[best % YAW_STEPS], si);
+}
+
+/* The next search to do again: one whose own trials left the flat-patch regime (its plane was
+ * never used) and that was not done again yet; else the fed search whose check at the estimate
+ * fails worst. Only checks the other planes can bound count: a search whose edge direction the
+ * others leave undetermined stays fed but unverified (sr->verified 0), and the components that
+ * depend on it are not claimed. -1: nothing to do. *unverified: the search returned failed its
+ * check (and is to be unfed). */
+static int worst_search(est_t *est, const qlearn_solve_result_t *res, int *unverified) {
+  estimate_result_t *out = est->out;
+  *unverified = 0;
+  int worst = -1;
+  for (size_t i = 0; i < out->search_count; ++i) {
+    estimate_search_t *sr = &out->search[i];
+    if (!sr->fed) continue;
+    int bounded = 0;
+    sr->verified_margin_m = search_verified_margin(est, (int)i, res, &bounded);
+    sr->verified = bounded && sr->verified_margin_m >= est->cfg->verify_margin_m;
+    if (!bounded || sr->verified) continue;
+    if (worst < 0 || sr->verified_margin_m < out->search[worst].verified_margin_m) worst = (int)i;
+  }
+  for (size_t i = 0; i < out->search_count; ++i)
+    if (!out->search[i].fed && out->search[i].flat_failed && !out->search[i].retested)
+      return (int)i;
+  *unverified = worst >= 0;
+  return worst;
+}
+
+static estimate_status_t finish(est_t *est);
+
+/* Solve, check every fed search's physics at the estimate, and drop the one that fails worst
+ * (one bad plane moves the estimate, so the others are judged again without it); search again in
+ * its place, or where a search's own trials left the flat-patch regime, while the retest budget
+ * lasts. Bounded: every pass stops, unfeeds a search or spends a retest. Resumed (from est->pass)
+ * when a retest's search is over. */
+static estimate_status_t verify_loop(est_t *est) {
+  estimate_result_t *out = est->out;
+  qlearn_solve_result_t *res = &est->res;
+  for (; est->pass <= 3 * ESTIMATE_MAX_SEARCHES; ++est->pass) {
+    estimate_status_t s = update_guess(est, res);
+    if (s != ESTIMATE_OK) return s;
+    int unverified = 0;
+    const int w = worst_search(est, res, &unverified);
+    if (w < 0) return finish(est);
+    estimate_search_t *sw = &out->search[w];
+    if (unverified) {
+      sw->fed = 0;
+      snprintf(sw->note, sizeof sw->note,
+               "at the estimate its chord spans the interval along the edge by %.2f mm, under the "
+               "%.2f mm needed", 1e3 * sw->verified_margin_m, 1e3 * est->cfg->verify_margin_m);
+    }
+    if (sw->retested || est->retests >= est->cfg->max_retests) {
+      sw->retested = 1; /* no (more) retests: only unfeeding continues */
+      if (!unverified) return finish(est);
+      continue;
+    }
+    ++est->retests;
+    int started = 0;
+    s = retest_start(est, w, &started);
+    if (s != ESTIMATE_OK || started) return s; /* search_done resumes the loop */
+    sw->retested = 1;
+  }
+  estimate_status_t s = update_guess(est, res);
+  return s == ESTIMATE_OK ? finish(est) : s;
+}
+
+static estimate_status_t verify_begin(est_t *est) {
+  est->retests = 0;
+  est->pass = 0;
+  return verify_loop(est);
+}
+
+/* A search is over: what comes next depends on the phase. */
+static estimate_status_t search_done(est_t *est) {
+  estimate_status_t s;
+  const face_plan_t *p = &est->chosen;
+  switch (est->phase) {
+    case PHASE_FACE1_SEARCH0: {
+      face_plan_t *c = &est->chosen;
+      s = update_guess(est, &est->res);
+      if (s == ESTIMATE_OK) s = plan_partner(est, c->face, c->yaw[0], &c->yaw[1], &c->margin[1]);
+      if (s != ESTIMATE_OK) return s;
+      est->phase = PHASE_FACE1_SEARCH1;
+      return search_start(est, c->face, est->chosen_log, c->yaw[1], c->margin[1], -1);
+    }
+    case PHASE_FACE1_SEARCH1:
+      est->face1 = p->face;
+      s = update_guess(est, &est->res);
+      return s == ESTIMATE_OK ? face_two(est) : s;
+    case PHASE_FACE2_SEARCH:
+      return verify_begin(est);
+    case PHASE_RETEST:
+      est->out->search[est->retest_of].retested = 1;
+      ++est->pass;
+      return verify_loop(est);
+    default:
+      return fail(est, ESTIMATE_E_ARG, "internal: a search ended in no search phase");
+  }
+}
+
+/* Why component k is not found (or "" when it is). */
+static void component_reason(est_t *est, int k, int determined, int unverified, double hw) {
+  estimate_result_t *out = est->out;
+  char r[sizeof out->reason[k]];
+  if (out->found[k]) {
+    r[0] = '\0';
+  } else if (determined && unverified >= 0) {
+    snprintf(r, sizeof r, "depends on search %d, whose chord cannot be checked: the estimate "
+             "along its edge is not determined", unverified);
+  } else if (determined) {
+    snprintf(r, sizeof r, "its interval +-%.3f mm is wider than the %.3f mm limit", 1e3 * hw,
+             1e3 * est->cfg->max_halfwidth_m);
+  } else if (est->face2_note[0] && out->rank == 2) {
+    snprintf(r, sizeof r, "not determined: %s", est->face2_note);
+  } else {
+    int last = -1; /* the last search that is not fed says most */
+    for (size_t i = 0; i < out->search_count; ++i)
+      if (!out->search[i].fed && out->search[i].note[0]) last = (int)i;
+    if (last >= 0)
+      snprintf(r, sizeof r, "not determined: search %d not used: %s", last,
+               out->search[last].note);
+    else
+      snprintf(r, sizeof r, "not determined by the %d independent directions measured", out->rank);
+  }
+  memcpy(out->reason[k], r, sizeof r);
+}
+
+/* The verified solve: every component with its interval, or the reason it is not found. */
+static estimate_status_t finish(est_t *est) {
+  estimate_result_t *out = est->out;
+  const qlearn_solve_result_t res = est->res;
+  out->rank = res.rank;
+  out->chi2 = res.chi2;
+  int missing = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double e[3] = {k == 0, k == 1, k == 2};
+    const int determined = dir_determined(&res, e);
+    const double hw = dir_halfwidth(est, &res, e);
+    const int unverified = determined ? dir_unverified(est, &res, e) : -1;
+    out->found[k] = determined && unverified < 0 && hw <= est->cfg->max_halfwidth_m;
+    out->halfwidth_m[k] = out->found[k] ? hw : INFINITY;
+    /* not found: report the best guess (prior moved by what was measured), flagged as such */
+    out->com_m[k] = out->found[k] ? res.com_m[k] : est->guess_m[k];
+    component_reason(est, k, determined, unverified, hw);
+    if (!out->found[k] && !missing++)
+      snprintf(out->msg, sizeof out->msg, "%c not found: %s", "xyz"[k], out->reason[k]);
+  }
+  est->phase = PHASE_DONE;
+  return ESTIMATE_OK;
+}
+
+/* Before the first trial: the prior, the hull faces, and face 1's plans. */
+static estimate_status_t strategy_start(est_t *est) {
+  estimate_result_t *out = est->out;
+  model_mass_t uni;
+  if (model_mesh_mass(est->mesh, 1000.0, &uni) != MODEL_OK)
+    return fail(est, ESTIMATE_E_GEOMETRY, "mass properties of the mesh");
+  memcpy(out->uniform_com_m, uni.com_m, sizeof uni.com_m);
+  memcpy(est->guess_m, uni.com_m, sizeof uni.com_m);
+  memcpy(est->start_m, uni.com_m, sizeof uni.com_m);
+  if (est->cfg->start == ESTIMATE_START_BBOX) {
+    model_aabb_t box;
+    if (model_mesh_aabb(est->mesh, &box) != MODEL_OK)
+      return fail(est, ESTIMATE_E_GEOMETRY, "bounding box of the mesh");
+    model_aabb_center(&box, est->start_m);
+  }
+  memcpy(out->start_m, est->start_m, sizeof out->start_m);
+  for (int k = 0; k < 3; ++k) est->halfwidth_m[k] = INFINITY;
+  const model_status_t ms =
+      model_faces_find(est->mesh, est->guess_m, NULL, est->faces, FACE_CAP, &est->nfaces);
+  if (ms != MODEL_OK) {
+    snprintf(out->msg, sizeof out->msg, "faces: %s", model_status_str(ms));
+    return ms == MODEL_E_NOMEM ? ESTIMATE_E_NOMEM : ESTIMATE_E_GEOMETRY;
+  }
+  if (est->nfaces > FACE_CAP) est->nfaces = FACE_CAP;
+  return face_one(est);
+}
+
+static int config_ok(const estimate_config_t *cfg) {
+  return cfg->resolution_m >= 1e-6 && cfg->resolution_m <= 1e-2 && cfg->max_halfwidth_m > 0 &&
+         isfinite(cfg->max_halfwidth_m) && cfg->z > 0 && isfinite(cfg->z) &&
+         cfg->min_chord_margin_m > 0 && isfinite(cfg->min_chord_margin_m) &&
+         cfg->min_dir_angle_rad > 0 && cfg->min_dir_angle_rad <= PI / 2 &&
+         cfg->min_face_angle_rad > 0 && cfg->min_face_angle_rad <= PI / 2 &&
+         cfg->noise_sigma_m >= 0.0 && cfg->noise_sigma_m <= 0.1 && cfg->noise_max_trials >= 1 &&
+         cfg->noise_max_trials <= 200 && cfg->verify_margin_m >= 0.0 &&
+         cfg->verify_margin_m <= 0.02 && cfg->max_retests <= 6 &&
+         (cfg->start == ESTIMATE_START_UNIFORM || cfg->start == ESTIMATE_START_BBOX) &&
+         (cfg->policy == QLEARN_POLICY_BISECT || cfg->policy == QLEARN_POLICY_PBA ||
+          cfg->policy == QLEARN_POLICY_PAPER_QTABLE || cfg->policy == QLEARN_POLICY_PAPER_MLP);
+}
+
+size_t estimate_size(void) { return sizeof(est_t); }
+
+estimate_status_t estimate_init(void *mem, size_t size, const model_mesh_t *mesh_link,
+                                const double base_size_m[3], const estimate_config_t *cfg,
+                                estimate_t **out) {
+  if (out) *out = NULL;
+  if (!mem || size < sizeof(est_t) || !mesh_link || !mesh_link->vertices_m ||
+      mesh_link->vertex_count == 0 || !base_size_m || !cfg || !out)
+    return ESTIMATE_E_ARG;
+  if (!config_ok(cfg)) return ESTIMATE_E_ARG;
+  for (int k = 0; k < 3; ++k)
+    if (!(base_size_m[k] > 0) || !isfinite(base_size_m[k])) return ESTIMATE_E_ARG;
+  est_t *est = mem;
+  memset(est, 0, sizeof *est);
+  est->mesh = mesh_link;
+  memcpy(est->base_size_m, base_size_m, sizeof est->base_size_m);
+  est->cfg_copy = *cfg;
+  est->cfg = &est->cfg_copy;
+  est->out = &est->result;
+  for (int k = 0; k < 3; ++k) est->out->halfwidth_m[k] = INFINITY;
+  est->noisy = cfg->noise_sigma_m > 0.0;
+  est->out->noisy = est->noisy;
+  est->phase = PHASE_START;
+  *out = est;
+  return ESTIMATE_OK;
+}
+
+estimate_status_t estimate_create(const model_mesh_t *mesh_link, const double base_size_m[3],
+                                  const estimate_config_t *cfg, estimate_t **out) {
+  if (out) *out = NULL;
+  void *mem = malloc(sizeof(est_t));
+  if (!mem) return ESTIMATE_E_NOMEM;
+  const estimate_status_t s = estimate_init(mem, sizeof(est_t), mesh_link, base_size_m, cfg, out);
+  if (s != ESTIMATE_OK) free(mem);
+  return s;
+}
+
+void estimate_destroy(estimate_t *est) { free(est); }
+
+/* A step of the strategy ended with s: keep a failure. */
+static estimate_status_t settle(est_t *est, estimate_status_t s) {
+  if (s != ESTIMATE_OK) {
+    est->phase = PHASE_FAILED;
+    est->status = s;
+    est->pending = 0;
+  }
+  return s;
+}
+
+estimate_status_t estimate_next(estimate_t *est, estimate_trial_request_t *req) {
+  if (!est || !req) return ESTIMATE_E_ARG;
+  if (est->phase == PHASE_START && settle(est, strategy_start(est)) != ESTIMATE_OK)
+    return est->status;
+  if (est->phase == PHASE_FAILED) return est->status;
+  if (est->phase == PHASE_DONE) return ESTIMATE_DONE;
+  *req = est->req;
+  return ESTIMATE_OK;
+}
+
+static int pose_ok(const model_pose_t *p) {
+  double n = 0.0;
+  for (int k = 0; k < 3; ++k)
+    if (!isfinite(p->position_m[k])) return 0;
+  for (int k = 0; k < 4; ++k) {
+    if (!isfinite(p->orientation_wxyz[k])) return 0;
+    n += p->orientation_wxyz[k] * p->orientation_wxyz[k];
+  }
+  return fabs(sqrt(n) - 1.0) <= MODEL_QUAT_UNIT_TOL;
+}
+
+estimate_status_t estimate_observe(estimate_t *est, const estimate_trial_reply_t *reply) {
+  if (!est || !reply) return ESTIMATE_E_ARG;
+  if (est->phase == PHASE_FAILED) return est->status;
+  if (!est->pending) return ESTIMATE_E_STATE;
+  if (reply->outcome < ESTIMATE_INVALID || reply->outcome > ESTIMATE_SLIDES ||
+      !pose_ok(&reply->released) || !pose_ok(&reply->settled)) {
+    snprintf(est->out->msg, sizeof est->out->msg,
+             "reply refused: outcome %d, or a released / settled pose not finite or not unit",
+             (int)reply->outcome);
+    est->refused = 1;
+    return ESTIMATE_E_ARG; /* nothing changed: the trial is still pending */
+  }
+  if (est->refused) est->out->msg[0] = '\0';
+  est->refused = 0;
+  estimate_status_t s;
+  if (est->req.kind == ESTIMATE_TRIAL_STABLE)
+    s = confirm_reply(est, reply);
+  else
+    s = walk_reply(est, reply);
+  return settle(est, s);
+}
+
+const estimate_result_t *estimate_result(const estimate_t *est) { return est ? est->out : NULL; }
+
+estimate_status_t estimate_status(const estimate_t *est) {
+  if (!est) return ESTIMATE_E_ARG;
+  if (est->phase == PHASE_FAILED) return est->status;
+  return est->phase == PHASE_DONE ? ESTIMATE_DONE : ESTIMATE_OK;
+}

@@ -1,0 +1,34 @@
+# cmake -DNM=nm -DLIB=libcomlearn_estimate.a -P this
+# lib/estimate is geometry and learning only: every symbol its archive needs from elsewhere is
+# lib/model's (model_*), lib/qlearn's (qlearn_*), the C library's or libm's from the short list
+# below, or the compiler's and sanitizers' own (__*). So it calls no physics engine (ODE's d*,
+# lib/balance's balance_*), no LCM, no file or stream I/O (fopen, printf, ...).
+cmake_minimum_required(VERSION 3.20)
+execute_process(COMMAND ${NM} -u ${LIB} OUTPUT_VARIABLE text RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "${NM} -u ${LIB} failed (${rc})")
+endif()
+set(libc acos asin atan atan2 ceil cos exp fabs floor fmax fmin hypot log pow sin sqrt tan
+    free malloc calloc memcmp memcpy memmove memset qsort snprintf strcmp strlen strncmp)
+string(REGEX MATCHALL "U [^\n]+" undefined "${text}")
+set(bad "")
+set(count 0)
+foreach(u IN LISTS undefined)
+  string(REGEX REPLACE "^U +" "" sym "${u}")
+  string(STRIP "${sym}" sym)
+  math(EXPR count "${count} + 1")
+  if(sym MATCHES "^(model_|qlearn_|__)")
+    continue()
+  endif()
+  list(FIND libc "${sym}" at)
+  if(at LESS 0)
+    list(APPEND bad "${sym}")
+  endif()
+endforeach()
+if(count EQUAL 0)
+  message(FATAL_ERROR "${LIB} needs no symbol at all: wrong archive?")
+endif()
+if(bad)
+  message(FATAL_ERROR "${LIB} calls outside lib/model, lib/qlearn and the allowed C library: ${bad}")
+endif()
+message(STATUS "${LIB}: ${count} undefined symbols, all lib/model, lib/qlearn or libc/libm")
