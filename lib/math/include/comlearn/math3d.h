@@ -226,7 +226,7 @@ static inline void cl_quat_slerp(const double a[4], const double b[4], double t,
 /* ---- rigid poses -------------------------------------------------------------------------- */
 
 /* A frame's pose in a parent frame: x_parent = R(orientation_wxyz) x_child + position_m. The
- * orientation is a unit quaternion (w, x, y, z). Same layout and field names as balance_pose_t. */
+ * orientation is a unit quaternion (w, x, y, z). Same layout and field names as model_pose_t. */
 typedef struct {
   double position_m[3];
   double orientation_wxyz[4];

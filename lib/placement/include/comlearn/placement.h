@@ -217,7 +217,7 @@ void placement_pose_distance(const placement_pose_t *a, const placement_pose_t *
                              double *pos_m, double *rot_rad);
 
 /* ---- the quaternion pose of the rest of comlearn (comlearn/math3d.h's cl_pose_t, laid out as
- * balance_pose_t) ------------------------------------------------------------------------------ */
+ * model_pose_t) -------------------------------------------------------------------------------- */
 
 /* The same transform as a position and a unit quaternion (w, x, y, z), w >= 0 (cl_quat_from_rot:
  * Shepperd, normalised). No checks: a non-rotation gives a meaningless quaternion. */
