@@ -564,8 +564,8 @@ START_TEST(garbage_counted) {
   st.error_text = (char *)"";
   int slen = comlearn_yumi_status_t_encode(buf2, 0, sizeof buf2, &st);
   publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf2, (size_t)slen); /* wrong fingerprint */
-  srand(7);
-  for (int i = 0; i < 300; i++) buf2[i] = (unsigned char)(rand() & 0xff);
+  uint64_t rng = 7;
+  for (int i = 0; i < 300; i++) buf2[i] = (unsigned char)(cl_rng_next(&rng) & 0xff);
   publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf2, 300); /* garbage */
   publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf2, 3);   /* shorter than a fingerprint */
   sent += 5;
