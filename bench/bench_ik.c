@@ -17,16 +17,10 @@
 
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_time.h"
+#include "comlearn/math3d.h"
 #include "comlearn/placement.h"
 
 static double now_us(void) { return 1e6 * cli_time_now_s(); }
-
-static uint64_t rng_next(uint64_t *s) {
-  uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
 
 static int cmp_double(const void *a, const void *b) {
   double x = *(const double *)a, y = *(const double *)b;
@@ -135,7 +129,7 @@ int main(int argc, char **argv) {
     for (size_t i = 0; i < n; ++i) {
       double q[PLACEMENT_JOINTS];
       for (int k = 0; k < PLACEMENT_JOINTS; ++k) {
-        double u = (double)(rng_next(&rng) >> 11) * (1.0 / 9007199254740992.0);
+        double u = cl_rng_uniform(&rng);
         q[k] = arm.lower_rad[k] + (arm.upper_rad[k] - arm.lower_rad[k]) * u;
       }
       placement_fk(&arm, q, &targets[i]);
@@ -147,7 +141,7 @@ int main(int argc, char **argv) {
       for (size_t i = 0; i < n; ++i) {
         double q[PLACEMENT_JOINTS];
         for (int k = 0; k < PLACEMENT_JOINTS; ++k) {
-          double u = (double)(rng_next(&r2) >> 11) * (1.0 / 9007199254740992.0);
+          double u = cl_rng_uniform(&r2);
           q[k] = arm.lower_rad[k] + (arm.upper_rad[k] - arm.lower_rad[k]) * u;
         }
         placement_fk(&arm, q, &targets[i]);

@@ -20,16 +20,14 @@
 #include "comlearn/balance.h"
 #include "comlearn/balance_poses.h"
 #include "comlearn/cli_log.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 
-#define PI 3.14159265358979323846
-
+/* v rotated by unit q through the matrix (the bench's numbers were taken with this rounding). */
 static void rot(const double q[4], const double v[3], double o[3]) {
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
-  const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
-                          {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
-                          {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+  double r[3][3];
+  cl_quat_to_rot(q, r);
   for (int i = 0; i < 3; ++i) o[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2];
 }
 
@@ -135,7 +133,7 @@ int main(void) {
     double yaw = 0.0, mbest = 0.0, q[4];
     model_yaw_best(&obj.mesh, up, truth.com_m, MODEL_EDGE_PX, NULL, &yaw, &mbest);
     model_orientation_yawed(up, yaw, q);
-    snprintf(name, sizeof name, "rock_%d -z face, best yaw %.0f deg", which, yaw * 180.0 / PI);
+    snprintf(name, sizeof name, "rock_%d -z face, best yaw %.0f deg", which, yaw * 180.0 / CL_PI);
     report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.008);
     /* Every flat face: the yaw with the smallest chord margin (sweep) and the best one. */
     model_face_t faces[256];
@@ -150,10 +148,10 @@ int main(void) {
       for (int k = 0; k < 180; ++k) {
         double mk;
         model_yaw_margin(&obj.mesh, faces[i].orientation_wxyz, truth.com_m, MODEL_EDGE_PX,
-                           k * PI / 180.0, NULL, &mk);
+                           k * CL_PI / 180.0, NULL, &mk);
         if (mk > -HUGE_VAL && mk < worst) {
           worst = mk;
-          wyaw = k * PI / 180.0;
+          wyaw = k * CL_PI / 180.0;
         }
       }
       model_orientation_yawed(faces[i].orientation_wxyz, wyaw, q);
@@ -181,7 +179,7 @@ int main(void) {
                                  &confirmed) != BALANCE_OK || !confirmed)
         continue;
       for (int k = 0; k < 4; ++k) {
-        model_orientation_yawed(faces[i].orientation_wxyz, k * PI / 4.0, q);
+        model_orientation_yawed(faces[i].orientation_wxyz, k * CL_PI / 4.0, q);
         snprintf(name, sizeof name, "rock_%d points n=(%.2f,%.2f,%.2f) m %.2f yaw %d", which,
                  faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2],
                  faces[i].com_margin_m * 1e3, 45 * k);
@@ -206,7 +204,7 @@ int main(void) {
     m.vertices_m[1][2] = -a[2];
     for (unsigned i = 1; i < rings; ++i) {
       for (unsigned j = 0; j < segs; ++j) {
-        const double th = PI * i / rings, ph = 2.0 * PI * j / segs;
+        const double th = CL_PI * i / rings, ph = 2.0 * CL_PI * j / segs;
         double *v = m.vertices_m[2 + (i - 1) * segs + j];
         v[0] = a[0] * sin(th) * cos(ph);
         v[1] = a[1] * sin(th) * sin(ph);

@@ -13,6 +13,7 @@
 #include <lcm/lcm.h>
 
 #include "comlearn/cli_log.h"
+#include "comlearn/math3d.h"
 #include "comlearn/msg.h"
 #include "sim.h"
 
@@ -154,17 +155,9 @@ typedef struct {
   uint64_t dropped_in, dropped_out;
 } daemon_t;
 
-static uint64_t splitmix64(uint64_t *s) {
-  uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
 static int drop(daemon_t *d) {
   if (d->drop_rate <= 0.0) return 0;
-  const double u = (double)(splitmix64(&d->drop_rng) >> 11) * (1.0 / 9007199254740992.0);
-  return u < d->drop_rate;
+  return cl_rng_uniform(&d->drop_rng) < d->drop_rate;
 }
 
 /* Raw handlers: the drop dice first (a dropped message never arrived), then msg_decode's schema

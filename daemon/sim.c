@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model_inertial.h"
 
 #define ERR(name) COMLEARN_YUMI_STATUS_T_##name
@@ -26,13 +27,16 @@ static void clear_error(sim_t *s) {
 
 /* ---- small pose helpers ------------------------------------------------------------------ */
 
+/* model_pose_t has cl_pose_t's layout but is its own type until lib/model adopts
+ * comlearn/math3d.h; then these two become placement_pose_to_cl_pose and (unchecked) the
+ * cl_quat_to_rot below. */
 static void pose_to_balance(const placement_pose_t *p, model_pose_t *b) {
   memcpy(b->position_m, p->pos_m, sizeof b->position_m);
-  model_rot_to_quat(p->rot, b->orientation_wxyz);
+  cl_quat_from_rot(p->rot, b->orientation_wxyz);
 }
 
 static void pose_from_balance(const model_pose_t *b, placement_pose_t *p) {
-  model_quat_to_rot(b->orientation_wxyz, p->rot);
+  cl_quat_to_rot(b->orientation_wxyz, p->rot);
   memcpy(p->pos_m, b->position_m, sizeof p->pos_m);
 }
 
@@ -50,31 +54,6 @@ static void rot_delta(const placement_pose_t *pa, const placement_pose_t *pb, do
   double ax[3] = {d[2][1] - d[1][2], d[0][2] - d[2][0], d[1][0] - d[0][1]};
   const double sn = sqrt(ax[0] * ax[0] + ax[1] * ax[1] + ax[2] * ax[2]);
   for (int i = 0; i < 3; i++) w[i] = sn > 1e-15 ? ax[i] / sn * ang : 0.5 * ax[i];
-}
-
-static void quat_slerp(const double a[4], const double b0[4], double t, double out[4]) {
-  double b[4];
-  double dot = 0.0;
-  for (int i = 0; i < 4; i++) dot += a[i] * b0[i];
-  const double sgn = dot < 0.0 ? -1.0 : 1.0;
-  for (int i = 0; i < 4; i++) b[i] = sgn * b0[i];
-  dot = fabs(dot);
-  double wa, wb;
-  if (dot > 0.9995) {
-    wa = 1.0 - t;
-    wb = t;
-  } else {
-    const double th = acos(dot), s = sin(th);
-    wa = sin((1.0 - t) * th) / s;
-    wb = sin(t * th) / s;
-  }
-  double n = 0.0;
-  for (int i = 0; i < 4; i++) {
-    out[i] = wa * a[i] + wb * b[i];
-    n += out[i] * out[i];
-  }
-  n = sqrt(n);
-  for (int i = 0; i < 4; i++) out[i] /= n;
 }
 
 /* ---- set-up -------------------------------------------------------------------------------- */
@@ -163,7 +142,7 @@ static int object_pose(sim_t *s, placement_pose_t *out, int *moving) {
     pose_to_balance(&s->set_world, &b);
     model_pose_t m;
     for (int i = 0; i < 3; i++) m.position_m[i] = a.position_m[i] + t * (b.position_m[i] - a.position_m[i]);
-    quat_slerp(a.orientation_wxyz, b.orientation_wxyz, t, m.orientation_wxyz);
+    cl_quat_slerp(a.orientation_wxyz, b.orientation_wxyz, t, m.orientation_wxyz);
     pose_from_balance(&m, out);
     *moving = 1;
     return 1;

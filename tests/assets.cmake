@@ -1,6 +1,6 @@
 # The bundled assets: their requirements (check_assets), URDF syntax (check_urdf from
 # liburdfdom-tools), and that the generator reproduces them byte for byte (assets_reproducible).
-comlearn_add_check(check_assets SOURCES check_assets.c LIBS comlearn_rockgen comlearn_model_sim)
+comlearn_add_check(check_assets SOURCES check_assets.c LIBS comlearn_rockgen comlearn_model_sim comlearn_math)
 
 set(comlearn_asset_urdfs
   rocks/rock_1_even rocks/rock_1_uneven
@@ -38,7 +38,7 @@ set_tests_properties(assets_reproducible PROPERTIES TIMEOUT 120)
 # (apps/comlearn/stack_svg.c, target comlearn_stack_svg).
 comlearn_add_check(check_rockgen_random
   SOURCES check_rockgen_random.c
-  LIBS comlearn_stack_svg comlearn_rockgen comlearn_balance comlearn_model_sim TIMEOUT 300)
+  LIBS comlearn_stack_svg comlearn_rockgen comlearn_balance comlearn_model_sim comlearn_math TIMEOUT 300)
 target_compile_definitions(check_rockgen_random PRIVATE
   COMLEARN_ROCKGEN="$<TARGET_FILE:comlearn-rockgen>")
 add_dependencies(check_rockgen_random comlearn-rockgen)

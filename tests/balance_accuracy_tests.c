@@ -10,6 +10,7 @@
 
 #include "balance_phys_util.h"
 #include "balance_suites.h"
+#include "comlearn/math3d.h"
 
 #define ITERS 16
 
@@ -87,12 +88,12 @@ START_TEST(box_two_material_orientations) {
             "two-material box, +X");
   assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_NX, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, -X");
-  bp_quat(az, 30.0 * 3.14159265358979323846 / 180.0, q); /* yaw: the edge crosses the bottom face obliquely */
+  cl_quat_from_axis_angle(az, 30.0 * CL_PI / 180.0, q); /* yaw: the edge crosses the bottom face obliquely */
   assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, yaw 30 deg, +X");
   model_mesh_free(&m);
   two_material_box(nz, &m, &ms, com);
-  bp_quat(ax, 0.5 * 3.14159265358979323846, q); /* 90 deg about x: the face y = -b is down, link z is world -y */
+  cl_quat_from_axis_angle(ax, 0.5 * CL_PI, q); /* 90 deg about x: the face y = -b is down, link z is world -y */
   assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_NY, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, 90 deg about x, -Y");
   assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_PY, BALANCE_CONTACT_FAST), 1.0,
@@ -119,7 +120,7 @@ START_TEST(ell_prism) {
             "L prism on its bar, +X");
   assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_PY, BALANCE_CONTACT_FAST), 1.0,
             "L prism on its bar, +Y");
-  bp_quat(ax, 0.5 * 3.14159265358979323846, q); /* resting on the L-shaped face itself */
+  cl_quat_from_axis_angle(ax, 0.5 * CL_PI, q); /* resting on the L-shaped face itself */
   assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
             "L prism on its L face, +X");
   model_mesh_free(&m);

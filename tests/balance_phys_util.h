@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "comlearn/balance.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 
@@ -62,18 +63,10 @@ static inline void bp_rock(const char *name, model_object_t *obj, model_mass_t *
   ck_assert_msg(model_inertial_load(path, NULL, mass, &err) == MODEL_OK, "%s", err.msg);
 }
 
-/* Quaternion (w, x, y, z) of a rotation by angle_rad about a unit axis. */
-static inline void bp_quat(const double axis[3], double angle_rad, double q[4]) {
-  q[0] = cos(0.5 * angle_rad);
-  for (int i = 0; i < 3; i++) q[i + 1] = sin(0.5 * angle_rad) * axis[i];
-}
-
 /* Edge normal n expressed in the link frame for orientation q: u = R(q)^T n. */
 static inline void bp_edge_dir_link(const double q[4], const double n[3], double u[3]) {
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
-  const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
-                          {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
-                          {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+  double r[3][3];
+  cl_quat_to_rot(q, r);
   for (int i = 0; i < 3; i++) u[i] = r[0][i] * n[0] + r[1][i] * n[1] + r[2][i] * n[2];
 }
 

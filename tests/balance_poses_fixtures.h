@@ -11,10 +11,10 @@
 #include <string.h>
 
 #include "comlearn/balance.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 
-#define BP_PI 3.14159265358979323846
 
 /* A hexahedron from 8 corners in the order of a box [lo, hi]: bottom face 0..3 counter-clockwise
  * from (lo, lo), top face 4..7 above them. 12 outward triangles; allocated. */
@@ -83,7 +83,7 @@ static inline void bp_washer(model_mesh_t *m, double r_in, double r_out, double 
   ck_assert_ptr_nonnull(m->triangles);
   /* vertex 4i + j: j = 0 outer bottom, 1 outer top, 2 inner bottom, 3 inner top */
   for (unsigned i = 0; i < n; ++i) {
-    const double a = 2.0 * BP_PI * i / n, c = cos(a), s = sin(a);
+    const double a = 2.0 * CL_PI * i / n, c = cos(a), s = sin(a);
     const double r[4] = {r_out, r_out, r_in, r_in}, z[4] = {-h, h, -h, h};
     for (unsigned j = 0; j < 4; ++j) {
       m->vertices_m[4 * i + j][0] = r[j] * c;
@@ -130,9 +130,9 @@ static inline void bp_ellipsoid(model_mesh_t *m, const double a[3], unsigned rin
   memcpy(m->vertices_m[0], top, sizeof top);
   memcpy(m->vertices_m[1], bottom, sizeof bottom);
   for (unsigned i = 1; i < rings; ++i) {
-    const double th = BP_PI * i / rings;
+    const double th = CL_PI * i / rings;
     for (unsigned j = 0; j < segs; ++j) {
-      const double ph = 2.0 * BP_PI * j / segs;
+      const double ph = 2.0 * CL_PI * j / segs;
       double *v = m->vertices_m[2 + (i - 1) * segs + j];
       v[0] = a[0] * sin(th) * cos(ph);
       v[1] = a[1] * sin(th) * sin(ph);

@@ -8,16 +8,16 @@
 #include "balance_poses_fixtures.h"
 #include "balance_suites.h"
 #include "comlearn/balance_poses.h"
+#include "comlearn/math3d.h"
 
 static const double kBase[3] = {0.30, 0.30, 0.10};
 static const double kIdentity[4] = {1.0, 0.0, 0.0, 0.0};
 
-/* Rotate v by unit q (test-side, independent of the library's helper). */
+/* Rotate v by unit q through the matrix (test-side: another formula than the library's
+ * quaternion rotation, balance_geom_quat_rotate / cl_quat_rotate). */
 static void rot(const double q[4], const double v[3], double o[3]) {
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
-  const double r[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
-                          {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
-                          {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}};
+  double r[3][3];
+  cl_quat_to_rot(q, r);
   for (int i = 0; i < 3; ++i) o[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2];
 }
 
@@ -157,7 +157,7 @@ START_TEST(box_best_yaw_is_the_diagonal) {
   ck_assert_int_eq(model_yaw_best(&m, kIdentity, c, MODEL_EDGE_PX, NULL, &yaw, &margin),
                    MODEL_OK);
   ck_assert_double_eq_tol(margin, sqrt(0.03 * 0.03 + 0.02 * 0.02), 1e-9);
-  ck_assert(yaw >= 0.0 && yaw < BP_PI);
+  ck_assert(yaw >= 0.0 && yaw < CL_PI);
   /* The edge (world y) seen in the object frame after yaw runs along a diagonal. */
   const double d[2] = {sin(yaw), cos(yaw)};
   const double along_diag = fabs(d[0] * 0.03 + d[1] * 0.02) / sqrt(0.03 * 0.03 + 0.02 * 0.02);
@@ -313,7 +313,7 @@ START_TEST(two_feet_chord_is_the_real_contact) {
   ck_assert_int_eq(model_yaw_best(&m, kIdentity, mid, MODEL_EDGE_PX, NULL, &yaw, &best),
                    MODEL_OK);
   ck_assert_double_eq_tol(best, hypot(0.03, 0.02), 1e-9);
-  ck_assert(fabs(yaw - BP_PI / 2) > 0.1);
+  ck_assert(fabs(yaw - CL_PI / 2) > 0.1);
   ck_assert_int_eq(model_yaw_margin(&m, kIdentity, mid, MODEL_EDGE_PX, 0.0, NULL, &at0),
                    MODEL_OK);
   ck_assert(at0 == -HUGE_VAL);
@@ -381,7 +381,7 @@ START_TEST(washer_is_one_ring_region) {
   model_regime_t r;
   ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r),
                    MODEL_OK);
-  const double poly = 0.5 * n * sin(2.0 * BP_PI / n); /* area of the unit n-gon */
+  const double poly = 0.5 * n * sin(2.0 * CL_PI / n); /* area of the unit n-gon */
   ck_assert_uint_eq(r.patch.region_count, 1);
   ck_assert_double_eq_tol(r.patch.faces_area_m2, poly * (r_out * r_out - r_in * r_in), 1e-12);
   ck_assert_double_eq_tol(r.patch.area_m2, poly * r_out * r_out, 1e-12);
@@ -511,8 +511,8 @@ START_TEST(rock_tilted_is_not_flat) {
   /* A rock turned 45 degrees about x and 30 about y rests on its rounded side. */
   bp_rock_t r;
   bp_rock_load(&r, _i + 1, 0);
-  const double qx[4] = {cos(BP_PI / 8), sin(BP_PI / 8), 0, 0};
-  const double qy[4] = {cos(BP_PI / 12), 0, sin(BP_PI / 12), 0};
+  const double qx[4] = {cos(CL_PI / 8), sin(CL_PI / 8), 0, 0};
+  const double qy[4] = {cos(CL_PI / 12), 0, sin(CL_PI / 12), 0};
   double q[4] = {qy[0] * qx[0] - qy[2] * 0.0, qy[0] * qx[1], qy[2] * qx[0], -qy[2] * qx[1]};
   model_pose_t pose = over_edge(&r.obj.mesh, q, MODEL_EDGE_PX, r.uniform.com_m, 0.0);
   model_regime_t reg;
@@ -544,7 +544,7 @@ START_TEST(resting_orientation_turns_normal_down) {
   /* Yaw about world z keeps the normal down and turns x. */
   double q[4], w[3];
   const double ex[3] = {1, 0, 0};
-  model_orientation_yawed(kIdentity, BP_PI / 2, q);
+  model_orientation_yawed(kIdentity, CL_PI / 2, q);
   rot(q, ex, w);
   ck_assert_double_eq_tol(w[0], 0.0, 1e-15);
   ck_assert_double_eq_tol(w[1], 1.0, 1e-15);

@@ -9,6 +9,7 @@
 #include "balance_suites.h"
 #include "comlearn/balance_poses.h"
 #include "comlearn/balance_stack.h"
+#include "comlearn/math3d.h"
 
 static const double kBoxH[3] = {0.03, 0.02, 0.01};
 static const double kUp[4] = {1, 0, 0, 0};
@@ -58,18 +59,18 @@ START_TEST(pose_above_is_exact_for_boxes) {
   ck_assert_double_eq_tol(t.pose[1].position_m[2], 3.0 * kBoxH[2] - 2e-6, 1e-15);
   ck_assert_double_eq_tol(t.pose[1].position_m[0], 0.01, 1e-15);
   /* Turned 45 degrees about z, the top box still rests on the bottom's top face. */
-  const double q45[4] = {cos(BP_PI / 8), 0, 0, sin(BP_PI / 8)}, c[3] = {0, 0, 0}, at[2] = {0, 0};
+  const double q45[4] = {cos(CL_PI / 8), 0, 0, sin(CL_PI / 8)}, c[3] = {0, 0, 0}, at[2] = {0, 0};
   model_pose_t p;
   ck_assert_int_eq(balance_stack_pose_above(&t.mesh, &t.pose[0], &t.mesh, q45, c, at, 0.0, &p),
                    BALANCE_OK);
   ck_assert_double_eq_tol(p.position_m[2], 3.0 * kBoxH[2] - 1e-6, 1e-15);
   /* Turned 90 degrees about x it stands on a 60 x 20 mm face: center 20 mm above the touch;
    * turned 45 degrees, on a 60 mm edge: (20 + 10) / sqrt(2) mm above it. */
-  const double qx[4] = {cos(BP_PI / 4), sin(BP_PI / 4), 0, 0};
+  const double qx[4] = {cos(CL_PI / 4), sin(CL_PI / 4), 0, 0};
   ck_assert_int_eq(balance_stack_pose_above(&t.mesh, &t.pose[0], &t.mesh, qx, c, at, 0.0, &p),
                    BALANCE_OK);
   ck_assert_double_eq_tol(p.position_m[2], 2.0 * kBoxH[2] - 1e-6 + kBoxH[1], 1e-15);
-  const double qx45[4] = {cos(BP_PI / 8), sin(BP_PI / 8), 0, 0};
+  const double qx45[4] = {cos(CL_PI / 8), sin(CL_PI / 8), 0, 0};
   ck_assert_int_eq(balance_stack_pose_above(&t.mesh, &t.pose[0], &t.mesh, qx45, c, at, 0.0, &p),
                    BALANCE_OK);
   ck_assert_double_eq_tol(p.position_m[2], 2.0 * kBoxH[2] - 1e-6 + (kBoxH[1] + kBoxH[2]) / sqrt(2.0),

@@ -7,6 +7,7 @@
 #include "balance_phys_util.h"
 #include "balance_suites.h"
 #include "comlearn/balance_poses.h"
+#include "comlearn/math3d.h"
 
 static const double q_id[4] = {1, 0, 0, 0};
 
@@ -110,7 +111,7 @@ START_TEST(release_touches_within_one_micrometre) {
   ck_assert_int_eq(balance_object_create(w, &obj.mesh, &ms, &o), BALANCE_OK);
   const double ax[3] = {0.0, 0.0, 1.0};
   double q[4];
-  bp_quat(ax, 0.7, q); /* yawed: the -z face down, the edge crossing it obliquely */
+  cl_quat_from_axis_angle(ax, 0.7, q); /* yawed: the -z face down, the edge crossing it obliquely */
   model_pose_t pose;
   ck_assert_int_eq(balance_pose_over_edge(w, o, q, MODEL_EDGE_NY, ms.com_m, 0.01, 1e-6, &pose),
                    BALANCE_OK);
@@ -582,13 +583,13 @@ START_TEST(tilted_box_rests_on_the_edge_line) {
   ck_assert_double_eq_tol(pose.position_m[0], hx - 0.015, 1e-15);
   const double a = 0.2, yaxis[3] = {0, 1, 0}, xaxis[3] = {1, 0, 0}, c0[3] = {0, 0, 0};
   double q[4];
-  bp_quat(yaxis, a, q); /* +x goes down: the +x bottom edge is the lowest, beyond the edge */
+  cl_quat_from_axis_angle(yaxis, a, q); /* +x goes down: the +x bottom edge is the lowest, beyond the edge */
   ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q, MODEL_EDGE_PX, c0, 0.01, 1e-6, &pose),
                    BALANCE_OK);
   ck_assert_double_eq_tol(pose.position_m[2], 0.025 / cos(a) - 1e-6, 1e-12);
   ck_assert_double_eq_tol(pose.position_m[1], 0.01, 1e-15);
   /* The same about x over the -Y edge (-y goes down there: rotate by +a about x). */
-  bp_quat(xaxis, a, q);
+  cl_quat_from_axis_angle(xaxis, a, q);
   ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q, MODEL_EDGE_NY, c0, 0.0, 1e-6, &pose),
                    BALANCE_OK);
   ck_assert_double_eq_tol(pose.position_m[2], 0.025 / cos(a) - 1e-6, 1e-12);
@@ -634,7 +635,7 @@ START_TEST(point_support_rock_tips_with_com_inside) {
   ck_assert_int_eq(confirmed, 1);
   double q[4], u[3];
   const double n[3] = {1, 0, 0};
-  model_orientation_yawed(face->orientation_wxyz, 0.5 * 3.14159265358979323846, q);
+  model_orientation_yawed(face->orientation_wxyz, 0.5 * CL_PI, q);
   bp_edge_dir_link(q, n, u);
   /* bp_trial_at(p0 = CoM, s): the CoM lies s inside the edge. */
   ck_assert_int_eq(bp_trial_at(w, o, q, MODEL_EDGE_PX, truth.com_m, u, 0.003), BALANCE_TIPS);

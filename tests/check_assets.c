@@ -16,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "model_test_util.h"
@@ -33,11 +34,6 @@ static void rock_path(char *buf, size_t n, const char *name, const char *kind) {
   snprintf(buf, n, "%s/rocks/%s_%s.urdf", COMLEARN_ASSETS_DIR, name, kind);
 }
 
-static double dist3(const double a[3], const double b[3]) {
-  double s = 0.0;
-  for (int k = 0; k < 3; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
-  return sqrt(s);
-}
 
 static double max_abs(const double m[3][3]) {
   double r = 0.0;
@@ -146,9 +142,9 @@ START_TEST(rock_size_mass_triangles) {
   ck_assert_uint_ge(r.obj.mesh.triangle_count, 1000);
   ck_assert_uint_le(r.obj.mesh.triangle_count, 3000);
   /* the uneven CoM moved 3-10 mm from the uniform-density CoM */
-  const double shift = dist3(r.uneven_urdf.com_m, r.even_calc.com_m);
+  const double shift = cl_vec3_dist(r.uneven_urdf.com_m, r.even_calc.com_m);
   ck_assert_msg(shift >= 0.003 && shift <= 0.010, "%s: CoM shift %.4f m", r.spec->name, shift);
-  ck_assert_double_eq_tol(dist3(r.even_urdf.com_m, r.even_calc.com_m), 0.0, 1e-12);
+  ck_assert_double_eq_tol(cl_vec3_dist(r.even_urdf.com_m, r.even_calc.com_m), 0.0, 1e-12);
   model_object_free(&r.obj);
 }
 END_TEST

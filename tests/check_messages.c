@@ -24,6 +24,7 @@
 #include "comlearn/comlearn_sim_control_t.h"
 #include "comlearn/comlearn_yumi_command_t.h"
 #include "comlearn/comlearn_yumi_status_t.h"
+#include "comlearn/math3d.h"
 #include "comlearn/msg.h"
 
 /* ---------------------------------------------------------------------------------------------
@@ -36,11 +37,9 @@ static double val(int k) {
 }
 
 static void fill_quat(double q[4], double angle_rad, double ax, double ay, double az) {
-  double n = sqrt(ax * ax + ay * ay + az * az);
-  q[0] = cos(angle_rad / 2.0);
-  q[1] = sin(angle_rad / 2.0) * ax / n;
-  q[2] = sin(angle_rad / 2.0) * ay / n;
-  q[3] = sin(angle_rad / 2.0) * az / n;
+  double axis[3] = {ax, ay, az};
+  (void)cl_vec3_normalize(axis, axis);
+  cl_quat_from_axis_angle(axis, angle_rad, q);
 }
 
 static char s_rock[] = "rock_2_uneven";
@@ -705,14 +704,6 @@ START_TEST(test_reject_trailing_bytes) {
 }
 END_TEST
 
-/* Deterministic xorshift64* for the garbage tests. */
-static uint64_t rng_next(uint64_t *s) {
-  *s ^= *s >> 12;
-  *s ^= *s << 25;
-  *s ^= *s >> 27;
-  return *s * UINT64_C(2685821657736338717);
-}
-
 static void check_stats_balance(const msg_stats_t *st) {
   ck_assert_uint_eq(st->received, st->decoded + st->rejected_fingerprint +
                                       st->rejected_truncated + st->rejected_malformed +
@@ -735,10 +726,10 @@ START_TEST(test_reject_garbage) {
   msg_stats_t st = {0};
   const int rounds = 3000;
   for (int r = 0; r < rounds; r++) {
-    size_t n = (size_t)(rng_next(&seed) % 700);
+    size_t n = (size_t)(cl_rng_next(&seed) % 700);
     unsigned char *b = malloc(n > 0 ? n : 1);
     ck_assert_ptr_nonnull(b);
-    for (size_t k = 0; k < n; k++) b[k] = (unsigned char)rng_next(&seed);
+    for (size_t k = 0; k < n; k++) b[k] = (unsigned char)cl_rng_next(&seed);
     ck_assert_int_ne(msg_decode(t, b, n, &got, &st), MSG_OK);
     free(b);
   }
@@ -749,11 +740,11 @@ START_TEST(test_reject_garbage) {
   msg_stats_t st2 = {0};
   for (int r = 0; r < rounds; r++) {
     /* Behind the right fingerprint; lengths near the real one. */
-    size_t n = good_len - 40 + (size_t)(rng_next(&seed) % 80);
+    size_t n = good_len - 40 + (size_t)(cl_rng_next(&seed) % 80);
     unsigned char *b = malloc(n);
     ck_assert_ptr_nonnull(b);
     memcpy(b, good, 8);
-    for (size_t k = 8; k < n; k++) b[k] = (unsigned char)rng_next(&seed);
+    for (size_t k = 8; k < n; k++) b[k] = (unsigned char)cl_rng_next(&seed);
     if (msg_decode(t, b, n, &got, &st2) == MSG_OK) t->decode_cleanup(&got);
     free(b);
   }
@@ -766,10 +757,10 @@ START_TEST(test_reject_garbage) {
     unsigned char *b = malloc(good_len);
     ck_assert_ptr_nonnull(b);
     memcpy(b, good, good_len);
-    int flips = 1 + (int)(rng_next(&seed) % 4);
+    int flips = 1 + (int)(cl_rng_next(&seed) % 4);
     for (int k = 0; k < flips; k++) {
-      size_t at = 8 + (size_t)(rng_next(&seed) % (good_len - 8));
-      b[at] ^= (unsigned char)(1 + rng_next(&seed) % 255);
+      size_t at = 8 + (size_t)(cl_rng_next(&seed) % (good_len - 8));
+      b[at] ^= (unsigned char)(1 + cl_rng_next(&seed) % 255);
     }
     msg_status_t s = msg_decode(t, b, good_len, &got, &st3);
     if (s == MSG_OK) {
@@ -988,7 +979,7 @@ START_TEST(test_memq_rejects) {
     ck_assert_int_eq(lcm_publish(lcm, cases[i].channel, buf, (unsigned)(len / 2)), 0);
     ck_assert_int_eq(lcm_publish(lcm, cases[i].channel, buf, 3), 0);
     unsigned char junk[64];
-    for (size_t k = 0; k < sizeof junk; k++) junk[k] = (unsigned char)rng_next(&seed);
+    for (size_t k = 0; k < sizeof junk; k++) junk[k] = (unsigned char)cl_rng_next(&seed);
     ck_assert_int_eq(lcm_publish(lcm, cases[i].channel, junk, sizeof junk), 0);
     ck_assert_int_eq(lcm_publish(lcm, cases[i].channel, buf, 0), 0); /* empty */
     free(buf);

@@ -19,6 +19,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "model_test_util.h"
@@ -31,13 +32,6 @@ enum { PATCHES_MAX = 16, SEEDS = 60 };
 static const double kMinPatchArea_m2 = 1e-4;
 static const uint64_t kFirstSeed = 1000; /* the bench's default seed base */
 
-static double dist3(const double a[3], const double b[3]) {
-  double s = 0.0;
-  for (int k = 0; k < 3; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
-  return sqrt(s);
-}
-
-static double norm3(const double a[3]) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
 /* Run comlearn-rockgen with argv (NULL-terminated), output discarded; its exit status or -1. */
 static int run_rockgen(char *const argv[]) {
@@ -88,13 +82,13 @@ START_TEST(spec_in_documented_ranges) {
     ck_assert(fabs(f[1].normal[0]) == 1.0 && f[1].normal[1] == 0.0 && f[1].normal[2] == 0.0);
     ck_assert(f[1].depth_m >= 0.0065 && f[1].depth_m <= 0.0075);
     for (int i = 2; i < 4; ++i) {
-      ck_assert_double_eq_tol(norm3(f[i].normal), 1.0, 1e-12);
+      ck_assert_double_eq_tol(cl_vec3_norm(f[i].normal), 1.0, 1e-12);
       ck_assert(f[i].normal[2] >= 0.4 && f[i].normal[2] <= 0.75);
       ck_assert(f[i].depth_m >= 0.003 && f[i].depth_m <= 0.0055);
     }
     ck_assert_double_eq(s.density_kg_m3, 2650.0);
     ck_assert_double_eq(s.region_density_kg_m3, 5200.0);
-    ck_assert_double_eq_tol(norm3(s.region_normal), 1.0, 1e-12);
+    ck_assert_double_eq_tol(cl_vec3_norm(s.region_normal), 1.0, 1e-12);
     ck_assert(s.region_offset_m >= 0.002 && s.region_offset_m <= 0.004);
   }
 }
@@ -230,7 +224,7 @@ START_TEST(every_seed_rests_on_its_bottom_face) {
     }
     ck_assert(even.mass_kg >= 0.1 && uneven.mass_kg <= 0.6 && uneven.mass_kg > even.mass_kg);
     /* The dense layer moves the CoM a few mm (seeds 1-300: 2.8-5.6 mm). */
-    const double shift = dist3(even.com_m, uneven.com_m);
+    const double shift = cl_vec3_dist(even.com_m, uneven.com_m);
     ck_assert_msg(shift >= 0.002 && shift <= 0.007, "%s: CoM shift %.4f m", s.name, shift);
     lo_shift = shift < lo_shift ? shift : lo_shift;
     hi_shift = shift > hi_shift ? shift : hi_shift;

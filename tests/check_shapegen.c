@@ -23,6 +23,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "model_test_util.h"
@@ -30,7 +31,6 @@
 #include "file_test_util.h"
 
 enum { SEEDS = 5 };
-static const double kPi = 3.14159265358979323846;
 static const double MM = 1e-3;
 
 static void gen(int family, uint64_t seed, shapegen_object_t *o) {
@@ -43,16 +43,6 @@ static void gen(int family, uint64_t seed, shapegen_object_t *o) {
 static double to_f32(double x) {
   volatile float f = (float)x;
   return (double)f;
-}
-
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static double dist3(const double a[3], const double b[3]) {
-  double s = 0.0;
-  for (int k = 0; k < 3; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
-  return sqrt(s);
 }
 
 static void bbox(const model_mesh_t *m, double lo[3], double hi[3]) {
@@ -71,7 +61,7 @@ static double tri_area(const model_mesh_t *m, size_t t, double n[3]) {
   const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
   const double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
   double x[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-  const double len = sqrt(dot3(x, x));
+  const double len = sqrt(cl_vec3_dot(x, x));
   if (n != NULL) {
     for (int k = 0; k < 3; ++k) n[k] = x[k] / len;
   }
@@ -227,11 +217,11 @@ static void hull_planes(const model_mesh_t *m, planes_t *p) {
   for (size_t t = 0; t < hull.triangle_count; ++t) {
     double n[3];
     const double a = tri_area(&hull, t, n);
-    const double h = dot3(n, hull.vertices_m[hull.triangles[t][0]]);
+    const double h = cl_vec3_dot(n, hull.vertices_m[hull.triangles[t][0]]);
     size_t i = 0;
     for (; i < p->count; ++i) {
-      const double hi = dot3(p->n[i], hull.vertices_m[hull.triangles[t][0]]);
-      if (dot3(n, p->n[i]) > 1.0 - 1e-12 && fabs(hi - h) < 1e-7) break;
+      const double hi = cl_vec3_dot(p->n[i], hull.vertices_m[hull.triangles[t][0]]);
+      if (cl_vec3_dot(n, p->n[i]) > 1.0 - 1e-12 && fabs(hi - h) < 1e-7) break;
     }
     if (i == p->count) {
       ck_assert_uint_lt(p->count, PLANES_MAX);
@@ -252,7 +242,7 @@ START_TEST(trig_exact_and_accurate) {
     for (long j = -n; j <= 2 * n; ++j) {
       double c, s;
       shapegen_cos_sin_turn(j, n, &c, &s);
-      const double a = 2.0 * kPi * (double)j / (double)n;
+      const double a = 2.0 * CL_PI * (double)j / (double)n;
       const double tol = 2.5e-16 * (1.0 + fabs(a)); /* a itself is rounded */
       ck_assert_msg(fabs(c - cos(a)) <= tol && fabs(s - sin(a)) <= tol, "j %ld n %ld", j, n);
     }
@@ -341,16 +331,16 @@ START_TEST(every_family_accepted) {
     model_mass_t e, u;
     ck_assert_int_eq(model_mesh_mass(&o.mesh, o.spec.density_kg_m3, &e), MODEL_OK);
     ck_assert_double_eq_tol(e.mass_kg, o.even.mass_kg, 1e-12 * e.mass_kg);
-    ck_assert_double_eq_tol(dot3(o.region.normal, o.region.normal), 1.0, 1e-12);
+    ck_assert_double_eq_tol(cl_vec3_dot(o.region.normal, o.region.normal), 1.0, 1e-12);
     ck_assert_int_eq(model_mesh_mass_halfspace(&o.mesh, o.spec.density_kg_m3, &o.region,
                                                o.spec.density_kg_m3 * o.spec.region_ratio, &u),
                      MODEL_OK);
     ck_assert_double_eq_tol(u.mass_kg, o.uneven.mass_kg, 1e-12 * u.mass_kg);
-    const double shift = dist3(u.com_m, e.com_m);
+    const double shift = cl_vec3_dist(u.com_m, e.com_m);
     ck_assert_msg(shift >= SHAPEGEN_SHIFT_MIN_M - 1e-9 && shift <= SHAPEGEN_SHIFT_MAX_M + 1e-9,
                   "%s: shift %.4g m", name, shift);
     const double d[3] = {u.com_m[0] - e.com_m[0], u.com_m[1] - e.com_m[1], u.com_m[2] - e.com_m[2]};
-    ck_assert(dot3(d, o.region.normal) > 0.0); /* towards the dense side */
+    ck_assert(cl_vec3_dot(d, o.region.normal) > 0.0); /* towards the dense side */
     ck_assert(u.mass_kg > e.mass_kg && e.mass_kg >= MODEL_MASS_MIN_KG);
     ck_assert_int_eq(model_mass_plausible(&e, &o.mesh, NULL), MODEL_OK);
     ck_assert_int_eq(model_mass_plausible(&u, &o.mesh, NULL), MODEL_OK);
@@ -503,7 +493,7 @@ static void revolve_closed_form(const shapegen_spec_t *s, double *volume, double
   const unsigned n = rev->segments;
   double ir, irz, rmax = 0.0, zlo = HUGE_VAL, zhi = -HUGE_VAL;
   profile_moments(rev, &ir, &irz);
-  *volume = n * sin(2 * kPi / n) * ir;
+  *volume = n * sin(2 * CL_PI / n) * ir;
   for (size_t i = 0; i < rev->point_count; ++i) {
     rmax = fmax(rmax, rev->rz_m[i][0]);
     zlo = fmin(zlo, rev->rz_m[i][1]);
@@ -511,10 +501,10 @@ static void revolve_closed_form(const shapegen_spec_t *s, double *volume, double
   }
   double xlo = HUGE_VAL, xhi = -HUGE_VAL, ylo = HUGE_VAL, yhi = -HUGE_VAL;
   for (unsigned j = 0; j < n; ++j) {
-    xlo = fmin(xlo, rmax * cos(2 * kPi * j / n));
-    xhi = fmax(xhi, rmax * cos(2 * kPi * j / n));
-    ylo = fmin(ylo, rmax * sin(2 * kPi * j / n));
-    yhi = fmax(yhi, rmax * sin(2 * kPi * j / n));
+    xlo = fmin(xlo, rmax * cos(2 * CL_PI * j / n));
+    xhi = fmax(xhi, rmax * cos(2 * CL_PI * j / n));
+    ylo = fmin(ylo, rmax * sin(2 * CL_PI * j / n));
+    yhi = fmax(yhi, rmax * sin(2 * CL_PI * j / n));
   }
   const double c_gen[3] = {0.5 * (xlo + xhi), 0.5 * (ylo + yhi), 0.5 * (zlo + zhi)};
   const double com_gen[3] = {0.0, 0.0, irz / ir};
@@ -578,8 +568,8 @@ START_TEST(closed_forms) {
         double lo = v0, hi = v0;
         for (size_t f = 0; f < s->slab.foot_count; ++f) {
           const double r = s->slab.feet[f].half_m[0];
-          lo += s->slab.clearance_m * kPi * (r - 1.5 * MM) * (r - 1.5 * MM);
-          hi += s->slab.clearance_m * kPi * (r + s->slab.slope_m + 1.5 * MM) *
+          lo += s->slab.clearance_m * CL_PI * (r - 1.5 * MM) * (r - 1.5 * MM);
+          hi += s->slab.clearance_m * CL_PI * (r + s->slab.slope_m + 1.5 * MM) *
                 (r + s->slab.slope_m + 1.5 * MM);
         }
         ck_assert_msg(m.mass_kg > lo && m.mass_kg < hi, "%s: volume %.9g not in [%.9g, %.9g]", name,
@@ -594,9 +584,9 @@ START_TEST(closed_forms) {
         const size_t pm = s->rev.point_count;
         const double big = s->rev.rz_m[0][0], az = -s->rev.rz_m[0][1];
         const double ar = s->rev.rz_m[pm / 4][0] - big;
-        const double ideal = 2.0 * kPi * kPi * big * ar * az;
+        const double ideal = 2.0 * CL_PI * CL_PI * big * ar * az;
         const double n2 = (double)s->rev.segments * s->rev.segments;
-        const double bound = 2.0 * kPi * kPi / 3.0 * (1.0 / n2 + 1.0 / ((double)pm * (double)pm));
+        const double bound = 2.0 * CL_PI * CL_PI / 3.0 * (1.0 / n2 + 1.0 / ((double)pm * (double)pm));
         ck_assert_msg(m.mass_kg <= ideal && m.mass_kg >= ideal * (1.0 - bound),
                       "%s: volume %.9g, ideal torus %.9g, bound %.3g", name, m.mass_kg, ideal, bound);
       }
@@ -604,14 +594,14 @@ START_TEST(closed_forms) {
       revolve_closed_form(s, &v, com);
       const shapegen_handle_t *h = &s->handle;
       const unsigned n = s->rev.segments;
-      const double a = h->radius_m * sin(2 * kPi * h->columns / n);
+      const double a = h->radius_m * sin(2 * CL_PI * h->columns / n);
       const double bh = 0.5 * (s->rev.rz_m[h->upper_row + h->rows][1] - s->rev.rz_m[h->upper_row][1]);
       double len = 0.0;
       for (int k = 0; k < 1000; ++k) {
-        const double p0 = kPi / 2 - kPi * k / 1000, p1 = kPi / 2 - kPi * (k + 1) / 1000;
+        const double p0 = CL_PI / 2 - CL_PI * k / 1000, p1 = CL_PI / 2 - CL_PI * (k + 1) / 1000;
         len += hypot(h->reach_m * (cos(p1) - cos(p0)), h->half_height_m * (sin(p1) - sin(p0)));
       }
-      const double lo = v + 0.5 * kPi * a * bh * len, hi = v + 1.1 * 4.0 * a * bh * len;
+      const double lo = v + 0.5 * CL_PI * a * bh * len, hi = v + 1.1 * 4.0 * a * bh * len;
       ck_assert_msg(m.mass_kg > lo && m.mass_kg < hi, "%s: volume %.9g not in [%.9g, %.9g]", name,
                     m.mass_kg, lo, hi);
       /* the handle pulls the CoM off the cup's axis towards +x (the axis: min x + radius) */
@@ -760,7 +750,7 @@ static void feature_lumpy(const shapegen_object_t *o) {
     int fracture = 0; /* every flat face is one of the fracture planes */
     for (size_t f = 0; f < r->fracture_count; ++f) {
       const double *n = r->fractures[f].normal;
-      fracture |= dot3(n, p[i].normal) / sqrt(dot3(n, n)) > 1.0 - 1e-6;
+      fracture |= cl_vec3_dot(n, p[i].normal) / sqrt(cl_vec3_dot(n, n)) > 1.0 - 1e-6;
     }
     ck_assert_msg(fracture, "%s: a flat face off every fracture plane", o->spec.name);
   }
@@ -848,7 +838,7 @@ static void feature_tilted(const shapegen_object_t *o) {
   ck_assert(bottom >= 4 && top >= 4);
   planes_t *p = malloc(sizeof *p);
   hull_planes(&o->mesh, p);
-  const double c2 = cos(2.0 * kPi / 180.0), area = 4.0 * s->half_m[0] * s->half_m[1];
+  const double c2 = cos(2.0 * CL_PI / 180.0), area = 4.0 * s->half_m[0] * s->half_m[1];
   size_t nb = 0, ntop = 0, idx[16];
   for (size_t i = 0; i < p->count; ++i) {
     if (p->n[i][2] < -c2) {
@@ -864,7 +854,7 @@ static void feature_tilted(const shapegen_object_t *o) {
   /* facets at small angles to each other: 0.1 degree at least, 3 degrees at most */
   for (size_t i = 0; i < nb; ++i) {
     for (size_t j = i + 1; j < nb; ++j) {
-      const double ang = acos(fmin(1.0, dot3(p->n[idx[i]], p->n[idx[j]]))) * 180.0 / kPi;
+      const double ang = acos(fmin(1.0, cl_vec3_dot(p->n[idx[i]], p->n[idx[j]]))) * 180.0 / CL_PI;
       ck_assert_msg(ang >= 0.09 && ang <= 3.0, "%s: facets %.3f degrees apart", name, ang);
     }
   }

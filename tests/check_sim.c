@@ -20,6 +20,7 @@
 #include "comlearn/comlearn_sim_control_t.h"
 #include "comlearn/comlearn_yumi_command_t.h"
 #include "comlearn/comlearn_yumi_status_t.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/msg.h"
 #include "comlearn/placement.h"
@@ -217,11 +218,11 @@ static void on_ping(const lcm_recv_buf_t *rb, const char *ch, void *u) {
 
 static void self_check_udpm(lcm_t *lcm, const char *url) {
   ping_seen = 0;
-  lcm_subscription_t *s = lcm_subscribe(lcm, "CHECK_SI3.14159265358979323846NG", on_ping, NULL);
+  lcm_subscription_t *s = lcm_subscribe(lcm, "CHECK_SIM_PING", on_ping, NULL);
   const char b[4] = "png";
   const double end = now_s() + 3.0;
   while (!ping_seen && now_s() < end) {
-    lcm_publish(lcm, "CHECK_SI3.14159265358979323846NG", b, sizeof b);
+    lcm_publish(lcm, "CHECK_SIM_PING", b, sizeof b);
     lcm_handle_timeout(lcm, 100);
   }
   lcm_unsubscribe(lcm, s);
@@ -344,7 +345,7 @@ START_TEST(joint_tracking_velocity_limit) {
   const double scale = 0.5;
   const double t_exp = fmax(0.5 / (arm.velocity_rad_s[0] * scale),
                             0.8 / (arm.velocity_rad_s[4] * scale));
-  ck_assert_double_eq_tol(arm.velocity_rad_s[0], 3.14159265358979323846, 1e-12); /* 180 deg/s */
+  ck_assert_double_eq_tol(arm.velocity_rad_s[0], CL_PI, 1e-12); /* 180 deg/s */
   f.n_hist = 0;
   int64_t seq = 1;
   send_cmd(&f, seq, CMD(MODE_POSITION), (const double(*)[7])q, w, scale, f.st.utime + 60000000);
@@ -363,7 +364,7 @@ START_TEST(joint_tracking_velocity_limit) {
       ck_assert_double_eq_tol(h->q[1][0], q0[1][0] + 0.5 * fr, 1e-5);
       ck_assert_double_eq_tol(h->q[1][4], q0[1][4] + 0.8 * fr, 1e-5);
       if (tt > 0) {
-        ck_assert_double_eq_tol(h->qdot[1][0], 3.14159265358979323846 * scale, 1e-5);
+        ck_assert_double_eq_tol(h->qdot[1][0], CL_PI * scale, 1e-5);
         ck_assert_double_eq_tol(h->qdot[1][4], 0.8 / t_exp, 1e-5);
       }
       ck_assert_double_eq_tol(h->q[0][0], q0[0][0], 1e-15);
@@ -563,8 +564,8 @@ START_TEST(garbage_counted) {
   st.error_text = (char *)"";
   int slen = comlearn_yumi_status_t_encode(buf2, 0, sizeof buf2, &st);
   publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf2, (size_t)slen); /* wrong fingerprint */
-  srand(7);
-  for (int i = 0; i < 300; i++) buf2[i] = (unsigned char)(rand() & 0xff);
+  uint64_t rng = 7;
+  for (int i = 0; i < 300; i++) buf2[i] = (unsigned char)(cl_rng_next(&rng) & 0xff);
   publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf2, 300); /* garbage */
   publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf2, 3);   /* shorter than a fingerprint */
   sent += 5;

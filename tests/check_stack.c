@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "cli_test_util.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "comlearn/stack.h"
@@ -86,14 +87,8 @@ static void boxes_free(boxes_t *b) {
   model_mesh_free(&b->plate);
 }
 
-static void rotate(const double q[4], const double v[3], double out[3]) {
-  double r[3][3];
-  model_quat_to_rot(q, r);
-  for (int i = 0; i < 3; ++i) out[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2];
-}
-
 static void world_com(const model_pose_t *p, const double com[3], double out[3]) {
-  rotate(p->orientation_wxyz, com, out);
+  cl_quat_rotate(p->orientation_wxyz, com, out);
   for (int i = 0; i < 3; ++i) out[i] += p->position_m[i];
 }
 
@@ -125,7 +120,7 @@ START_TEST(plan_box_on_box_margins) {
   world_com(&plan.pose[1], kPlateCom, cp);
   world_com(&plan.pose[0], (const double[3]){0, 0, 0}, center);
   double ax[3];
-  rotate(plan.pose[0].orientation_wxyz, (const double[3]){0, 0, 1}, ax);
+  cl_quat_rotate(plan.pose[0].orientation_wxyz, (const double[3]){0, 0, 1}, ax);
   ck_assert_double_eq_tol(fabs(ax[2]), 1.0, 1e-9);
   const double m1 = 0.02 - fmax(fabs(cp[0] - center[0]), fabs(cp[1] - center[1]));
   const double gx = 0.5 * (cs[0] + cp[0]) - center[0], gy = 0.5 * (cs[1] + cp[1]) - center[1];
@@ -290,7 +285,7 @@ static void check_rock_stack_json(const char *out, const char *source) {
   for (const char *q = strstr(out, "\"margin_m\": "); q; q = strstr(q + 1, "\"margin_m\": "))
     ck_assert_msg(atof(q + 12) > 0.0, "margin %s", q);
   for (const char *q = strstr(out, "\"tilt_rad\": "); q; q = strstr(q + 1, "\"tilt_rad\": "))
-    ck_assert(atof(q + 12) >= 0.0 && atof(q + 12) <= 20.0 * 3.14159265358979 / 180.0 + 1e-9);
+    ck_assert(atof(q + 12) >= 0.0 && atof(q + 12) <= 20.0 * CL_PI / 180.0 + 1e-9);
   /* the built plan was rehearsed on the beliefs and stood there */
   ck_assert(json_num(out, "rehearsals") >= 1.0);
   ck_assert(json_bool(out, "rehearsal_stands"));

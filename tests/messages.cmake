@@ -2,7 +2,7 @@
 # decode what the C bindings encode.
 comlearn_add_check(check_messages
   SOURCES check_messages.c
-  LIBS comlearn_msg
+  LIBS comlearn_msg comlearn_math
   TIMEOUT 120)
 # The types lcmtypes/ builds: check_messages and DecodeCheck fail when a type has no fixture.
 get_target_property(comlearn_lcm_types comlearn_lcmtypes COMLEARN_LCM_TYPES)

@@ -1,14 +1,9 @@
 /* model_hull_tests.c - convex hull and bounding box. */
 #define _POSIX_C_SOURCE 200809L
 
+#include "comlearn/math3d.h"
 #include "model_suites.h"
 #include "model_test_util.h"
-
-/* Deterministic uniform numbers in [0, 1). */
-static double lcg(uint64_t *s) {
-  *s = *s * 6364136223846793005ull + 1442695040888963407ull;
-  return (double)(*s >> 11) * (1.0 / 9007199254740992.0);
-}
 
 /* A point set as a mesh with no triangles (the hull reads vertices only). */
 static void points_alloc(model_mesh_t *m, size_t n) {
@@ -22,7 +17,7 @@ static void points_alloc(model_mesh_t *m, size_t n) {
  * convex and equals its own hull. */
 static void uv_sphere(model_mesh_t *m, double r, unsigned rings, unsigned segs) {
   mt_rock(m, rings, segs); /* topology only; positions replaced */
-  const double pi = 3.14159265358979323846;
+  const double pi = CL_PI;
   m->vertices_m[0][0] = m->vertices_m[0][1] = 0.0;
   m->vertices_m[0][2] = r;
   m->vertices_m[1][0] = m->vertices_m[1][1] = 0.0;
@@ -98,7 +93,7 @@ START_TEST(test_hull_cube_interior_and_duplicates) {
   uint64_t s = 1;
   for (size_t i = 24; i < pts.vertex_count; ++i) {
     for (int k = 0; k < 3; ++k) {
-      pts.vertices_m[i][k] = lo[k] + 0.01 + 0.98 * lcg(&s);
+      pts.vertices_m[i][k] = lo[k] + 0.01 + 0.98 * cl_rng_uniform(&s);
     }
   }
   model_error_t err;
@@ -165,7 +160,7 @@ START_TEST(test_hull_random_points) {
   uint64_t s = 42;
   points_alloc(&pts, 2000);
   for (size_t i = 0; i < pts.vertex_count;) {
-    double p[3] = {2 * lcg(&s) - 1, 2 * lcg(&s) - 1, 2 * lcg(&s) - 1};
+    double p[3] = {2 * cl_rng_uniform(&s) - 1, 2 * cl_rng_uniform(&s) - 1, 2 * cl_rng_uniform(&s) - 1};
     if (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] <= 1.0) {
       pts.vertices_m[i][0] = 0.03 * p[0] + 0.4;  /* a 6 cm ball away from the origin */
       pts.vertices_m[i][1] = 0.03 * p[1] - 0.2;
@@ -178,7 +173,7 @@ START_TEST(test_hull_random_points) {
   ck_assert_uint_gt(hull.vertex_count, 50);
   ck_assert_uint_lt(hull.vertex_count, 2000);
   assert_valid_hull(&pts, &hull, 1e-12);
-  const double ball = 4.0 / 3.0 * 3.14159265358979323846 * 0.03 * 0.03 * 0.03;
+  const double ball = 4.0 / 3.0 * CL_PI * 0.03 * 0.03 * 0.03;
   double v = mt_volume(&hull);
   ck_assert_double_lt(v, ball);
   ck_assert_double_gt(v, 0.85 * ball); /* 2000 uniform points: about 0.89 of the ball */

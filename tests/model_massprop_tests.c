@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "model_suites.h"
@@ -372,7 +373,7 @@ START_TEST(icosphere_offset) {
     if (dist < r_in) r_in = dist;
   }
   ck_assert_double_eq_tol(got.mass_kg / rho, vol_exact, 1e-12 * vol_exact);
-  const double pi = acos(-1.0);
+  const double pi = CL_PI;
   const double v_in = 4.0 / 3.0 * pi * pow(r_in, 3), v_out = 4.0 / 3.0 * pi * pow(radius, 3);
   const double i_in = 8.0 / 15.0 * pi * rho * pow(r_in, 5),
                i_out = 8.0 / 15.0 * pi * rho * pow(radius, 5);
@@ -812,7 +813,7 @@ START_TEST(plausible_moment_lower_bound) {
   model_mass_t mp;
   plausible_box(&m, lo, hi, mass, &mp);
   /* the least sum of moments: a ball of 0.2 kg at 25 000 kg/m^3, (6/5) m R^2 */
-  const double pi = 3.14159265358979323846;
+  const double pi = CL_PI;
   const double ball_r = cbrt(3.0 * mass / (4.0 * pi * MODEL_DENSITY_MAX_KG_M3));
   const double least = 1.2 * mass * ball_r * ball_r;
   set_isotropic(&mp, least / 3.0 * (1.0 + 1e-7));

@@ -1,6 +1,7 @@
 /* model_mesh_tests.c - mesh validation and repair, loading and saving through assimp. */
 #define _POSIX_C_SOURCE 200809L
 
+#include "comlearn/math3d.h"
 #include "model_suites.h"
 #include "model_test_util.h"
 #include "file_test_util.h"
@@ -568,11 +569,8 @@ START_TEST(test_load_unreadable_files) {
 
   /* Garbage bytes (a fixed pseudo-random pattern) under each extension. */
   char garbage[600];
-  uint32_t x = 12345u;
-  for (size_t i = 0; i < sizeof garbage; ++i) {
-    x = x * 1664525u + 1013904223u;
-    garbage[i] = (char)(x >> 24);
-  }
+  uint64_t x = 12345u;
+  for (size_t i = 0; i < sizeof garbage; ++i) garbage[i] = (char)(cl_rng_next(&x) >> 56);
   const char *exts[] = {"stl", "obj", "ply", "dae"};
   for (int i = 0; i < 4; ++i) {
     char name[32];
@@ -662,14 +660,9 @@ END_TEST
  * largest in turn) and a spread of seeded rotations; the result is unit with w >= 0. */
 START_TEST(test_rot_quat_round_trip) {
   double qs[64][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}, {0, 0.6, 0.8, 0}};
-  uint64_t x = 0x9E3779B97F4A7C15ull;
+  uint64_t x = 1;
   for (int i = 5; i < 64; ++i)
-    for (int k = 0; k < 4; ++k) {
-      x ^= x << 13;
-      x ^= x >> 7;
-      x ^= x << 17;
-      qs[i][k] = (double)(x >> 11) / 9007199254740992.0 - 0.5;
-    }
+    for (int k = 0; k < 4; ++k) qs[i][k] = cl_rng_uniform(&x) - 0.5;
   for (int i = 0; i < 64; ++i) {
     double n = 0.0;
     for (int k = 0; k < 4; ++k) n += qs[i][k] * qs[i][k];

@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 
 /* A box [lo, hi], 8 vertices, 12 outward triangles; allocated (model_mesh_free releases). */
@@ -32,7 +33,7 @@ static inline void mt_unit_cube(model_mesh_t *m) {
  * fixed pattern, coordinates rounded to multiples of 1/1024 so they are exact in float (file
  * formats store floats) and every round trip can be compared bit for bit. */
 static inline void mt_rock(model_mesh_t *m, unsigned rings, unsigned segs) {
-  const double pi = 3.14159265358979323846;
+  const double pi = CL_PI;
   m->vertex_count = 2 + (size_t)(rings - 1) * segs;
   m->triangle_count = 2 * (size_t)segs * (rings - 1);
   m->vertices_m = malloc(m->vertex_count * sizeof *m->vertices_m);

@@ -3,6 +3,7 @@
 
 #include <sys/stat.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model_inertial.h"
 #include "model_suites.h"
 #include "model_test_util.h"
@@ -189,7 +190,7 @@ START_TEST(test_urdf_sphere_cylinder) {
              "</collision>");
   model_object_t obj;
   model_error_t err;
-  const double pi = 3.14159265358979323846;
+  const double pi = CL_PI;
   ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
   for (int k = 0; k < 3; ++k) {
     ck_assert_double_eq_tol(obj.aabb.min_m[k], (k == 2 ? 1.0 : 0.0) - 0.1, 1e-12);

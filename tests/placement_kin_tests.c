@@ -8,12 +8,13 @@
 
 #include <unistd.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model_chain.h"
 #include "comlearn/placement.h"
 #include "placement_suites.h"
 
 #define YUMI_URDF COMLEARN_ASSETS_DIR "/yumi/yumi.urdf"
-#define DEG (3.14159265358979323846 / 180.0)
+#define DEG (CL_PI / 180.0)
 
 /* Random poses for the IK round trip, per arm. The sanitizer build runs the same count. */
 #ifndef PLACEMENT_TEST_IK_POSES
@@ -32,20 +33,10 @@ static void load_yumi(placement_arm_t *arm, placement_side_t side) {
                 err.msg);
 }
 
-static uint64_t rng_next(uint64_t *s) {
-  uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
-static double rng_uniform(uint64_t *s, double lo, double hi) {
-  return lo + (hi - lo) * (double)(rng_next(s) >> 11) * (1.0 / 9007199254740992.0);
-}
 
 static void random_q(const placement_arm_t *arm, uint64_t *s, double q[PLACEMENT_JOINTS]) {
   for (int k = 0; k < PLACEMENT_JOINTS; ++k) {
-    q[k] = rng_uniform(s, arm->lower_rad[k], arm->upper_rad[k]);
+    q[k] = cl_rng_range(s, arm->lower_rad[k], arm->upper_rad[k]);
   }
 }
 
@@ -78,7 +69,7 @@ START_TEST(test_chain_yumi) {
     ck_assert_int_eq(c.joints[8].type, MODEL_JOINT_FIXED);
     ck_assert_double_eq_tol(c.joints[8].origin_xyz_m[2], 0.1142, 1e-15);
     ck_assert_double_eq_tol(c.joints[7].origin_xyz_m[2], 0.007, 1e-15);
-    ck_assert_double_eq_tol(c.joints[7].origin_rpy_rad[2], 3.14159265358979, 1e-12);
+    ck_assert_double_eq_tol(c.joints[7].origin_rpy_rad[2], CL_PI, 1e-12);
     /* The ABB corrections: elbow offset 40.5 mm, upper arm 0.17277 + 0.07873 = 0.2515 m. */
     ck_assert_double_eq_tol(c.joints[3].origin_xyz_m[0], -0.0405, 1e-15);
     ck_assert_double_eq_tol(c.joints[2].origin_xyz_m[1] + c.joints[3].origin_xyz_m[2], 0.2515,
@@ -623,7 +614,7 @@ START_TEST(test_ik_unreachable) {
   cfg.max_seeds = 8;
   for (int n = 0; n < 5; ++n) {
     placement_pose_t t = target;
-    double dir[3] = {rng_uniform(&rng, -1, 1), rng_uniform(&rng, -1, 1), rng_uniform(&rng, -1, 1)};
+    double dir[3] = {cl_rng_range(&rng, -1, 1), cl_rng_range(&rng, -1, 1), cl_rng_range(&rng, -1, 1)};
     double len = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
     for (int i = 0; i < 3; ++i) {
       t.pos_m[i] = arm.origin[0].pos_m[i] + radius * dir[i] / len;
@@ -681,15 +672,15 @@ END_TEST
 START_TEST(test_pose_helpers) {
   uint64_t rng = 3;
   for (int n = 0; n < 200; ++n) {
-    double rpy[3] = {rng_uniform(&rng, -3, 3), rng_uniform(&rng, -1.5, 1.5),
-                     rng_uniform(&rng, -3, 3)};
+    double rpy[3] = {cl_rng_range(&rng, -3, 3), cl_rng_range(&rng, -1.5, 1.5),
+                     cl_rng_range(&rng, -3, 3)};
     placement_pose_t a, inv, id;
     placement_rot_from_rpy(rpy[0], rpy[1], rpy[2], a.rot);
     double back[3];
     placement_pose_rpy(&a, back);
     for (int i = 0; i < 3; ++i) {
       ck_assert_double_eq_tol(back[i], rpy[i], 1e-9);
-      a.pos_m[i] = rng_uniform(&rng, -1, 1);
+      a.pos_m[i] = cl_rng_range(&rng, -1, 1);
     }
     placement_pose_inverse(&a, &inv);
     placement_pose_mul(&a, &inv, &id);
@@ -705,9 +696,9 @@ START_TEST(test_pose_helpers) {
     placement_rot_from_axis_angle(axis, 1e-10, r.rot);
     placement_pose_distance(&r, &ident, NULL, &dr);
     ck_assert_double_eq_tol(dr, 1e-10, 1e-20);
-    placement_rot_from_axis_angle(axis, 3.14159265358979323846 - 1e-7, r.rot);
+    placement_rot_from_axis_angle(axis, CL_PI - 1e-7, r.rot);
     placement_pose_distance(&r, &ident, NULL, &dr);
-    ck_assert_double_eq_tol(dr, 3.14159265358979323846 - 1e-7, 1e-12);
+    ck_assert_double_eq_tol(dr, CL_PI - 1e-7, 1e-12);
   }
 }
 END_TEST

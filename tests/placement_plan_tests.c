@@ -4,13 +4,13 @@
 #include <math.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/placement.h"
 #include "comlearn/placement_plan.h"
 
 Suite *placement_plan_suite(void);
 
-#define PI_RAD 3.14159265358979323846
 #define YUMI_URDF COMLEARN_ASSETS_DIR "/yumi/yumi.urdf"
 
 /* The test object: a 40 x 60 x 50 mm box, link origin at its centre. */
@@ -111,7 +111,7 @@ START_TEST(plan_each_edge_fk_exact) {
   const double hx = 0.5 * cfg.block_size_m[0], hy = 0.5 * cfg.block_size_m[1];
   /* edge -> arms: +x, -x both; +y (left side of the robot) left; -y right */
   const int edge_arm_mask[4] = {3, 3, 1, 2};
-  const double yaws[2] = {0.0, 0.5 * PI_RAD};
+  const double yaws[2] = {0.0, 0.5 * CL_PI};
   const double alongs[3] = {-0.05, 0.0, 0.05};
   int plans = 0;
   for (int edge = 0; edge < 4; ++edge) {
@@ -351,11 +351,11 @@ START_TEST(gripper_clear_boundary) {
   /* Tilted 30 degrees about the finger axis x: a corner of a finger tip leads. */
   const double ax[3] = {1.0, 0.0, 0.0};
   double r30[3][3], down[3][3];
-  placement_rot_from_axis_angle(ax, PI_RAD + PI_RAD / 6.0, r30);
+  placement_rot_from_axis_angle(ax, CL_PI + CL_PI / 6.0, r30);
   memcpy(down, r30, sizeof down);
   memcpy(tcp.rot, down, sizeof down);
-  const double corner = cfg.gripper.finger_z_hi_m * cos(PI_RAD / 6.0) +
-                        cfg.gripper.finger_half_depth_m * sin(PI_RAD / 6.0) + cfg.clearance_m;
+  const double corner = cfg.gripper.finger_z_hi_m * cos(CL_PI / 6.0) +
+                        cfg.gripper.finger_half_depth_m * sin(CL_PI / 6.0) + cfg.clearance_m;
   tcp.pos_m[2] = corner + 1e-9;
   ck_assert_int_eq(placement_plan_gripper_clear(&cfg, &tcp, 0.02), 1);
   tcp.pos_m[2] = corner - 1e-9;
@@ -485,6 +485,42 @@ START_TEST(pose_from_wxyz) {
 }
 END_TEST
 
+/* placement_pose_t <-> cl_pose_t: a known rotation, the round trip, and the checks. */
+START_TEST(pose_cl_pose_round_trip) {
+  placement_pose_t a;
+  const double axis[3] = {0.6, 0.0, -0.8};
+  placement_rot_from_axis_angle(axis, 2.5, a.rot);
+  a.pos_m[0] = 0.4;
+  a.pos_m[1] = -0.1;
+  a.pos_m[2] = 0.25;
+  cl_pose_t c;
+  placement_pose_to_cl_pose(&a, &c);
+  ck_assert_double_eq_tol(c.orientation_wxyz[0], cos(1.25), 1e-15);
+  ck_assert_double_eq_tol(c.orientation_wxyz[1], 0.6 * sin(1.25), 1e-15);
+  ck_assert_double_eq_tol(c.orientation_wxyz[2], 0.0, 1e-15);
+  ck_assert_double_eq_tol(c.orientation_wxyz[3], -0.8 * sin(1.25), 1e-15);
+  ck_assert_mem_eq(c.position_m, a.pos_m, sizeof c.position_m);
+  placement_pose_t b;
+  ck_assert_int_eq(placement_pose_from_cl_pose(&c, &b), PLACEMENT_OK);
+  double dp, dr;
+  placement_pose_distance(&a, &b, &dp, &dr);
+  ck_assert_double_eq(dp, 0.0);
+  ck_assert_double_le(dr, 1e-15);
+  /* a point maps the same through either type */
+  const double x[3] = {0.01, 0.02, -0.03};
+  double via_cl[3];
+  cl_pose_apply(&c, x, via_cl);
+  for (int i = 0; i < 3; ++i)
+    ck_assert_double_eq_tol(via_cl[i],
+                            a.rot[i][0] * x[0] + a.rot[i][1] * x[1] + a.rot[i][2] * x[2] +
+                                a.pos_m[i],
+                            1e-16);
+  c.orientation_wxyz[0] *= 1.1;
+  ck_assert_int_eq(placement_pose_from_cl_pose(&c, &b), PLACEMENT_E_ROTATION);
+  ck_assert_int_eq(placement_pose_from_cl_pose(NULL, &b), PLACEMENT_E_ARG);
+}
+END_TEST
+
 Suite *placement_plan_suite(void) {
   Suite *s = suite_create("placement_plan");
   TCase *tc = tcase_create("plan");
@@ -496,6 +532,7 @@ Suite *placement_plan_suite(void) {
   tcase_add_test(tc, gripper_clear_boundary);
   tcase_add_test(tc, plan_bad_input);
   tcase_add_test(tc, pose_from_wxyz);
+  tcase_add_test(tc, pose_cl_pose_round_trip);
   suite_add_tcase(s, tc);
   return s;
 }

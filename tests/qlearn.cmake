@@ -2,7 +2,7 @@
 comlearn_add_check(check_qlearn
   SOURCES check_qlearn.c qlearn_learner_tests.c qlearn_paper_tests.c qlearn_search_tests.c
           qlearn_solve_tests.c
-  LIBS comlearn_qlearn)
+  LIBS comlearn_qlearn comlearn_math)
 
 # No allocator in the archive: nm finds no malloc, calloc, realloc or free (referenced or
 # defined). The same script must find malloc in a control archive that calls it (first test) and

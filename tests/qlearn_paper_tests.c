@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/qlearn.h"
 #include "comlearn/qlearn_paper.h"
 #include "qlearn_suites.h"
@@ -93,10 +94,6 @@ static int expected_trials(double c, double res) {
                10.0 * floor(d / 10.0));
 }
 
-static uint64_t lcg(uint64_t *s) {
-  *s = *s * 6364136223846793005ull + 1442695040888963407ull;
-  return *s >> 11;
-}
 
 static void many_thresholds(qlearn_policy_kind_t kind, int count) {
   static qlearn_paper_t p;
@@ -104,7 +101,7 @@ static void many_thresholds(qlearn_policy_kind_t kind, int count) {
   uint64_t s = 2019;
   int same_as_table = 0;
   for (int i = 0; i < count; i++) {
-    const double c = -0.05 + 0.1 * ((double)lcg(&s) / 9007199254740992.0);
+    const double c = -0.05 + 0.1 * cl_rng_uniform(&s);
     const int n = walk(&p, &cfg, c, NULL, 0);
     ck_assert(qlearn_paper_done(&p, &cfg));
     double e, h;
@@ -166,7 +163,7 @@ static void check_bracket(qlearn_policy_kind_t kind, const qlearn_policy_config_
   ck_assert_int_le(n, 3 * 11); /* at most 11 placements per level */
 }
 
-static double unit(uint64_t *s) { return (double)lcg(s) / 9007199254740992.0; }
+static double unit(uint64_t *s) { return cl_rng_uniform(s); }
 
 static void off_grid_priors(qlearn_policy_kind_t kind, int count) {
   /* The two bench_qlearn cases, exactly. */

@@ -4,19 +4,18 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/qlearn_solve.h"
 #include "qlearn_suites.h"
 
 #include "test_rng.h"
 
-/* Row-major rotation from a unit axis and angle (Rodrigues). */
+/* Row-major rotation from an axis (normalised here) and an angle. */
 static void rot_axis_angle(const double axis[3], double angle, double r[9]) {
-  double n = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-  double x = axis[0] / n, y = axis[1] / n, z = axis[2] / n;
-  double c = cos(angle), s = sin(angle), t = 1.0 - c;
-  double m[9] = {t * x * x + c,     t * x * y - s * z, t * x * z + s * y,
-                 t * x * y + s * z, t * y * y + c,     t * y * z - s * x,
-                 t * x * z - s * y, t * y * z + s * x, t * z * z + c};
+  double u[3], q[4], m[3][3];
+  (void)cl_vec3_normalize(axis, u);
+  cl_quat_from_axis_angle(u, angle, q);
+  cl_quat_to_rot(q, m);
   memcpy(r, m, sizeof m);
 }
 
@@ -49,7 +48,7 @@ START_TEST(test_axis_aligned_exact) {
   add_threshold(&s, id, t, ny, kC, 0.0, 1e-4, &rng);
   add_threshold(&s, id, t, nmx, kC, 0.0, 1e-4, &rng);
   double ry[9];
-  rot_axis_angle((const double[3]){0, 1, 0}, 1.5707963267948966, ry);
+  rot_axis_angle((const double[3]){0, 1, 0}, 0.5 * CL_PI, ry);
   add_threshold(&s, ry, t, nx, kC, 0.0, 1e-4, &rng);
   qlearn_solve_result_t r;
   ck_assert_int_eq(qlearn_solve_compute(&s, 1.96, 1e-3, &r), QLEARN_OK);

@@ -1,6 +1,7 @@
 # `comlearn stack`: planner, simulation, CLI (tests/check_stack.c).
 comlearn_add_check(check_stack SOURCES check_stack.c
   LIBS comlearn_stack_sim comlearn_stack comlearn_balance comlearn_model_sim comlearn_model
+       comlearn_math
   TIMEOUT 600)
 target_compile_definitions(check_stack PRIVATE COMLEARN_BIN="$<TARGET_FILE:comlearn>"
   COMLEARN_ROCKGEN="$<TARGET_FILE:comlearn-rockgen>")

@@ -19,6 +19,7 @@
 
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_time.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/placement.h"
 #include "comlearn/placement_plan.h"
@@ -27,11 +28,10 @@
 #define COMLEARN_ASSETS_DIR "assets"
 #endif
 
-#define PI_RAD 3.14159265358979323846
 
 enum { ALONG_N = 13, YAW_N = 24, EDGES = 4, ARMS = 2 };
 static const double kAlongStep_m = 0.02;  /* positions -0.12 .. +0.12 m */
-static const double kYawStep_rad = PI_RAD / 12.0; /* 0 .. 345 degrees, 15 degree steps */
+static const double kYawStep_rad = CL_PI / 12.0; /* 0 .. 345 degrees, 15 degree steps */
 static const char *const kEdgeName[EDGES] = {"+x (far)", "-x (near)", "+y (left)", "-y (right)"};
 static const char *const kArmName[ARMS] = {"left arm", "right arm"};
 

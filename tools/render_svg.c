@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "comlearn/cli_log.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "rockgen.h"
@@ -28,31 +29,16 @@ typedef struct {
   double right[3], up[3], toward[3]; /* screen x, screen y (up), toward the viewer */
 } view_t;
 
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void unit3(double v[3]) {
-  const double n = sqrt(dot3(v, v));
-  for (int k = 0; k < 3; ++k) v[k] /= n;
-}
-
-static void cross3(const double a[3], const double b[3], double c[3]) {
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 /* A view from direction `toward` (from the object to the eye) with the link z axis up. */
 static void view_make(double tx, double ty, double tz, view_t *v) {
   const double z[3] = {0, 0, 1};
   v->toward[0] = tx;
   v->toward[1] = ty;
   v->toward[2] = tz;
-  unit3(v->toward);
-  cross3(z, v->toward, v->right);
-  unit3(v->right);
-  cross3(v->toward, v->right, v->up);
+  (void)cl_vec3_normalize(v->toward, v->toward);
+  cl_vec3_cross(z, v->toward, v->right);
+  (void)cl_vec3_normalize(v->right, v->right);
+  cl_vec3_cross(v->toward, v->right, v->up);
 }
 
 typedef struct {
@@ -70,10 +56,10 @@ static int cmp_order(const void *pa, const void *pb) {
 static int on_patch(const model_mesh_t *m, size_t t, const double n[3], const rockgen_patch_t *p,
                     size_t np) {
   for (size_t i = 0; i < np; ++i) {
-    if (dot3(n, p[i].normal) < ROCKGEN_PLANE_COS) continue;
+    if (cl_vec3_dot(n, p[i].normal) < ROCKGEN_PLANE_COS) continue;
     int all = 1;
     for (int k = 0; k < 3; ++k) {
-      const double s = dot3(p[i].normal, m->vertices_m[m->triangles[t][k]]) - p[i].offset_m;
+      const double s = cl_vec3_dot(p[i].normal, m->vertices_m[m->triangles[t][k]]) - p[i].offset_m;
       if (fabs(s) > ROCKGEN_PLANE_TOL_M) all = 0;
     }
     if (all) return 1;
@@ -106,9 +92,11 @@ static int draw_cell(FILE *f, const model_mesh_t *m, const view_t *view, double 
       e1[k] = b[k] - a[k];
       e2[k] = c[k] - a[k];
     }
-    cross3(e1, e2, nn);
-    if (dot3(nn, view->toward) <= 0.0) continue; /* facing away */
-    order[n].depth = (dot3(a, view->toward) + dot3(b, view->toward) + dot3(c, view->toward)) / 3.0;
+    cl_vec3_cross(e1, e2, nn);
+    if (cl_vec3_dot(nn, view->toward) <= 0.0) continue; /* facing away */
+    order[n].depth = (cl_vec3_dot(a, view->toward) + cl_vec3_dot(b, view->toward) +
+                      cl_vec3_dot(c, view->toward)) /
+                     3.0;
     order[n].index = t;
     ++n;
   }
@@ -116,7 +104,7 @@ static int draw_cell(FILE *f, const model_mesh_t *m, const view_t *view, double 
   /* Light from the upper left, in front: fixed in the view. */
   double light[3];
   for (int k = 0; k < 3; ++k) light[k] = -0.45 * view->right[k] + 0.6 * view->up[k] + 0.65 * view->toward[k];
-  unit3(light);
+  (void)cl_vec3_normalize(light, light);
   for (size_t i = 0; i < n; ++i) {
     const size_t t = order[i].index;
     const double *v[3];
@@ -126,19 +114,19 @@ static int draw_cell(FILE *f, const model_mesh_t *m, const view_t *view, double 
       e1[k] = v[1][k] - v[0][k];
       e2[k] = v[2][k] - v[0][k];
     }
-    cross3(e1, e2, nn);
-    unit3(nn);
+    cl_vec3_cross(e1, e2, nn);
+    (void)cl_vec3_normalize(nn, nn);
     double base[3] = {146, 136, 122}; /* weathered surface */
     if (on_patch(m, t, nn, patches, patch_count)) {
       base[0] = 196; base[1] = 187; base[2] = 170; /* fresh fracture face */
     }
-    const double lambert = dot3(nn, light) > 0.0 ? dot3(nn, light) : 0.0;
+    const double lambert = cl_vec3_dot(nn, light) > 0.0 ? cl_vec3_dot(nn, light) : 0.0;
     const double shade = 0.30 + 0.80 * lambert;
     /* Split at the dense region's plane: the part inside is drawn red-brown. */
     double poly[2][4][3], sd[3];
     int count[2] = {0, 0};
     for (int j = 0; j < 3; ++j) {
-      sd[j] = region != NULL ? dot3(region->normal, v[j]) - region->offset_m : -1.0;
+      sd[j] = region != NULL ? cl_vec3_dot(region->normal, v[j]) - region->offset_m : -1.0;
     }
     for (int j = 0; j < 3; ++j) {
       const int a = j, b = (j + 1) % 3;
@@ -162,8 +150,9 @@ static int draw_cell(FILE *f, const model_mesh_t *m, const view_t *view, double 
       }
       fprintf(f, "<polygon points=\"");
       for (int j = 0; j < count[side]; ++j) {
-        fprintf(f, "%s%.1f,%.1f", j ? " " : "", cx + kScale_px_m * dot3(poly[side][j], view->right),
-                cy - kScale_px_m * dot3(poly[side][j], view->up));
+        fprintf(f, "%s%.1f,%.1f", j ? " " : "",
+                cx + kScale_px_m * cl_vec3_dot(poly[side][j], view->right),
+                cy - kScale_px_m * cl_vec3_dot(poly[side][j], view->up));
       }
       fprintf(f, "\" fill=\"#%02x%02x%02x\" stroke=\"#%02x%02x%02x\" stroke-width=\"0.4\"/>\n",
               rgb[0], rgb[1], rgb[2], rgb[0], rgb[1], rgb[2]);
@@ -172,13 +161,14 @@ static int draw_cell(FILE *f, const model_mesh_t *m, const view_t *view, double 
   free(order);
   fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#fff\" "
              "stroke-width=\"1.5\"/>\n",
-          cx + kScale_px_m * dot3(com_uniform, view->right),
-          cy - kScale_px_m * dot3(com_uniform, view->up),
-          cx + kScale_px_m * dot3(com_true, view->right), cy - kScale_px_m * dot3(com_true, view->up));
-  marker(f, cx + kScale_px_m * dot3(com_uniform, view->right),
-         cy - kScale_px_m * dot3(com_uniform, view->up), 0);
-  marker(f, cx + kScale_px_m * dot3(com_true, view->right),
-         cy - kScale_px_m * dot3(com_true, view->up), 1);
+          cx + kScale_px_m * cl_vec3_dot(com_uniform, view->right),
+          cy - kScale_px_m * cl_vec3_dot(com_uniform, view->up),
+          cx + kScale_px_m * cl_vec3_dot(com_true, view->right),
+          cy - kScale_px_m * cl_vec3_dot(com_true, view->up));
+  marker(f, cx + kScale_px_m * cl_vec3_dot(com_uniform, view->right),
+         cy - kScale_px_m * cl_vec3_dot(com_uniform, view->up), 0);
+  marker(f, cx + kScale_px_m * cl_vec3_dot(com_true, view->right),
+         cy - kScale_px_m * cl_vec3_dot(com_true, view->up), 1);
   return 0;
 }
 

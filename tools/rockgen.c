@@ -5,37 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- seeded random numbers (splitmix64: tiny, portable, fully specified) ------------------- */
-
-static uint64_t rng_next(uint64_t *state) {
-  uint64_t z = (*state += 0x9e3779b97f4a7c15u);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
-  return z ^ (z >> 31);
-}
-
-/* Uniform in [0, 1) with 53 random bits. */
-static double rng_uniform(uint64_t *state) { return (double)(rng_next(state) >> 11) * 0x1.0p-53; }
-
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void normalize3(double v[3]) {
-  const double n = sqrt(dot3(v, v));
-  for (int k = 0; k < 3; ++k) v[k] /= n;
-}
-
-/* Uniform random direction: rejection from the cube (sqrt only, no trigonometry). The cap on
- * tries is never reached in practice (acceptance ~52 % per try). */
-static void rng_direction(uint64_t *state, double u[3]) {
-  for (int tries = 0; tries < 1000; ++tries) {
-    for (int k = 0; k < 3; ++k) u[k] = 2.0 * rng_uniform(state) - 1.0;
-    const double n2 = dot3(u, u);
-    if (n2 > 1e-6 && n2 <= 1.0) break;
-  }
-  normalize3(u);
-}
+#include "comlearn/math3d.h"
 
 /* ---- the radius function -------------------------------------------------------------------- */
 
@@ -52,9 +22,9 @@ static void lobes_draw(uint64_t *state, unsigned count, double amplitude, double
                        lobes_t *lobes) {
   for (unsigned i = 0; i < count && lobes->count < MAX_LOBES; ++i) {
     const unsigned k = lobes->count++;
-    rng_direction(state, lobes->dir[k]);
-    const double sign = rng_uniform(state) < 0.5 ? -1.0 : 1.0;
-    lobes->amp[k] = sign * amplitude * (0.5 + 0.5 * rng_uniform(state));
+    cl_rng_direction(state, 3, lobes->dir[k]);
+    const double sign = cl_rng_uniform(state) < 0.5 ? -1.0 : 1.0;
+    lobes->amp[k] = sign * amplitude * (0.5 + 0.5 * cl_rng_uniform(state));
     lobes->cosr[k] = cos_radius;
   }
 }
@@ -66,7 +36,7 @@ static double radius_at(const rockgen_spec_t *spec, const lobes_t *lobes, const 
   for (int k = 0; k < 3; ++k) q += d[k] * d[k] / (spec->semi_axes_m[k] * spec->semi_axes_m[k]);
   double f = 1.0;
   for (unsigned i = 0; i < lobes->count; ++i) {
-    const double c = dot3(d, lobes->dir[i]);
+    const double c = cl_vec3_dot(d, lobes->dir[i]);
     if (c > lobes->cosr[i]) {
       const double s = (c - lobes->cosr[i]) / (1.0 - lobes->cosr[i]);
       f += lobes->amp[i] * s * s * s;
@@ -90,7 +60,7 @@ static void ico_vertex(uint32_t i, double v[3]) {
                                {0, -1, g}, {0, 1, g},  {0, -1, -g}, {0, 1, -g},
                                {g, 0, -1}, {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
   for (int k = 0; k < 3; ++k) v[k] = table[i][k];
-  normalize3(v);
+  (void)cl_vec3_normalize(v, v);
 }
 
 /* Unit directions and triangles of a class-I geodesic sphere of frequency f: every icosahedron
@@ -123,7 +93,7 @@ static model_status_t geodesic_build(unsigned f, double (**dirs)[3], size_t *dir
         const double wa = (double)(f - i - j), wb = (double)i, wc = (double)j;
         double p[3];
         for (int k = 0; k < 3; ++k) p[k] = wa * a[k] + wb * b[k] + wc * c[k];
-        normalize3(p);
+        (void)cl_vec3_normalize(p, p);
         size_t found = nd;
         for (size_t q = 0; q < nd; ++q) {
           const double dx = d[q][0] - p[0], dy = d[q][1] - p[1], dz = d[q][2] - p[2];
@@ -213,7 +183,7 @@ typedef struct {
  * where the plane does not face d). */
 static double surface_candidate(const surface_t *s, int label, const double d[3]) {
   if (label < 0) return radius_at(s->spec, s->lobes, d);
-  const double c = dot3(d, s->n[label]);
+  const double c = cl_vec3_dot(d, s->n[label]);
   return c > 0.0 ? s->h[label] / c : HUGE_VAL;
 }
 
@@ -247,7 +217,7 @@ static double min_angle_cos(const double a[3], const double b[3], const double c
       u[k] = p[(i + 1) % 3][k] - p[i][k];
       v[k] = p[(i + 2) % 3][k] - p[i][k];
     }
-    const double c_i = dot3(u, v) / sqrt(dot3(u, u) * dot3(v, v));
+    const double c_i = cl_vec3_dot(u, v) / sqrt(cl_vec3_dot(u, u) * cl_vec3_dot(v, v));
     if (c_i > worst) worst = c_i;
   }
   return worst;
@@ -281,7 +251,7 @@ static model_status_t snap_to_rims(const surface_t *s, double (*d)[3], size_t nv
       for (int it = 0; it < 60; ++it) {
         const double mid = 0.5 * (lo + hi);
         for (int k = 0; k < 3; ++k) p[k] = (1.0 - mid) * d[a][k] + mid * d[b][k];
-        normalize3(p);
+        (void)cl_vec3_normalize(p, p);
         if (surface_candidate(s, label[a], p) - surface_candidate(s, label[b], p) <= 0.0) {
           lo = mid;
         } else {
@@ -290,7 +260,7 @@ static model_status_t snap_to_rims(const surface_t *s, double (*d)[3], size_t nv
       }
       const double x = 0.5 * (lo + hi);
       for (int k = 0; k < 3; ++k) p[k] = (1.0 - x) * d[a][k] + x * d[b][k];
-      normalize3(p);
+      (void)cl_vec3_normalize(p, p);
       const uint32_t w = x < 0.5 ? a : b;
       double old[3];
       memcpy(old, d[w], sizeof old);
@@ -327,7 +297,7 @@ static int spec_valid(const rockgen_spec_t *spec) {
   if (!(spec->lobe_cos < 1.0) || !(spec->bump_cos < 1.0)) return 0;
   for (size_t i = 0; i < spec->fracture_count; ++i) {
     const rockgen_fracture_t *fr = &spec->fractures[i];
-    if (!(dot3(fr->normal, fr->normal) > 0.0) || !(fr->depth_m >= 0.0)) return 0;
+    if (!(cl_vec3_dot(fr->normal, fr->normal) > 0.0) || !(fr->depth_m >= 0.0)) return 0;
   }
   return 1;
 }
@@ -368,10 +338,10 @@ model_status_t rockgen_shape_build(const rockgen_spec_t *spec, model_mesh_t *out
   double n[ROCKGEN_MAX_FRACTURES][3], h[ROCKGEN_MAX_FRACTURES];
   for (size_t i = 0; i < spec->fracture_count; ++i) {
     for (int k = 0; k < 3; ++k) n[i][k] = spec->fractures[i].normal[k];
-    normalize3(n[i]);
+    (void)cl_vec3_normalize(n[i], n[i]);
     double extreme = 0.0;
     for (size_t v = 0; v < nv; ++v) {
-      const double s = r[v] * dot3(d[v], n[i]);
+      const double s = r[v] * cl_vec3_dot(d[v], n[i]);
       if (s > extreme) extreme = s;
     }
     h[i] = extreme - spec->fractures[i].depth_m;
@@ -389,7 +359,7 @@ model_status_t rockgen_shape_build(const rockgen_spec_t *spec, model_mesh_t *out
       for (int k = 0; k < 3; ++k) p[k] = r[v] * d[v][k];
       if (plane_of[v] >= 0) { /* onto its plane to the last bit the arithmetic allows */
         const double *pn = n[plane_of[v]];
-        const double e = dot3(p, pn) - h[plane_of[v]];
+        const double e = cl_vec3_dot(p, pn) - h[plane_of[v]];
         for (int k = 0; k < 3; ++k) p[k] -= e * pn[k];
       }
       for (int k = 0; k < 3; ++k) {
@@ -424,9 +394,9 @@ model_status_t rockgen_mass(const rockgen_spec_t *spec, const model_mesh_t *mesh
   model_status_t st = model_mesh_mass(mesh, spec->density_kg_m3, &e);
   if (st != MODEL_OK) return st;
   for (int k = 0; k < 3; ++k) reg.normal[k] = spec->region_normal[k];
-  if (!(dot3(reg.normal, reg.normal) > 0.0)) return MODEL_E_REGION;
-  normalize3(reg.normal);
-  reg.offset_m = dot3(reg.normal, e.com_m) + spec->region_offset_m;
+  if (!(cl_vec3_dot(reg.normal, reg.normal) > 0.0)) return MODEL_E_REGION;
+  (void)cl_vec3_normalize(reg.normal, reg.normal);
+  reg.offset_m = cl_vec3_dot(reg.normal, e.com_m) + spec->region_offset_m;
   st = model_mesh_mass_halfspace(mesh, spec->density_kg_m3, &reg, spec->region_density_kg_m3, &u);
   if (st != MODEL_OK) return st;
   if (even != NULL) *even = e;

@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 
 #include "comlearn/cli_log.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "objfile.h"
@@ -158,7 +159,6 @@ static int generate(const char *out_dir) {
 /* Random rocks for seeds seed .. seed + count - 1 (rockgen_spec_random): DIR/<name>_even.urdf,
  * DIR/<name>_uneven.urdf and DIR/meshes/<name>.stl, name = rock_r<seed>; one line per rock on
  * stdout. */
-static double dist3(const double a[3], const double b[3]);
 
 static int generate_random(const char *out_dir, uint64_t seed, uint64_t count) {
   char path[4096];
@@ -197,7 +197,7 @@ static int generate_random(const char *out_dir, uint64_t seed, uint64_t count) {
     if (rc == 0) {
       printf("%s: %zu triangles, %.4f kg even, %.4f kg uneven, uneven CoM %.3f mm from uniform\n",
              spec.name, mesh.triangle_count, even.mass_kg, uneven.mass_kg,
-             1e3 * dist3(even.com_m, uneven.com_m));
+             1e3 * cl_vec3_dist(even.com_m, uneven.com_m));
     }
     model_mesh_free(&mesh);
     if (rc) return 1;
@@ -207,11 +207,6 @@ static int generate_random(const char *out_dir, uint64_t seed, uint64_t count) {
 
 /* ---- the documentation table ------------------------------------------------------------------ */
 
-static double dist3(const double a[3], const double b[3]) {
-  double s = 0.0;
-  for (int k = 0; k < 3; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
-  return sqrt(s);
-}
 
 static void mm3(const double v[3], char *buf, size_t n) {
   snprintf(buf, n, "(%.2f, %.2f, %.2f)", 1e3 * v[0], 1e3 * v[1], 1e3 * v[2]);
@@ -276,8 +271,9 @@ static int table(const char *dir) {
     printf("| mass | %.4f kg | %.4f kg |\n", even.mass_kg, uneven.mass_kg);
     printf("| true CoM (URDF inertial) | %s mm | %s mm |\n", c_even, c_uneven);
     printf("| uniform-density CoM (mesh) | %s mm | %s mm |\n", c_prior, c_prior);
-    printf("| distance true - uniform | %.3f mm | %.3f mm |\n\n", 1e3 * dist3(even.com_m, prior.com_m),
-           1e3 * dist3(uneven.com_m, prior.com_m));
+    printf("| distance true - uniform | %.3f mm | %.3f mm |\n\n",
+           1e3 * cl_vec3_dist(even.com_m, prior.com_m),
+           1e3 * cl_vec3_dist(uneven.com_m, prior.com_m));
     printf("| face | outward normal | area | width / diameter | margin even | margin uneven |\n");
     printf("|---|---|---|---|---|---|\n");
     for (size_t p = 0; p < count && p < PATCHES_MAX; ++p) {

@@ -5,15 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const double a[3], const double b[3], double c[3]) {
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
+#include "comlearn/math3d.h"
 
 /* Largest distance between two vertices of a polygon (a few dozen points: brute force). */
 static double polygon_diameter(const double (*h)[2], size_t n) {
@@ -69,8 +61,8 @@ model_status_t rockgen_patches_find(const model_mesh_t *mesh, double min_area_m2
       e1[k] = mesh->vertices_m[tri[1]][k] - mesh->vertices_m[tri[0]][k];
       e2[k] = mesh->vertices_m[tri[2]][k] - mesh->vertices_m[tri[0]][k];
     }
-    cross3(e1, e2, tn[t]);
-    const double len = sqrt(dot3(tn[t], tn[t]));
+    cl_vec3_cross(e1, e2, tn[t]);
+    const double len = sqrt(cl_vec3_dot(tn[t], tn[t]));
     if (!(len > 0.0)) {
       st = MODEL_E_DEGENERATE;
       goto done;
@@ -99,7 +91,7 @@ model_status_t rockgen_patches_find(const model_mesh_t *mesh, double min_area_m2
     if (seen[seed]) continue;
     /* Grow from the seed through triangles that share a vertex and lie in the seed's plane. */
     const double *n0 = tn[seed];
-    const double h0 = dot3(n0, mesh->vertices_m[mesh->triangles[seed][0]]);
+    const double h0 = cl_vec3_dot(n0, mesh->vertices_m[mesh->triangles[seed][0]]);
     size_t head = 0, tail = 0;
     queue[tail++] = seed;
     seen[seed] = 1;
@@ -109,10 +101,11 @@ model_status_t rockgen_patches_find(const model_mesh_t *mesh, double min_area_m2
         const uint32_t v = mesh->triangles[t][k];
         for (size_t a = start[v]; a < start[v + 1]; ++a) {
           const size_t u = adj[a];
-          if (seen[u] || dot3(tn[u], n0) < ROCKGEN_PLANE_COS) continue;
+          if (seen[u] || cl_vec3_dot(tn[u], n0) < ROCKGEN_PLANE_COS) continue;
           int flat = 1;
           for (int j = 0; j < 3; ++j) {
-            if (fabs(dot3(n0, mesh->vertices_m[mesh->triangles[u][j]]) - h0) > ROCKGEN_PLANE_TOL_M)
+            if (fabs(cl_vec3_dot(n0, mesh->vertices_m[mesh->triangles[u][j]]) - h0) >
+                ROCKGEN_PLANE_TOL_M)
               flat = 0;
           }
           if (!flat) continue;
@@ -131,7 +124,7 @@ model_status_t rockgen_patches_find(const model_mesh_t *mesh, double min_area_m2
     if (found > capacity) continue;
     rockgen_patch_t *p = &patches[found - 1];
     memset(p, 0, sizeof *p);
-    const double nl = sqrt(dot3(nsum, nsum));
+    const double nl = sqrt(cl_vec3_dot(nsum, nsum));
     for (int k = 0; k < 3; ++k) p->normal[k] = nsum[k] / nl;
     p->area_m2 = area;
     p->triangle_count = tail;
@@ -145,9 +138,9 @@ model_status_t rockgen_patches_find(const model_mesh_t *mesh, double min_area_m2
         if (in_patch[v]) continue;
         in_patch[v] = 1;
         const double *x = mesh->vertices_m[v];
-        hsum += dot3(p->normal, x);
-        pts[np][0] = dot3(p->basis[0], x);
-        pts[np][1] = dot3(p->basis[1], x);
+        hsum += cl_vec3_dot(p->normal, x);
+        pts[np][0] = cl_vec3_dot(p->basis[0], x);
+        pts[np][1] = cl_vec3_dot(p->basis[1], x);
         ++np;
       }
     }
@@ -162,11 +155,11 @@ model_status_t rockgen_patches_find(const model_mesh_t *mesh, double min_area_m2
     double excess = -HUGE_VAL;
     size_t ns = 0;
     for (size_t v = 0; v < nv; ++v) {
-      const double s = dot3(p->normal, mesh->vertices_m[v]) - p->offset_m;
+      const double s = cl_vec3_dot(p->normal, mesh->vertices_m[v]) - p->offset_m;
       if (s > excess) excess = s;
       if (s >= -ROCKGEN_PLANE_TOL_M) {
-        pts[ns][0] = dot3(p->basis[0], mesh->vertices_m[v]);
-        pts[ns][1] = dot3(p->basis[1], mesh->vertices_m[v]);
+        pts[ns][0] = cl_vec3_dot(p->basis[0], mesh->vertices_m[v]);
+        pts[ns][1] = cl_vec3_dot(p->basis[1], mesh->vertices_m[v]);
         ++ns;
       }
     }
@@ -198,6 +191,6 @@ done:
 
 double rockgen_patch_margin(const rockgen_patch_t *patch, const double com_m[3]) {
   if (patch == NULL || com_m == NULL) return -HUGE_VAL;
-  const double p[2] = {dot3(patch->basis[0], com_m), dot3(patch->basis[1], com_m)};
+  const double p[2] = {cl_vec3_dot(patch->basis[0], com_m), cl_vec3_dot(patch->basis[1], com_m)};
   return model_polygon_margin((const double(*)[2])patch->support_uv, patch->support_count, p);
 }

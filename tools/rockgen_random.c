@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 enum { PATCHES_MAX = 16 };
 
 /* Patches smaller than this are not fracture faces (as in comlearn-rockgen and check_assets). */
@@ -12,72 +13,40 @@ static const double kMinPatchArea_m2 = 1e-4;
 /* Azimuths of the side and oblique faces at least 60 degrees apart (cos 60 deg). */
 static const double kMaxAzimuthCos = 0.5;
 
-/* splitmix64, as in rockgen.c (a copy: that one is private to the shape code). */
-static uint64_t rng_next(uint64_t *state) {
-  uint64_t z = (*state += 0x9e3779b97f4a7c15u);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
-  return z ^ (z >> 31);
-}
-
-static double rng_uniform(uint64_t *state) { return (double)(rng_next(state) >> 11) * 0x1.0p-53; }
-
-static double rng_range(uint64_t *state, double lo, double hi) {
-  return lo + (hi - lo) * rng_uniform(state);
-}
-
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-/* Uniform unit vector in the plane (2 coordinates) or in space (3), by rejection from the cube;
- * the cap is never reached in practice (acceptance 79 % / 52 % per try). */
-static void rng_unit(uint64_t *state, int dim, double u[3]) {
-  double n2 = 0.0;
-  for (int tries = 0; tries < 1000; ++tries) {
-    u[2] = 0.0;
-    for (int k = 0; k < dim; ++k) u[k] = 2.0 * rng_uniform(state) - 1.0;
-    n2 = dot3(u, u);
-    if (n2 > 1e-6 && n2 <= 1.0) break;
-  }
-  const double n = sqrt(n2);
-  for (int k = 0; k < 3; ++k) u[k] /= n;
-}
-
 model_status_t rockgen_spec_random_draw(uint64_t seed, unsigned attempt, rockgen_spec_t *out) {
   if (out == NULL) return MODEL_E_ARG;
   uint64_t outer = seed, state = 0;
-  for (unsigned k = 0; k <= attempt; ++k) state = rng_next(&outer);
+  for (unsigned k = 0; k <= attempt; ++k) state = cl_rng_next(&outer);
 
   memset(out, 0, sizeof *out);
   snprintf(out->name, sizeof out->name, "rock_r%llu", (unsigned long long)seed);
-  out->seed = rng_next(&state);
+  out->seed = cl_rng_next(&state);
   out->frequency = 10;
-  out->semi_axes_m[0] = rng_range(&state, 0.030, 0.038);
-  out->semi_axes_m[1] = rng_range(&state, 0.026, 0.031);
-  out->semi_axes_m[2] = rng_range(&state, 0.024, 0.028);
+  out->semi_axes_m[0] = cl_rng_range(&state, 0.030, 0.038);
+  out->semi_axes_m[1] = cl_rng_range(&state, 0.026, 0.031);
+  out->semi_axes_m[2] = cl_rng_range(&state, 0.024, 0.028);
   out->lobe_count = 6;
   out->lobe_amplitude = 0.20;
-  out->lobe_cos = rng_range(&state, 0.25, 0.35);
+  out->lobe_cos = cl_rng_range(&state, 0.25, 0.35);
   out->bump_count = 26;
   out->bump_amplitude = 0.06;
-  out->bump_cos = rng_range(&state, 0.86, 0.88);
+  out->bump_cos = cl_rng_range(&state, 0.86, 0.88);
 
   out->fracture_count = 4;
   rockgen_fracture_t *fr = out->fractures;
   fr[0].normal[2] = -1.0;
-  fr[0].depth_m = rng_range(&state, 0.006, 0.007);
-  fr[1].normal[0] = rng_uniform(&state) < 0.5 ? -1.0 : 1.0;
-  fr[1].depth_m = rng_range(&state, 0.0065, 0.0075);
+  fr[0].depth_m = cl_rng_range(&state, 0.006, 0.007);
+  fr[1].normal[0] = cl_rng_uniform(&state) < 0.5 ? -1.0 : 1.0;
+  fr[1].depth_m = cl_rng_range(&state, 0.0065, 0.0075);
   /* Oblique faces: z in [0.4, 0.75], the horizontal part of the normal pointing away from the
    * side face and from the other oblique face (each try draws a fresh azimuth; the cap keeps the
    * loop bounded, the last draw is used when it is reached). */
   for (int i = 2; i < 4; ++i) {
-    const double z = rng_range(&state, 0.4, 0.75);
+    const double z = cl_rng_range(&state, 0.4, 0.75);
     const double h = sqrt(1.0 - z * z);
     double a[3];
     for (int tries = 0; tries < 64; ++tries) {
-      rng_unit(&state, 2, a);
+      cl_rng_direction(&state, 2, a);
       int ok = a[0] * fr[1].normal[0] <= kMaxAzimuthCos;
       if (i == 3) {
         const double b0 = fr[2].normal[0], b1 = fr[2].normal[1];
@@ -89,12 +58,12 @@ model_status_t rockgen_spec_random_draw(uint64_t seed, unsigned attempt, rockgen
     fr[i].normal[0] = h * a[0];
     fr[i].normal[1] = h * a[1];
     fr[i].normal[2] = z;
-    fr[i].depth_m = rng_range(&state, 0.003, 0.0055);
+    fr[i].depth_m = cl_rng_range(&state, 0.003, 0.0055);
   }
 
   out->density_kg_m3 = 2650.0;
-  rng_unit(&state, 3, out->region_normal);
-  out->region_offset_m = rng_range(&state, 0.002, 0.004);
+  cl_rng_direction(&state, 3, out->region_normal);
+  out->region_offset_m = cl_rng_range(&state, 0.002, 0.004);
   out->region_density_kg_m3 = 5200.0;
   return MODEL_OK;
 }

@@ -31,22 +31,12 @@ static uint64_t fnv1a64(const char *s) {
   return h;
 }
 
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static double dist3(const double a[3], const double b[3]) {
-  double s = 0.0;
-  for (int k = 0; k < 3; ++k) s += (a[k] - b[k]) * (a[k] - b[k]);
-  return sqrt(s);
-}
-
 model_status_t shapegen_spec_draw(shapegen_family_t family, uint64_t seed, unsigned attempt,
                                   shapegen_spec_t *out) {
   if (out == NULL || (unsigned)family >= SHAPEGEN_FAMILY_COUNT) return MODEL_E_ARG;
   memset(out, 0, sizeof *out);
   uint64_t outer = seed ^ fnv1a64(kFamilyNames[family]), state = 0;
-  for (unsigned k = 0; k <= attempt; ++k) state = sg_rng_next(&outer);
+  for (unsigned k = 0; k <= attempt; ++k) state = cl_rng_next(&outer);
   out->family = family;
   out->seed = seed;
   out->attempt = attempt;
@@ -55,9 +45,9 @@ model_status_t shapegen_spec_draw(shapegen_family_t family, uint64_t seed, unsig
   if (out->shape == SHAPEGEN_SHAPE_ROCK && out->noise_m == 0.0) {
     snprintf(out->rock.name, sizeof out->rock.name, "%.31s", out->name);
   }
-  out->region_ratio = sg_rng_range(&state, 1.5, 3.0);
-  out->region_seed = sg_rng_next(&state);
-  out->region_shift_frac = sg_rng_uniform(&state);
+  out->region_ratio = cl_rng_range(&state, 1.5, 3.0);
+  out->region_seed = cl_rng_next(&state);
+  out->region_shift_frac = cl_rng_uniform(&state);
   return MODEL_OK;
 }
 
@@ -108,7 +98,7 @@ model_status_t shapegen_shape_build(const shapegen_spec_t *spec, model_mesh_t *o
   if (spec->noise_m > 0.0) {
     uint64_t ns = spec->noise_seed;
     for (size_t i = 0; i < b.nv; ++i) {
-      for (int k = 0; k < 3; ++k) b.v[i][k] += sg_rng_range(&ns, -spec->noise_m, spec->noise_m);
+      for (int k = 0; k < 3; ++k) b.v[i][k] += cl_rng_range(&ns, -spec->noise_m, spec->noise_m);
     }
   }
   return sg_build_finish(&b, out);
@@ -124,12 +114,12 @@ static model_status_t shift_at(const shapegen_spec_t *spec, const model_mesh_t *
                                double *shift, model_mass_t *mass) {
   model_halfspace_t reg;
   memcpy(reg.normal, n, sizeof reg.normal);
-  reg.offset_m = dot3(n, even->com_m) + t;
+  reg.offset_m = cl_vec3_dot(n, even->com_m) + t;
   model_mass_t m;
   const model_status_t st = model_mesh_mass_halfspace(mesh, spec->density_kg_m3, &reg,
                                                       spec->density_kg_m3 * spec->region_ratio, &m);
   if (st != MODEL_OK) return st;
-  *shift = dist3(m.com_m, even->com_m);
+  *shift = cl_vec3_dist(m.com_m, even->com_m);
   if (mass != NULL) *mass = m;
   return MODEL_OK;
 }
@@ -143,10 +133,10 @@ model_status_t shapegen_mass(const shapegen_spec_t *spec, const model_mesh_t *me
   uint64_t rs = spec->region_seed;
   double n[3] = {0, 0, 1}, best_t = 0.0, best = 0.0, ext = 0.0;
   for (int tries = 0; tries < REGION_NORMAL_TRIES && best < kRegionMinMax_m; ++tries) {
-    sg_rng_unit3(&rs, n);
+    cl_rng_direction(&rs, 3, n);
     ext = 0.0;
     for (size_t i = 0; i < mesh->vertex_count; ++i) {
-      const double s = fabs(dot3(n, mesh->vertices_m[i]) - dot3(n, e.com_m));
+      const double s = fabs(cl_vec3_dot(n, mesh->vertices_m[i]) - cl_vec3_dot(n, e.com_m));
       if (s > ext) ext = s;
     }
     best = 0.0;
@@ -183,7 +173,7 @@ model_status_t shapegen_mass(const shapegen_spec_t *spec, const model_mesh_t *me
   if (uneven != NULL) *uneven = u;
   if (region != NULL) {
     memcpy(region->normal, n, sizeof region->normal);
-    region->offset_m = dot3(n, e.com_m) + lo;
+    region->offset_m = cl_vec3_dot(n, e.com_m) + lo;
   }
   return MODEL_OK;
 }
@@ -214,16 +204,17 @@ model_status_t shapegen_rest_margin(const model_mesh_t *mesh, const model_mesh_t
     const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                    e1[0] * e2[1] - e1[1] * e2[0]};
-    const double len = sqrt(dot3(n, n));
+    const double len = sqrt(cl_vec3_dot(n, n));
     if (!(len > 0.0)) continue;
     for (int k = 0; k < 3; ++k) n[k] /= len;
-    double h = dot3(n, a);
-    if (dot3(n, b) > h) h = dot3(n, b);
-    if (dot3(n, c) > h) h = dot3(n, c);
+    double h = cl_vec3_dot(n, a);
+    if (cl_vec3_dot(n, b) > h) h = cl_vec3_dot(n, b);
+    if (cl_vec3_dot(n, c) > h) h = cl_vec3_dot(n, c);
     /* a facet split into several hull triangles: evaluate its plane once */
     int dup = 0;
     for (size_t p = 0; p < seen && !dup; ++p) {
-      dup = dot3(n, planes[p]) > 1.0 - 1e-12 && fabs(h - planes[p][3]) < SHAPEGEN_PLANE_TOL_M;
+      dup = cl_vec3_dot(n, planes[p]) > 1.0 - 1e-12 &&
+            fabs(h - planes[p][3]) < SHAPEGEN_PLANE_TOL_M;
     }
     if (dup) continue;
     memcpy(planes[seen], n, sizeof n);
@@ -233,13 +224,13 @@ model_status_t shapegen_rest_margin(const model_mesh_t *mesh, const model_mesh_t
     size_t np = 0;
     for (size_t i = 0; i < nv; ++i) {
       const double *x = mesh->vertices_m[i];
-      if (dot3(n, x) < h - SHAPEGEN_PLANE_TOL_M) continue;
-      pts[np][0] = dot3(u, x);
-      pts[np][1] = dot3(v, x);
+      if (cl_vec3_dot(n, x) < h - SHAPEGEN_PLANE_TOL_M) continue;
+      pts[np][0] = cl_vec3_dot(u, x);
+      pts[np][1] = cl_vec3_dot(v, x);
       ++np;
     }
     const size_t count = model_polygon_hull(pts, np, poly);
-    const double p2[2] = {dot3(u, com_m), dot3(v, com_m)};
+    const double p2[2] = {cl_vec3_dot(u, com_m), cl_vec3_dot(v, com_m)};
     const double m = model_polygon_margin((const double(*)[2])poly, count, p2);
     if (m > *margin_m) {
       *margin_m = m;
@@ -306,7 +297,7 @@ static model_status_t accept_mesh(const shapegen_spec_t *spec, shapegen_object_t
   }
   model_mesh_free(&hull);
   if (st != MODEL_OK) return st;
-  o->shift_m = dist3(o->even.com_m, o->uneven.com_m);
+  o->shift_m = cl_vec3_dist(o->even.com_m, o->uneven.com_m);
   *ok = o->margin_even_m >= SHAPEGEN_MIN_MARGIN_M && o->margin_uneven_m >= SHAPEGEN_MIN_MARGIN_M;
   return MODEL_OK;
 }

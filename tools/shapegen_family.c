@@ -9,7 +9,7 @@
 #include <string.h>
 
 #define MM 1e-3
-#define DEG 0.017453292519943295769
+#define DEG (CL_PI / 180.0)
 
 /* ---- materials -------------------------------------------------------------------------------- */
 
@@ -35,7 +35,7 @@ enum { MATERIAL_COUNT = sizeof kMaterials / sizeof kMaterials[0] };
 static void material_draw(uint64_t *state, int mask, shapegen_spec_t *out) {
   unsigned n = 0;
   for (unsigned i = 0; i < MATERIAL_COUNT; ++i) n += (kMaterialClass[i] & mask) != 0;
-  unsigned pick = sg_rng_below(state, n);
+  unsigned pick = cl_rng_below(state, n);
   for (unsigned i = 0; i < MATERIAL_COUNT; ++i) {
     if (!(kMaterialClass[i] & mask)) continue;
     if (pick-- == 0) {
@@ -61,7 +61,7 @@ static void set_variant(shapegen_spec_t *out, const char *text) {
 static int draw_box(uint64_t *st, shapegen_spec_t *out) {
   out->shape = SHAPEGEN_SHAPE_BOX;
   for (int k = 0; k < 3; ++k) {
-    out->box.size_m[k] = sg_rng_range(st, 20 * MM, 120 * MM);
+    out->box.size_m[k] = cl_rng_range(st, 20 * MM, 120 * MM);
     out->box.cells[k] = 1;
   }
   set_variant(out, "box");
@@ -73,7 +73,7 @@ static int draw_domino(uint64_t *st, shapegen_spec_t *out) {
   static const double nominal[3] = {48 * MM, 24 * MM, 7.5 * MM};
   out->shape = SHAPEGEN_SHAPE_BOX;
   for (int k = 0; k < 3; ++k) {
-    out->box.size_m[k] = nominal[k] * sg_rng_range(st, 0.85, 1.15);
+    out->box.size_m[k] = nominal[k] * cl_rng_range(st, 0.85, 1.15);
     out->box.cells[k] = 1;
   }
   set_variant(out, "domino");
@@ -93,7 +93,7 @@ static int profile_add(shapegen_revolve_t *rev, double r, double z) {
 
 /* Segments: a multiple of 4 in [lo, hi] (so the polygon is symmetric about both axes). */
 static unsigned draw_segments(uint64_t *st, unsigned lo, unsigned hi) {
-  return 4 * (lo / 4 + sg_rng_below(st, (hi - lo) / 4 + 1));
+  return 4 * (lo / 4 + cl_rng_below(st, (hi - lo) / 4 + 1));
 }
 
 static int cylinder_profile(shapegen_revolve_t *rev, double radius, double length) {
@@ -106,33 +106,33 @@ static int cylinder_profile(shapegen_revolve_t *rev, double radius, double lengt
 }
 
 static int draw_plate(uint64_t *st, shapegen_spec_t *out) {
-  const unsigned kind = sg_rng_below(st, 4);
+  const unsigned kind = cl_rng_below(st, 4);
   if (kind == 0 || kind == 2) {
     out->shape = SHAPEGEN_SHAPE_BOX;
     for (int k = 0; k < 3; ++k) out->box.cells[k] = 1;
     if (kind == 0) {
-      out->box.size_m[0] = sg_rng_range(st, 30 * MM, 120 * MM);
-      out->box.size_m[1] = sg_rng_range(st, 20 * MM, out->box.size_m[0]);
-      out->box.size_m[2] = sg_rng_range(st, 2 * MM, 4 * MM);
+      out->box.size_m[0] = cl_rng_range(st, 30 * MM, 120 * MM);
+      out->box.size_m[1] = cl_rng_range(st, 20 * MM, out->box.size_m[0]);
+      out->box.size_m[2] = cl_rng_range(st, 2 * MM, 4 * MM);
       set_variant(out, "thin plate");
     } else {
-      out->box.size_m[0] = sg_rng_range(st, 60 * MM, 120 * MM);
-      out->box.size_m[1] = sg_rng_range(st, 3 * MM, 10 * MM);
-      out->box.size_m[2] = sg_rng_range(st, 3 * MM, 10 * MM);
+      out->box.size_m[0] = cl_rng_range(st, 60 * MM, 120 * MM);
+      out->box.size_m[1] = cl_rng_range(st, 3 * MM, 10 * MM);
+      out->box.size_m[2] = cl_rng_range(st, 3 * MM, 10 * MM);
       set_variant(out, "bar");
     }
   } else {
     out->shape = SHAPEGEN_SHAPE_REVOLVE;
-    const unsigned n = 64 + sg_rng_below(st, 65);
+    const unsigned n = 64 + cl_rng_below(st, 65);
     out->rev.segments = n;
     double radius, length;
     if (kind == 1) {
-      radius = sg_rng_range(st, 10 * MM, 60 * MM);
-      length = sg_rng_range(st, 2 * MM, 4 * MM);
+      radius = cl_rng_range(st, 10 * MM, 60 * MM);
+      length = cl_rng_range(st, 2 * MM, 4 * MM);
     } else {
-      radius = sg_rng_range(st, 5 * MM, 30 * MM);
-      length = sg_rng_range(st, 20 * MM, 120 * MM);
-      out->lay_on_side = sg_rng_below(st, 2) == 1;
+      radius = cl_rng_range(st, 5 * MM, 30 * MM);
+      length = cl_rng_range(st, 20 * MM, 120 * MM);
+      out->lay_on_side = cl_rng_below(st, 2) == 1;
     }
     if (cylinder_profile(&out->rev, radius, length) != 0) return -1;
     snprintf(out->variant, sizeof out->variant, "%s %u sides%s", kind == 1 ? "thin disk" : "cylinder",
@@ -144,11 +144,11 @@ static int draw_plate(uint64_t *st, shapegen_spec_t *out) {
 
 static int draw_ring(uint64_t *st, shapegen_spec_t *out) {
   out->shape = SHAPEGEN_SHAPE_REVOLVE;
-  const double big = sg_rng_range(st, 12 * MM, 48 * MM);
-  double ar = sg_rng_range(st, 3 * MM, 15 * MM);
+  const double big = cl_rng_range(st, 12 * MM, 48 * MM);
+  double ar = cl_rng_range(st, 3 * MM, 15 * MM);
   if (ar > 0.6 * big) ar = 0.6 * big;
-  const double az = ar * sg_rng_range(st, 0.7, 1.3);
-  const unsigned m = 4 * (3 + sg_rng_below(st, 6)); /* 12 .. 32 profile points */
+  const double az = ar * cl_rng_range(st, 0.7, 1.3);
+  const unsigned m = 4 * (3 + cl_rng_below(st, 6)); /* 12 .. 32 profile points */
   out->rev.segments = draw_segments(st, 48, 128);
   if (2.0 * (big + ar) > 120 * MM || 2.0 * (big + ar) < 20 * MM) return -1;
   out->rev.point_count = 0;
@@ -170,23 +170,23 @@ static double bowl_z(double z0, double height, double alpha, double s) {
 
 static int draw_rim(uint64_t *st, shapegen_spec_t *out) {
   out->shape = SHAPEGEN_SHAPE_REVOLVE;
-  const int plate = sg_rng_below(st, 3) == 0;
+  const int plate = cl_rng_below(st, 3) == 0;
   double radius, height, alpha;
   if (plate) {
-    radius = sg_rng_range(st, 40 * MM, 60 * MM);
-    height = sg_rng_range(st, 8 * MM, 16 * MM);
-    alpha = sg_rng_range(st, 0.05, 0.3);
+    radius = cl_rng_range(st, 40 * MM, 60 * MM);
+    height = cl_rng_range(st, 8 * MM, 16 * MM);
+    alpha = cl_rng_range(st, 0.05, 0.3);
   } else {
-    radius = sg_rng_range(st, 25 * MM, 60 * MM);
-    height = radius * sg_rng_range(st, 0.35, 0.8);
-    alpha = sg_rng_range(st, 0.6, 1.0);
+    radius = cl_rng_range(st, 25 * MM, 60 * MM);
+    height = radius * cl_rng_range(st, 0.35, 0.8);
+    alpha = cl_rng_range(st, 0.6, 1.0);
   }
-  const double rim = sg_rng_range(st, 2 * MM, 5 * MM);     /* top annulus width */
-  const double floor_t = sg_rng_range(st, 2 * MM, 5 * MM); /* bottom thickness */
-  const double z0 = sg_rng_range(st, 1 * MM, 3 * MM);      /* underside clearance at the center */
-  const double foot_w = sg_rng_range(st, 2 * MM, 4 * MM);
+  const double rim = cl_rng_range(st, 2 * MM, 5 * MM);     /* top annulus width */
+  const double floor_t = cl_rng_range(st, 2 * MM, 5 * MM); /* bottom thickness */
+  const double z0 = cl_rng_range(st, 1 * MM, 3 * MM);      /* underside clearance at the center */
+  const double foot_w = cl_rng_range(st, 2 * MM, 4 * MM);
   const double lo = 5.0 * foot_w > 0.4 * radius ? 5.0 * foot_w : 0.4 * radius;
-  const double r_fo = sg_rng_range(st, lo, 0.65 * radius);
+  const double r_fo = cl_rng_range(st, lo, 0.65 * radius);
   const double r_fi = r_fo - foot_w;
   out->rev.segments = draw_segments(st, 64, 128);
   if (lo >= 0.65 * radius || !(height > z0 + floor_t + 3 * MM)) return -1;
@@ -228,15 +228,15 @@ static int draw_rim(uint64_t *st, shapegen_spec_t *out) {
 /* The cup of a mug; the handle spec refers to its outer wall rows. */
 static int draw_mug(uint64_t *st, shapegen_spec_t *out) {
   out->shape = SHAPEGEN_SHAPE_REVOLVE;
-  const double radius = sg_rng_range(st, 25 * MM, 38 * MM);
-  const double height = sg_rng_range(st, 55 * MM, 105 * MM);
-  const double wall = sg_rng_range(st, 3 * MM, 5.5 * MM);
-  const double floor_z = sg_rng_range(st, 5 * MM, 10 * MM);
-  const double chamfer = sg_rng_range(st, 0.6 * MM, 1.5 * MM);
-  const int ring = sg_rng_below(st, 2) == 1;
-  const double recess = sg_rng_range(st, 1 * MM, 2.5 * MM);
-  const double foot_w = sg_rng_range(st, 3 * MM, 6 * MM);
-  const unsigned n = 8 * (8 + sg_rng_below(st, 5)); /* 64 .. 96 */
+  const double radius = cl_rng_range(st, 25 * MM, 38 * MM);
+  const double height = cl_rng_range(st, 55 * MM, 105 * MM);
+  const double wall = cl_rng_range(st, 3 * MM, 5.5 * MM);
+  const double floor_z = cl_rng_range(st, 5 * MM, 10 * MM);
+  const double chamfer = cl_rng_range(st, 0.6 * MM, 1.5 * MM);
+  const int ring = cl_rng_below(st, 2) == 1;
+  const double recess = cl_rng_range(st, 1 * MM, 2.5 * MM);
+  const double foot_w = cl_rng_range(st, 3 * MM, 6 * MM);
+  const unsigned n = 8 * (8 + cl_rng_below(st, 5)); /* 64 .. 96 */
   out->rev.segments = n;
   const size_t rows = (size_t)((height - chamfer) / (2.5 * MM) + 0.5);
   const double row_h = (height - chamfer) / (double)rows;
@@ -269,11 +269,11 @@ static int draw_mug(uint64_t *st, shapegen_spec_t *out) {
 
   /* the handle: holes of 2 k columns x q rows, mirror images about the path's center */
   shapegen_handle_t *h = &out->handle;
-  const double col_w = radius * 6.283185307179586477 / n;
+  const double col_w = radius * (2.0 * CL_PI) / n;
   h->present = 1;
-  h->columns = clamp_u(sg_rng_range(st, 3.5 * MM, 6 * MM) / col_w + 0.5, 1, n / 8);
-  h->rows = clamp_u(2.0 * sg_rng_range(st, 3.5 * MM, 6 * MM) / row_h + 0.5, 2, 8);
-  const double top_gap = sg_rng_range(st, 6 * MM, 14 * MM), low_gap = sg_rng_range(st, 8 * MM, 18 * MM);
+  h->columns = clamp_u(cl_rng_range(st, 3.5 * MM, 6 * MM) / col_w + 0.5, 1, n / 8);
+  h->rows = clamp_u(2.0 * cl_rng_range(st, 3.5 * MM, 6 * MM) / row_h + 0.5, 2, 8);
+  const double top_gap = cl_rng_range(st, 6 * MM, 14 * MM), low_gap = cl_rng_range(st, 8 * MM, 18 * MM);
   const long iu1 = (long)((height - top_gap - chamfer) / row_h);
   const long il0 = (long)((low_gap - chamfer) / row_h) + 1;
   const long iu0 = iu1 - (long)h->rows, il1 = il0 + (long)h->rows;
@@ -289,10 +289,10 @@ static int draw_mug(uint64_t *st, shapegen_spec_t *out) {
   const double reach_lo = sqrt(2.2 * half_h * h->half_height_m);
   const double lo = reach_lo > 16 * MM ? reach_lo : 16 * MM;
   if (lo > 34 * MM || h->half_height_m < half_h + 5 * MM) return -1;
-  h->reach_m = sg_rng_range(st, lo, 34 * MM);
+  h->reach_m = cl_rng_range(st, lo, 34 * MM);
   if (2.0 * radius + h->reach_m + half_h > 120 * MM) h->reach_m = 120 * MM - 2.0 * radius - half_h;
   if (h->reach_m < lo) return -1;
-  h->loops = 14 + sg_rng_below(st, 11);
+  h->loops = 14 + cl_rng_below(st, 11);
   snprintf(out->variant, sizeof out->variant, "mug, %s", ring ? "foot ring" : "full bottom");
   material_draw(st, PLASTIC | CERAMIC, out);
   return 0;
@@ -358,25 +358,25 @@ static size_t feet_lines(const shapegen_slab_t *s, int a, double fine, double *r
 static int draw_feet(uint64_t *st, unsigned feet, shapegen_spec_t *out) {
   out->shape = SHAPEGEN_SHAPE_SLAB;
   shapegen_slab_t *s = &out->slab;
-  const double hx = sg_rng_range(st, 20 * MM, 60 * MM);
-  const double hy = sg_rng_range(st, 12.5 * MM, hx < 45 * MM ? hx : 45 * MM);
+  const double hx = cl_rng_range(st, 20 * MM, 60 * MM);
+  const double hy = cl_rng_range(st, 12.5 * MM, hx < 45 * MM ? hx : 45 * MM);
   s->half_m[0] = hx;
   s->half_m[1] = hy;
-  s->clearance_m = sg_rng_range(st, 2 * MM, 5 * MM);
-  s->slope_m = sg_rng_range(st, 0.6 * MM, 1.5 * MM);
-  const double wall = sg_rng_range(st, 2 * MM, 4 * MM);
-  const double dome_x = sg_rng_range(st, 2 * MM, 8 * MM), dome_y = sg_rng_range(st, 1 * MM, 5 * MM);
-  const double coarse = sg_rng_range(st, 3 * MM, 5 * MM), fine = 1.0 * MM;
+  s->clearance_m = cl_rng_range(st, 2 * MM, 5 * MM);
+  s->slope_m = cl_rng_range(st, 0.6 * MM, 1.5 * MM);
+  const double wall = cl_rng_range(st, 2 * MM, 4 * MM);
+  const double dome_x = cl_rng_range(st, 2 * MM, 8 * MM), dome_y = cl_rng_range(st, 1 * MM, 5 * MM);
+  const double coarse = cl_rng_range(st, 3 * MM, 5 * MM), fine = 1.0 * MM;
   /* a square foot's slope ends inside the footprint (its closed form needs the whole slope) */
-  const double inset = sg_rng_range(st, s->slope_m + 0.5 * MM, 6 * MM);
-  const unsigned kind = sg_rng_below(st, feet == 2 ? 3 : 2); /* 0 round, 1 square, 2 rails */
-  double half = sg_rng_range(st, 2.5 * MM, 6 * MM);
+  const double inset = cl_rng_range(st, s->slope_m + 0.5 * MM, 6 * MM);
+  const unsigned kind = cl_rng_below(st, feet == 2 ? 3 : 2); /* 0 round, 1 square, 2 rails */
+  double half = cl_rng_range(st, 2.5 * MM, 6 * MM);
   s->foot_count = feet;
   for (unsigned f = 0; f < feet; ++f) {
     shapegen_foot_t *ft = &s->feet[f];
     ft->round = kind == 0;
     ft->half_m[0] = half;
-    ft->half_m[1] = kind == 2 ? hy * sg_rng_range(st, 0.55, 0.85) : half;
+    ft->half_m[1] = kind == 2 ? hy * cl_rng_range(st, 0.55, 0.85) : half;
     if (kind == 2 && f == 1) ft->half_m[1] = s->feet[0].half_m[1];
   }
   const double xf = hx - inset - half, yf = hy - inset - half;
@@ -414,17 +414,17 @@ static int draw_feet(uint64_t *st, unsigned feet, shapegen_spec_t *out) {
  * the ends, minimum 0), slope changes of 0.1-1 degree. Kink positions into kink_x. */
 static void convex_pl(uint64_t *st, double half, unsigned kinks, double *kink_x, double *slopes) {
   if (kinks == 1) {
-    kink_x[0] = sg_rng_range(st, -0.4, 0.4) * half;
+    kink_x[0] = cl_rng_range(st, -0.4, 0.4) * half;
   } else {
-    kink_x[0] = sg_rng_range(st, -0.6, -0.1) * half;
-    kink_x[1] = sg_rng_range(st, 0.1, 0.6) * half;
+    kink_x[0] = cl_rng_range(st, -0.6, -0.1) * half;
+    kink_x[1] = cl_rng_range(st, 0.1, 0.6) * half;
   }
   double total = 0.0, delta[2];
   for (unsigned k = 0; k < kinks; ++k) {
-    delta[k] = sg_rng_range(st, 0.1, 1.0) * DEG;
+    delta[k] = cl_rng_range(st, 0.1, 1.0) * DEG;
     total += delta[k];
   }
-  slopes[0] = -sg_rng_range(st, 0.3, 0.7) * total;
+  slopes[0] = -cl_rng_range(st, 0.3, 0.7) * total;
   for (unsigned k = 0; k < kinks; ++k) slopes[k + 1] = slopes[k] + delta[k];
 }
 
@@ -444,10 +444,10 @@ static double pl_eval(double half, unsigned kinks, const double *kink_x, const d
 static int draw_tilted(uint64_t *st, shapegen_spec_t *out) {
   out->shape = SHAPEGEN_SHAPE_SLAB;
   shapegen_slab_t *s = &out->slab;
-  s->half_m[0] = sg_rng_range(st, 12 * MM, 60 * MM);
-  s->half_m[1] = sg_rng_range(st, 12 * MM, 60 * MM);
-  const double height = sg_rng_range(st, 20 * MM, 80 * MM);
-  const double coarse = sg_rng_range(st, 6 * MM, 12 * MM);
+  s->half_m[0] = cl_rng_range(st, 12 * MM, 60 * MM);
+  s->half_m[1] = cl_rng_range(st, 12 * MM, 60 * MM);
+  const double height = cl_rng_range(st, 20 * MM, 80 * MM);
+  const double coarse = cl_rng_range(st, 6 * MM, 12 * MM);
   /* surface 0 bottom, 1 top; axis a: kinks and slopes */
   unsigned kinks[2][2];
   double kx[2][2][2], sl[2][2][3];
@@ -455,7 +455,7 @@ static int draw_tilted(uint64_t *st, shapegen_spec_t *out) {
   double req[2][8];
   for (int surf = 0; surf < 2; ++surf) {
     for (int a = 0; a < 2; ++a) {
-      kinks[surf][a] = 1 + sg_rng_below(st, 2);
+      kinks[surf][a] = 1 + cl_rng_below(st, 2);
       convex_pl(st, s->half_m[a], kinks[surf][a], kx[surf][a], sl[surf][a]);
       for (unsigned k = 0; k < kinks[surf][a]; ++k) req[a][nreq[a]++] = kx[surf][a][k];
     }
@@ -487,25 +487,25 @@ static int draw_tilted(uint64_t *st, shapegen_spec_t *out) {
 
 /* Semi-axes a >= b >= c drawn into the rock spec; returns their mean. */
 static double rock_axes(uint64_t *st, rockgen_spec_t *r, double a_lo, double a_hi, double c_lo) {
-  r->semi_axes_m[0] = sg_rng_range(st, a_lo, a_hi);
-  r->semi_axes_m[1] = r->semi_axes_m[0] * sg_rng_range(st, 0.6, 0.95);
-  r->semi_axes_m[2] = r->semi_axes_m[1] * sg_rng_range(st, c_lo, 0.9);
+  r->semi_axes_m[0] = cl_rng_range(st, a_lo, a_hi);
+  r->semi_axes_m[1] = r->semi_axes_m[0] * cl_rng_range(st, 0.6, 0.95);
+  r->semi_axes_m[2] = r->semi_axes_m[1] * cl_rng_range(st, c_lo, 0.9);
   return (r->semi_axes_m[0] + r->semi_axes_m[1] + r->semi_axes_m[2]) / 3.0;
 }
 
 static int draw_pebble(uint64_t *st, shapegen_spec_t *out) {
   out->shape = SHAPEGEN_SHAPE_ROCK;
   rockgen_spec_t *r = &out->rock;
-  r->seed = sg_rng_next(st);
+  r->seed = cl_rng_next(st);
   const double mean = rock_axes(st, r, 15 * MM, 48 * MM, 0.5);
-  r->lobe_count = 5 + sg_rng_below(st, 4);
-  r->lobe_amplitude = sg_rng_range(st, 0.06, 0.14);
-  r->lobe_cos = sg_rng_range(st, 0.2, 0.45);
-  r->bump_count = 6 + sg_rng_below(st, 8);
-  r->bump_amplitude = sg_rng_range(st, 0.01, 0.03);
-  r->bump_cos = sg_rng_range(st, 0.82, 0.9);
+  r->lobe_count = 5 + cl_rng_below(st, 4);
+  r->lobe_amplitude = cl_rng_range(st, 0.06, 0.14);
+  r->lobe_cos = cl_rng_range(st, 0.2, 0.45);
+  r->bump_count = 6 + cl_rng_below(st, 8);
+  r->bump_amplitude = cl_rng_range(st, 0.01, 0.03);
+  r->bump_cos = cl_rng_range(st, 0.82, 0.9);
   /* coarse enough that some triangle can carry it (edges of 5-7 mm) */
-  r->frequency = clamp_u(1.1 * mean / sg_rng_range(st, 5 * MM, 7 * MM), 3, 12);
+  r->frequency = clamp_u(1.1 * mean / cl_rng_range(st, 5 * MM, 7 * MM), 3, 12);
   r->fracture_count = 0;
   snprintf(out->variant, sizeof out->variant, "pebble f%u", r->frequency);
   material_draw(st, STONE, out);
@@ -515,32 +515,32 @@ static int draw_pebble(uint64_t *st, shapegen_spec_t *out) {
 static int draw_lumpy(uint64_t *st, shapegen_spec_t *out) {
   out->shape = SHAPEGEN_SHAPE_ROCK;
   rockgen_spec_t *r = &out->rock;
-  r->seed = sg_rng_next(st);
+  r->seed = cl_rng_next(st);
   const double mean = rock_axes(st, r, 14 * MM, 45 * MM, 0.55);
   r->lobe_count = 6;
-  r->lobe_amplitude = sg_rng_range(st, 0.15, 0.22);
-  r->lobe_cos = sg_rng_range(st, 0.25, 0.35);
-  r->bump_count = 20 + sg_rng_below(st, 7);
-  r->bump_amplitude = sg_rng_range(st, 0.04, 0.07);
-  r->bump_cos = sg_rng_range(st, 0.86, 0.9);
-  r->frequency = clamp_u(1.1 * mean / sg_rng_range(st, 2.5 * MM, 3.5 * MM), 6, 14);
-  r->fracture_count = 1 + sg_rng_below(st, 3);
+  r->lobe_amplitude = cl_rng_range(st, 0.15, 0.22);
+  r->lobe_cos = cl_rng_range(st, 0.25, 0.35);
+  r->bump_count = 20 + cl_rng_below(st, 7);
+  r->bump_amplitude = cl_rng_range(st, 0.04, 0.07);
+  r->bump_cos = cl_rng_range(st, 0.86, 0.9);
+  r->frequency = clamp_u(1.1 * mean / cl_rng_range(st, 2.5 * MM, 3.5 * MM), 6, 14);
+  r->fracture_count = 1 + cl_rng_below(st, 3);
   for (size_t f = 0; f < r->fracture_count; ++f) {
     double *n = r->fractures[f].normal;
     if (f == 0) { /* the bottom, tilted 2-12 degrees */
       double u[3];
-      sg_rng_unit3(st, u);
-      const double h = sqrt(u[0] * u[0] + u[1] * u[1]), t = sg_rng_range(st, 0.035, 0.21);
+      cl_rng_direction(st, 3, u);
+      const double h = sqrt(u[0] * u[0] + u[1] * u[1]), t = cl_rng_range(st, 0.035, 0.21);
       n[0] = h > 1e-9 ? t * u[0] / h : t;
       n[1] = h > 1e-9 ? t * u[1] / h : 0.0;
       n[2] = -1.0;
     } else {
       for (int tries = 0; tries < 64; ++tries) { /* a side face: |n_z| <= 0.5 */
-        sg_rng_unit3(st, n);
+        cl_rng_direction(st, 3, n);
         if (fabs(n[2]) <= 0.5) break;
       }
     }
-    r->fractures[f].depth_m = sg_rng_range(st, 0.4 * MM, 1.6 * MM);
+    r->fractures[f].depth_m = cl_rng_range(st, 0.4 * MM, 1.6 * MM);
   }
   snprintf(out->variant, sizeof out->variant, "lumpy f%u, %zu faces", r->frequency,
            r->fracture_count);
@@ -549,18 +549,18 @@ static int draw_lumpy(uint64_t *st, shapegen_spec_t *out) {
 }
 
 static int draw_scanned(uint64_t *st, shapegen_spec_t *out) {
-  const int rock = sg_rng_below(st, 2) == 1;
-  out->noise_m = sg_rng_range(st, 1e-6, 20e-6);
-  out->noise_seed = sg_rng_next(st);
+  const int rock = cl_rng_below(st, 2) == 1;
+  out->noise_m = cl_rng_range(st, 1e-6, 20e-6);
+  out->noise_seed = cl_rng_next(st);
   if (rock) {
     out->shape = SHAPEGEN_SHAPE_ROCK;
-    if (rockgen_spec_random(sg_rng_next(st), &out->rock) != MODEL_OK) return -1;
+    if (rockgen_spec_random(cl_rng_next(st), &out->rock) != MODEL_OK) return -1;
     material_draw(st, STONE, out);
   } else {
     out->shape = SHAPEGEN_SHAPE_BOX;
-    const double cell = sg_rng_range(st, 3 * MM, 6 * MM);
+    const double cell = cl_rng_range(st, 3 * MM, 6 * MM);
     for (int k = 0; k < 3; ++k) {
-      out->box.size_m[k] = sg_rng_range(st, 20 * MM, 120 * MM);
+      out->box.size_m[k] = cl_rng_range(st, 20 * MM, 120 * MM);
       out->box.cells[k] = clamp_u(out->box.size_m[k] / cell + 0.5, 2, 64);
     }
     material_draw(st, WOOD | PLASTIC | STONE | CERAMIC, out);

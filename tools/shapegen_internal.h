@@ -3,6 +3,7 @@
 #ifndef COMLEARN_TOOLS_SHAPEGEN_INTERNAL_H
 #define COMLEARN_TOOLS_SHAPEGEN_INTERNAL_H
 
+#include "comlearn/math3d.h"
 #include "shapegen.h"
 
 /* A mesh under construction. Appends never fail visibly: an allocation failure sets `nomem` and
@@ -23,13 +24,6 @@ void sg_quad(sg_build_t *b, uint32_t a, uint32_t c, uint32_t d, uint32_t e);
 /* Move the mesh so that its bounding-box center is the origin, round to float32 and hand the
  * arrays to *out (b is left empty). */
 model_status_t sg_build_finish(sg_build_t *b, model_mesh_t *out);
-
-/* splitmix64 (the same generator as tools/rockgen.c; a copy, since that one is private). */
-uint64_t sg_rng_next(uint64_t *state);
-double sg_rng_uniform(uint64_t *state);                   /* [0, 1), 53 bits */
-double sg_rng_range(uint64_t *state, double lo, double hi);
-unsigned sg_rng_below(uint64_t *state, unsigned n);       /* 0 .. n-1 */
-void sg_rng_unit3(uint64_t *state, double u[3]);          /* uniform on the sphere (rejection) */
 
 /* x rounded to float32 through a volatile (see tools/rockgen.c for why). */
 double sg_to_float32(double x);

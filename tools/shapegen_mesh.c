@@ -1,5 +1,5 @@
 /* shapegen_mesh.c - the constructions: tessellated box, slab height field, solid of revolution
- * with a handle tube; the growable mesh, the PRNG and the deterministic cos / sin. */
+ * with a handle tube; the growable mesh and the deterministic cos / sin. */
 #include "shapegen_internal.h"
 
 #include <math.h>
@@ -94,35 +94,6 @@ model_status_t sg_build_finish(sg_build_t *b, model_mesh_t *out) {
 
 /* ---- random numbers and angles --------------------------------------------------------------- */
 
-uint64_t sg_rng_next(uint64_t *state) {
-  uint64_t z = (*state += 0x9e3779b97f4a7c15u);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
-  return z ^ (z >> 31);
-}
-
-double sg_rng_uniform(uint64_t *state) { return (double)(sg_rng_next(state) >> 11) * 0x1.0p-53; }
-
-double sg_rng_range(uint64_t *state, double lo, double hi) {
-  return lo + (hi - lo) * sg_rng_uniform(state);
-}
-
-unsigned sg_rng_below(uint64_t *state, unsigned n) {
-  return n == 0 ? 0 : (unsigned)(sg_rng_next(state) % n);
-}
-
-/* The cap is never reached in practice (acceptance ~52 % per try). */
-void sg_rng_unit3(uint64_t *state, double u[3]) {
-  double n2 = 0.0;
-  for (int tries = 0; tries < 1000; ++tries) {
-    for (int k = 0; k < 3; ++k) u[k] = 2.0 * sg_rng_uniform(state) - 1.0;
-    n2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
-    if (n2 > 1e-6 && n2 <= 1.0) break;
-  }
-  const double n = sqrt(n2);
-  for (int k = 0; k < 3; ++k) u[k] /= n;
-}
-
 void shapegen_cos_sin_turn(long j, long n, double *c, double *s) {
   if (n <= 0) {
     *c = 1.0;
@@ -136,7 +107,7 @@ void shapegen_cos_sin_turn(long j, long n, double *c, double *s) {
   long long q = (8 * m + n) / (2 * (long long)n);
   if ((8 * m + n) % (2 * (long long)n) == 0 && (q & 1)) --q;
   const long long r = 4 * m - q * n;
-  const double x = (double)r * 1.57079632679489661923 / (double)n;
+  const double x = (double)r * (0.5 * CL_PI) / (double)n;
   const double x2 = x * x;
   double cc = 1.0, ss = 1.0;
   for (int k = 10; k >= 1; --k) {

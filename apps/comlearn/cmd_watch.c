@@ -24,6 +24,7 @@
 #include "comlearn/cli_time.h"
 #include "comlearn/comlearn_com_estimate_t.h"
 #include "comlearn/comlearn_com_trial_t.h"
+#include "comlearn/math3d.h"
 #include "comlearn/msg.h"
 
 enum { EXIT_USAGE = 2 };
@@ -118,8 +119,8 @@ static void json_bools(const char *key, const int8_t *v, int n) {
 
 /* The angle of a unit quaternion's rotation [rad], in [0, pi]. */
 static double quat_angle(const double q[4]) {
-  double v = sqrt(q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  return 2.0 * atan2(v, fabs(q[0]));
+  static const double identity[4] = {1.0, 0.0, 0.0, 0.0};
+  return cl_quat_angle(identity, q);
 }
 
 static void table_header(watch_t *w, int64_t run_id, const char *object, const char *policy) {
@@ -188,8 +189,8 @@ static void on_trial(const lcm_recv_buf_t *rbuf, const char *channel, const void
            comp,
            outcome_name(t->outcome), 1e3 * t->target_offset_m, 1e3 * t->released_position_m[0],
            1e3 * t->released_position_m[1], 1e3 * t->released_position_m[2],
-           quat_angle(t->released_orientation_wxyz) * 180.0 / M_PI,
-           t->rotation_rad * 180.0 / M_PI, !edge ? "-" : !known ? "?" : t->flat_patch ? "yes" : "no");
+           quat_angle(t->released_orientation_wxyz) * 180.0 / CL_PI,
+           t->rotation_rad * 180.0 / CL_PI, !edge ? "-" : !known ? "?" : t->flat_patch ? "yes" : "no");
   }
   fflush(stdout);
 }

@@ -20,6 +20,7 @@
 
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "cmd_estimate.h"
@@ -75,11 +76,6 @@ static void usage(FILE *out) {
 static int exit_code_for(model_status_t s) {
   if (s == MODEL_OK) return EXIT_SUCCESS;
   return s == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
-}
-
-static double dist3(const double a[3], const double b[3]) {
-  double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-  return sqrt(dx * dx + dy * dy + dz * dz);
 }
 
 static model_status_t inspect_one(const char *path, const char *link, int want_truth,
@@ -158,7 +154,7 @@ static void print_json(const inspect_result_t *results, size_t n) {
     if (r->have_truth) {
       printf(", \"truth_mass_kg\": %.9g, ", r->truth.mass_kg);
       json_vec("truth_com_m", r->truth.com_m, 1);
-      printf("\"truth_minus_uniform_m\": %.9g", dist3(r->truth.com_m, r->uniform.com_m));
+      printf("\"truth_minus_uniform_m\": %.9g", cl_vec3_dist(r->truth.com_m, r->uniform.com_m));
     }
     printf("}");
   }
@@ -183,7 +179,7 @@ static void print_table(const inspect_result_t *results, size_t n, int truth) {
     if (truth) {
       const double *t = r->truth.com_m;
       printf(" %8.4f  %7.2f %7.2f %7.2f %9.3f", r->truth.mass_kg, 1e3 * t[0], 1e3 * t[1],
-             1e3 * t[2], 1e3 * dist3(t, u));
+             1e3 * t[2], 1e3 * cl_vec3_dist(t, u));
     }
     printf("\n");
   }

@@ -6,8 +6,6 @@
 #include "comlearn/model_chain.h"
 #include "placement_internal.h"
 
-static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
-
 placement_status_t placement_arm_load(placement_arm_t *arm, const char *urdf_path,
                                       const char *base_link, const char *tip_link,
                                       placement_error_t *err) {
@@ -69,9 +67,9 @@ placement_status_t placement_arm_load(placement_arm_t *arm, const char *urdf_pat
   arm->tip = acc;
   /* Joint 0 turns about its own origin, so every later origin and the tip keep their distance
    * from the previous frame's origin: the sum bounds the tip's distance from joint 0. */
-  double reach = norm3(arm->tip.pos_m);
+  double reach = cl_vec3_norm(arm->tip.pos_m);
   for (int i = 1; i < PLACEMENT_JOINTS; ++i) {
-    reach += norm3(arm->origin[i].pos_m);
+    reach += cl_vec3_norm(arm->origin[i].pos_m);
   }
   arm->reach_m = reach;
   return PLACEMENT_OK;
@@ -80,7 +78,7 @@ placement_status_t placement_arm_load(placement_arm_t *arm, const char *urdf_pat
 void placement_yumi_nominal(placement_side_t side, double q_rad[PLACEMENT_JOINTS]) {
   /* Chain order (ABB axes 1, 2, 7, 3, 4, 5, 6), degrees: ABB's synchronisation pose
    * (axes 1..7 = 0, -130, 30, 0, 40, 0, -+135), mirrored for the left arm (axes 1, 4, 7). */
-  const double deg = 3.14159265358979323846 / 180.0;
+  const double deg = CL_PI / 180.0;
   const double right[PLACEMENT_JOINTS] = {0.0, -130.0, -135.0, 30.0, 0.0, 40.0, 0.0};
   for (int k = 0; k < PLACEMENT_JOINTS; ++k) {
     q_rad[k] = right[k] * deg;

@@ -71,21 +71,10 @@ static void cholesky6_solve(const double l[6][6], double b[6]) {
   }
 }
 
-static uint64_t splitmix64(uint64_t *state) {
-  uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
-static double uniform01(uint64_t *state) {
-  return (double)(splitmix64(state) >> 11) * (1.0 / 9007199254740992.0);
-}
-
 /* Into the limits: a revolute joint past a limit first tries the same angle one turn back
  * (identical FK; YuMi's axes 4 and 6 span more than a turn), else it is clamped. */
 static void clamp_q(const placement_arm_t *arm, double q[N]) {
-  const double turn = 2.0 * 3.14159265358979323846;
+  const double turn = 2.0 * CL_PI;
   for (int k = 0; k < N; ++k) {
     if (q[k] > arm->upper_rad[k] && q[k] - turn >= arm->lower_rad[k]) {
       q[k] -= turn;
@@ -338,7 +327,8 @@ placement_status_t placement_ik(const placement_arm_t *arm, const placement_pose
       memcpy(cur.q, arm->nominal_rad, sizeof cur.q);
     } else {
       for (int k = 0; k < N; ++k) {
-        cur.q[k] = arm->lower_rad[k] + (arm->upper_rad[k] - arm->lower_rad[k]) * uniform01(&rng);
+        cur.q[k] =
+            arm->lower_rad[k] + (arm->upper_rad[k] - arm->lower_rad[k]) * cl_rng_uniform(&rng);
       }
     }
     clamp_q(arm, cur.q);

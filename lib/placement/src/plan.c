@@ -123,16 +123,22 @@ placement_status_t placement_pose_from_wxyz(const double position_m[3],
                                             placement_pose_t *out) {
   if (!position_m || !orientation_wxyz || !out) return PLACEMENT_E_ARG;
   if (!finite_n(position_m, 3) || !finite_n(orientation_wxyz, 4)) return PLACEMENT_E_NONFINITE;
-  const double n = sqrt(orientation_wxyz[0] * orientation_wxyz[0] +
-                        orientation_wxyz[1] * orientation_wxyz[1] +
-                        orientation_wxyz[2] * orientation_wxyz[2] +
-                        orientation_wxyz[3] * orientation_wxyz[3]);
+  double q[4];
+  const double n = cl_quat_normalize(orientation_wxyz, q);
   if (fabs(n - 1.0) > 1e-6) return PLACEMENT_E_ROTATION;
-  const double q[4] = {orientation_wxyz[0] / n, orientation_wxyz[1] / n, orientation_wxyz[2] / n,
-                       orientation_wxyz[3] / n};
-  model_quat_to_rot(q, out->rot);
+  cl_quat_to_rot(q, out->rot);
   memcpy(out->pos_m, position_m, sizeof out->pos_m);
   return PLACEMENT_OK;
+}
+
+void placement_pose_to_cl_pose(const placement_pose_t *in, cl_pose_t *out) {
+  memcpy(out->position_m, in->pos_m, sizeof out->position_m);
+  cl_quat_from_rot((const double(*)[3])in->rot, out->orientation_wxyz);
+}
+
+placement_status_t placement_pose_from_cl_pose(const cl_pose_t *in, placement_pose_t *out) {
+  if (!in) return PLACEMENT_E_ARG;
+  return placement_pose_from_wxyz(in->position_m, in->orientation_wxyz, out);
 }
 
 /* Mesh usable: non-empty, indices in range, finite vertices. */
@@ -233,14 +239,6 @@ static double segment_duration(const placement_arm_t *arm, const placement_plan_
   }
   const double tw = fabs(w1 - w0) / cfg->gripper_speed_m_s;
   return tw > t ? tw : t;
-}
-
-/* splitmix64: the start postures of repeated PLACE solves. */
-static uint64_t splitmix64(uint64_t *state) {
-  uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
 }
 
 static double max_step(const double a[PLACEMENT_JOINTS], const double b[PLACEMENT_JOINTS]) {
@@ -396,7 +394,7 @@ placement_status_t placement_plan_build(const placement_arm_t *arm,
       memcpy(start, req->q_start_rad, sizeof start);
     } else {
       for (int k = 0; k < PLACEMENT_JOINTS; ++k) {
-        const double u = (double)(splitmix64(&rng) >> 11) * 0x1.0p-53;
+        const double u = cl_rng_uniform(&rng);
         start[k] = arm->lower_rad[k] + u * (arm->upper_rad[k] - arm->lower_rad[k]);
       }
     }

@@ -135,7 +135,7 @@ void placement_rot_log(const double rot[3][3], double w[3]) {
     }
     return;
   }
-  if (angle < 3.14159265358979323846 - 1e-4) {
+  if (angle < CL_PI - 1e-4) {
     double f = angle / (2.0 * s);
     for (int i = 0; i < 3; ++i) {
       w[i] = f * v[i];
@@ -165,9 +165,7 @@ void placement_rot_log(const double rot[3][3], double w[3]) {
 void placement_pose_distance(const placement_pose_t *a, const placement_pose_t *b, double *pos_m,
                              double *rot_rad) {
   if (pos_m != NULL) {
-    double dx = a->pos_m[0] - b->pos_m[0], dy = a->pos_m[1] - b->pos_m[1],
-           dz = a->pos_m[2] - b->pos_m[2];
-    *pos_m = sqrt(dx * dx + dy * dy + dz * dz);
+    *pos_m = cl_vec3_dist(a->pos_m, b->pos_m);
   }
   if (rot_rad != NULL) {
     double r[3][3]; /* a^T b */

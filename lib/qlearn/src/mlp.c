@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/qlearn_mlp.h"
 
 #define H QLEARN_MLP_HIDDEN
@@ -15,18 +16,9 @@ _Static_assert(QLEARN_MLP_NPARAM == OFF_B2 + O, "parameter layout");
 _Static_assert(QLEARN_MLP_MAX_INSTANCES >= QLEARN_MAX_TRIALS, "one instance per trial");
 _Static_assert(QLEARN_MLP_MAX_INSTANCES <= 65536, "instance count fits the loops' bounds");
 
-/* splitmix64 (Steele, Lea & Flood 2014): small, seedable, good enough for initial weights. */
-static uint64_t splitmix64(uint64_t *state) {
-  uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-/* Uniform in [-a, a] from the top 53 bits. */
+/* Uniform in [-a, a] from the top 53 bits of splitmix64 (comlearn/math3d.h). */
 static double uniform_sym(uint64_t *state, double a) {
-  double u = (double)(splitmix64(state) >> 11) * (1.0 / 9007199254740992.0);
-  return a * (2.0 * u - 1.0);
+  return a * (2.0 * cl_rng_uniform(state) - 1.0);
 }
 
 qlearn_status_t qlearn_mlp_init(qlearn_mlp_t *mlp, uint64_t seed) {

@@ -26,6 +26,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "comlearn/math3d.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -213,6 +215,18 @@ void placement_rot_from_axis_angle(const double axis[3], double angle_rad, doubl
 /* Position distance and rotation angle (rad, in [0, pi]) between two poses. */
 void placement_pose_distance(const placement_pose_t *a, const placement_pose_t *b,
                              double *pos_m, double *rot_rad);
+
+/* ---- the quaternion pose of the rest of comlearn (comlearn/math3d.h's cl_pose_t, laid out as
+ * model_pose_t) -------------------------------------------------------------------------------- */
+
+/* The same transform as a position and a unit quaternion (w, x, y, z), w >= 0 (cl_quat_from_rot:
+ * Shepperd, normalised). No checks: a non-rotation gives a meaningless quaternion. */
+void placement_pose_to_cl_pose(const placement_pose_t *in, cl_pose_t *out);
+/* The checked inverse: placement_pose_from_wxyz(in->position_m, in->orientation_wxyz, out)
+ * (comlearn/placement_plan.h): the quaternion is normalised; PLACEMENT_E_ROTATION when its norm is
+ * off 1 by more than 1e-6, PLACEMENT_E_NONFINITE, PLACEMENT_E_ARG (NULL); *out unchanged on
+ * error. */
+placement_status_t placement_pose_from_cl_pose(const cl_pose_t *in, placement_pose_t *out);
 
 #ifdef __cplusplus
 }
