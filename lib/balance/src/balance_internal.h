@@ -17,6 +17,7 @@
 #include <ode/ode.h>
 
 #include "comlearn/balance.h"
+#include "comlearn/math3d.h"
 
 /* lib/model's status as ours: the geometry it computes for lib/balance. */
 balance_status_t balance_status_from_model(model_status_t status);
@@ -142,8 +143,8 @@ struct balance_world {
 
 /* ---- geometry helpers (world.c); pure ---- */
 
-/* Angle of the rotation between two unit quaternions, in [0, pi]. */
-double balance_quat_angle(const double a_wxyz[4], const double b_wxyz[4]);
+/* Angle of the rotation between two unit quaternions, in [0, pi]: comlearn/math3d.h's. */
+#define balance_quat_angle cl_quat_angle
 
 /* Validate a pose: finite (BALANCE_E_NONFINITE), |position| components <= BALANCE_MAX_POSITION_M
  * and |quaternion| within BALANCE_QUAT_NORM_TOL of 1 (BALANCE_E_POSE). *out gets the pose with the

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "balance_internal.h"
+#include "comlearn/math3d.h"
 
 size_t balance_fast_capacity(const balance_object_t *o) {
   return o->mesh_link.vertex_count + 4 * o->edge_count;
@@ -78,7 +79,7 @@ size_t balance_fast_contacts(const balance_world_t *w, balance_object_t *o, bala
   } else {
     const double dx = p[0] - fc->pos_m[0], dy = p[1] - fc->pos_m[1], dz = p[2] - fc->pos_m[2];
     if (dx * dx + dy * dy + dz * dz > BALANCE_FAST_REBUILD_M * BALANCE_FAST_REBUILD_M ||
-        balance_quat_angle(q, fc->quat_wxyz) > BALANCE_FAST_REBUILD_RAD)
+        cl_quat_angle(q, fc->quat_wxyz) > BALANCE_FAST_REBUILD_RAD)
       rebuild(fc, o, r, p, q);
   }
   const double zmax = BALANCE_CONTACT_BAND_M, zmin = -BALANCE_CONTACT_MAX_DEPTH_M;
@@ -165,7 +166,7 @@ size_t balance_fast_contacts_reduced(const balance_world_t *w, balance_object_t 
     const double dx = p[0] - fc->sel_pos_m[0], dy = p[1] - fc->sel_pos_m[1],
                  dz = p[2] - fc->sel_pos_m[2];
     const double moved = sqrt(dx * dx + dy * dy + dz * dz) +
-                         balance_quat_angle(q, fc->sel_quat_wxyz) * o->radius_m;
+                         cl_quat_angle(q, fc->sel_quat_wxyz) * o->radius_m;
     if (moved < BALANCE_FAST_RESELECT_M && fc->sel_count <= cap) {
       double r[3][3];
       model_quat_to_rot(q, r);

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/balance_poses.h"
 #include "balance_internal.h"
 
@@ -44,10 +45,10 @@ balance_status_t balance_stable_confirm(balance_world_t *world, balance_object_t
   double zmin = HUGE_VAL, cw[3];
   for (size_t v = 0; v < mesh_link->vertex_count; ++v) {
     double w[3];
-    model_quat_rotate(pose.orientation_wxyz, mesh_link->vertices_m[v], w);
+    cl_quat_rotate(pose.orientation_wxyz, mesh_link->vertices_m[v], w);
     if (w[2] < zmin) zmin = w[2];
   }
-  model_quat_rotate(pose.orientation_wxyz, center_link_m, cw);
+  cl_quat_rotate(pose.orientation_wxyz, center_link_m, cw);
   pose.position_m[0] = -cw[0];
   pose.position_m[1] = -cw[1];
   pose.position_m[2] = -zmin - sc.touch_depth_m;

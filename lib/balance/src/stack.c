@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "balance_internal.h"
+#include "comlearn/math3d.h"
 #include "comlearn/balance_stack.h"
 #include "comlearn/model_support.h"
 
@@ -87,7 +88,7 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
       const double dy = p.position_m[1] - released[i].position_m[1];
       const double dz = p.position_m[2] - released[i].position_m[2];
       const double d = sqrt(dx * dx + dy * dy + dz * dz);
-      const double a = model_quat_angle(p.orientation_wxyz, released[i].orientation_wxyz);
+      const double a = cl_quat_angle(p.orientation_wxyz, released[i].orientation_wxyz);
       if (d > disp[i]) disp[i] = d;
       if (a > rot[i]) rot[i] = a;
       if (moved[i] < 0.0 && (d > sc.max_displacement_m || a > sc.max_rotation_rad)) {
@@ -135,7 +136,7 @@ static balance_status_t placed_build(const model_mesh_t *m, const double q[4], c
   out->e = malloc(3 * m->triangle_count * sizeof *out->e);
   if (out->w == NULL || out->e == NULL) return BALANCE_E_NOMEM;
   for (size_t v = 0; v < m->vertex_count; ++v) {
-    model_quat_rotate(q, m->vertices_m[v], out->w[v]);
+    cl_quat_rotate(q, m->vertices_m[v], out->w[v]);
     for (int k = 0; k < 3; ++k) out->w[v][k] += p[k];
   }
   /* A closed mesh has every edge once in each direction: keep the increasing one. Open or
@@ -237,7 +238,7 @@ balance_status_t balance_stack_pose_above(const model_mesh_t *below_link,
   if (st == BALANCE_OK) st = balance_status_from_model(model_quat_unit(orientation_wxyz, qu));
   if (st != BALANCE_OK) return st;
   double pw[3];
-  model_quat_rotate(qu, point_link_m, pw);
+  cl_quat_rotate(qu, point_link_m, pw);
   const double pos[3] = {at_xy_m[0] - pw[0], at_xy_m[1] - pw[1], 0.0};
   placed_t lo = {0}, up = {0};
   st = placed_build(below_link, qb, below_pose->position_m, &lo);

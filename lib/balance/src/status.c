@@ -79,7 +79,7 @@ balance_status_t balance_config_check(const balance_config_t *cfg) {
   if (cfg->rest_steps < 1 || cfg->rest_steps > 1000000) return BALANCE_E_ARG;
   if (cfg->tip_grow_steps < 1 || cfg->tip_grow_steps > 1000000) return BALANCE_E_ARG;
   if (!finite_in(cfg->horizon_s, cfg->dt_s, 1e4)) return BALANCE_E_ARG;
-  if (!finite_in(cfg->tip_angle_rad, 1e-6, 3.14159)) return BALANCE_E_ARG;
+  if (!finite_in(cfg->tip_angle_rad, 1e-6, CL_PI)) return BALANCE_E_ARG;
   if (!finite_in(cfg->slide_m, 1e-9, 100.0)) return BALANCE_E_ARG;
   if (cfg->horizon_s / cfg->dt_s > 1e8) return BALANCE_E_ARG;
   return BALANCE_OK;

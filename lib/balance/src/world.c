@@ -23,15 +23,6 @@ static void ode_init_once(void) {
   dSetMessageHandler(ode_message_silent);
 }
 
-double balance_quat_angle(const double a[4], const double b[4]) {
-  /* 2 acos(w) loses precision near 0; the vector part of the relative rotation does not. */
-  const double w = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3];
-  const double x = a[0] * b[1] - a[1] * b[0] - a[2] * b[3] + a[3] * b[2];
-  const double y = a[0] * b[2] + a[1] * b[3] - a[2] * b[0] - a[3] * b[1];
-  const double z = a[0] * b[3] - a[1] * b[2] + a[2] * b[1] - a[3] * b[0];
-  return 2.0 * atan2(sqrt(x * x + y * y + z * z), fabs(w));
-}
-
 balance_status_t balance_pose_check(const model_pose_t *in, model_pose_t *out) {
   if (!in || !out) return BALANCE_E_ARG;
   for (int i = 0; i < 3; i++)

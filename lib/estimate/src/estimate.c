@@ -9,10 +9,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model_support.h"
 #include "comlearn/qlearn_solve.h"
 
-#define PI 3.14159265358979323846
 enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw sweep over [0, pi) */
 
 /* Bound on the threshold bias of one flat-patch edge test in lib/balance (docs/physics.md: <= 2.4 um
@@ -66,8 +66,8 @@ void estimate_config_default(estimate_config_t *cfg) {
   cfg->z = 1.96;
   cfg->seed = 1;
   cfg->min_chord_margin_m = 0.003;
-  cfg->min_dir_angle_rad = PI / 3.0;
-  cfg->min_face_angle_rad = PI / 6.0;
+  cfg->min_dir_angle_rad = CL_PI / 3.0;
+  cfg->min_face_angle_rad = CL_PI / 6.0;
   cfg->noise_max_trials = 48;
   cfg->verify_margin_m = 0.001;
   cfg->max_retests = 3;
@@ -162,10 +162,6 @@ struct estimate {
 };
 typedef struct estimate est_t;
 
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
 /* Link-frame direction of world +x (the +X edge's normal) for orientation q: R^T e_x. */
 static void dir_of(const double q[4], double dir[3]) {
   double r[3][3];
@@ -180,12 +176,7 @@ static void trial_plane(const est_t *est, const model_pose_t *pose, double n_obj
   model_edge_line(est->base_size_m, MODEL_EDGE_PX, n, &d_edge);
   model_quat_to_rot(pose->orientation_wxyz, r);
   for (int k = 0; k < 3; ++k) n_obj[k] = r[0][k] * n[0] + r[1][k] * n[1] + r[2][k] * n[2];
-  *d_m = d_edge - dot3(n, pose->position_m);
-}
-
-static double quat_angle(const double a[4], const double b[4]) {
-  double c = fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]);
-  return 2.0 * acos(c > 1.0 ? 1.0 : c);
+  *d_m = d_edge - cl_vec3_dot(n, pose->position_m);
 }
 
 static estimate_status_t fail(est_t *est, estimate_status_t s, const char *what) {
@@ -280,7 +271,7 @@ static int stable_confirmed(const estimate_trial_t *t) {
   double dy = t->settled.position_m[1] - t->released.position_m[1];
   double dz = t->settled.position_m[2] - t->released.position_m[2];
   return t->outcome == ESTIMATE_STAYS &&
-         quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz) <=
+         cl_quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz) <=
              sc.max_rotation_rad &&
          sqrt(dx * dx + dy * dy + dz * dz) <= sc.max_displacement_m;
 }
@@ -292,7 +283,7 @@ static void search_range(const est_t *est, const double u[3], double *lo, double
   *lo = HUGE_VAL;
   *hi = -HUGE_VAL;
   for (size_t i = 0; i < est->mesh->vertex_count; ++i) {
-    const double p = dot3(est->mesh->vertices_m[i], u);
+    const double p = cl_vec3_dot(est->mesh->vertices_m[i], u);
     if (p < *lo) *lo = p;
     if (p > *hi) *hi = p;
   }
@@ -305,7 +296,7 @@ static void search_range(const est_t *est, const double u[3], double *lo, double
 static estimate_status_t edge_request(est_t *est, const search_ctx_t *sc, double xa) {
   estimate_result_t *out = est->out;
   double p_link[3];
-  const double gx = dot3(est->guess_m, sc->u);
+  const double gx = cl_vec3_dot(est->guess_m, sc->u);
   for (int k = 0; k < 3; ++k) p_link[k] = est->guess_m[k] + (xa - gx) * sc->u[k];
   estimate_trial_request_t req;
   memset(&req, 0, sizeof req);
@@ -343,7 +334,7 @@ static estimate_trial_t *edge_logged(est_t *est, const search_ctx_t *sc,
   /* The placement actually achieved: its plane's offset along u (equal to xa when exact). */
   double n_obj[3], d;
   trial_plane(est, &t->released, n_obj, &d);
-  double x_got = dot3(n_obj, sc->u) > 0.99 ? d / dot3(n_obj, sc->u) : xa;
+  double x_got = cl_vec3_dot(n_obj, sc->u) > 0.99 ? d / cl_vec3_dot(n_obj, sc->u) : xa;
   if (!(x_got >= sc->lo && x_got <= sc->hi)) x_got = xa;
   t->x_m = x_got;
   return t;
@@ -507,7 +498,7 @@ static void search_plane(est_t *est, const search_ctx_t *sc) {
     const estimate_trial_t *t = &out->trial[ends[e]];
     double ne[3], de;
     trial_plane(est, &t->released, ne, &de);
-    de += (c - t->x_m) * dot3(ne, sc->u); /* move it to the estimate c */
+    de += (c - t->x_m) * cl_vec3_dot(ne, sc->u); /* move it to the estimate c */
     for (int k = 0; k < 3; ++k) n_obj[k] += ne[k];
     d += de;
     ++nb;
@@ -535,7 +526,7 @@ static void search_plane(est_t *est, const search_ctx_t *sc) {
       return;
     }
   }
-  const double len = sqrt(dot3(n_obj, n_obj));
+  const double len = sqrt(cl_vec3_dot(n_obj, n_obj));
   for (int k = 0; k < 3; ++k) sr->plane_n_obj[k] = n_obj[k] / len;
   sr->plane_d_m = d / len;
   sr->bias_m = ESTIMATE_PHYSICS_BIAS_M;
@@ -606,7 +597,7 @@ static estimate_status_t search_start(est_t *est, int face_index, int log_face, 
   for (int k = 1; k < 3; ++k)
     if (fabs(sc->u[k]) > fabs(sc->u[sc->comp])) sc->comp = k;
   search_range(est, sc->u, &sc->lo, &sc->hi);
-  double prior = dot3(est->start_m, sc->u);
+  double prior = cl_vec3_dot(est->start_m, sc->u);
   if (prior < sc->lo) prior = sc->lo;
   if (prior > sc->hi) prior = sc->hi;
   sr->prior_m = prior;
@@ -671,7 +662,7 @@ static int dir_determined(const qlearn_solve_result_t *res, const double a[3]) {
   if (res->rank == 0) return 0;
   double leak = 0.0;
   for (int e = 0; e < 3 - res->rank; ++e) {
-    const double p = dot3(res->eigenvector[e], a);
+    const double p = cl_vec3_dot(res->eigenvector[e], a);
     leak += p * p;
   }
   return leak <= QLEARN_SOLVE_NULL_LEAK;
@@ -683,7 +674,7 @@ static double plane_coef(const est_t *est, const qlearn_solve_result_t *res, con
                          const estimate_search_t *sr) {
   double p = 0.0;
   for (int e = 3 - res->rank; e < 3; ++e)
-    p += dot3(res->eigenvector[e], a) * dot3(res->eigenvector[e], sr->plane_n_obj) /
+    p += cl_vec3_dot(res->eigenvector[e], a) * cl_vec3_dot(res->eigenvector[e], sr->plane_n_obj) /
          res->eigenvalue[e];
   const double sigma = plane_sigma(est, sr);
   return p / (sigma * sigma);
@@ -701,7 +692,7 @@ static double dir_halfwidth(const est_t *est, const qlearn_solve_result_t *res, 
   const int first = 3 - res->rank; /* eigenvalues ascend: the null ones come first */
   double bound = 0.0, bias = 0.0, var = 0.0;
   for (int e = first; e < 3; ++e) {
-    const double p = dot3(res->eigenvector[e], a);
+    const double p = cl_vec3_dot(res->eigenvector[e], a);
     var += p * p / res->eigenvalue[e];
   }
   for (size_t i = 0; i < est->out->search_count; ++i) {
@@ -742,7 +733,7 @@ static estimate_status_t update_guess(est_t *est, qlearn_solve_result_t *res) {
     double delta[3], corr[3] = {0, 0, 0};
     for (int k = 0; k < 3; ++k) delta[k] = res->com_m[k] - pts[i][k];
     for (int j = 3 - res->rank; j < 3; ++j) {
-      const double p = dot3(res->eigenvector[j], delta);
+      const double p = cl_vec3_dot(res->eigenvector[j], delta);
       for (int k = 0; k < 3; ++k) corr[k] += p * res->eigenvector[j][k];
     }
     for (int k = 0; k < 3; ++k) pts[i][k] += corr[k];
@@ -762,12 +753,12 @@ static estimate_status_t yaw_margins(est_t *est, const model_face_t *f, double m
   double yaw[N], com[N][3], mj[N];
   for (int k = 0; k < YAW_STEPS; ++k) {
     double q[4], u[3];
-    model_orientation_yawed(f->orientation_wxyz, k * PI / YAW_STEPS, q);
+    model_orientation_yawed(f->orientation_wxyz, k * CL_PI / YAW_STEPS, q);
     dir_of(q, u);
     const double e = est->have_solve ? fmin(dir_halfwidth(est, &est->last, u), ESTIMATE_PLAN_OFFSET_M)
                                      : ESTIMATE_PLAN_OFFSET_M;
     for (int j = 0; j < 3; ++j) {
-      yaw[3 * k + j] = k * PI / YAW_STEPS;
+      yaw[3 * k + j] = k * CL_PI / YAW_STEPS;
       for (int i = 0; i < 3; ++i) com[3 * k + j][i] = est->guess_m[i] + (j - 1) * e * u[i];
     }
   }
@@ -785,18 +776,18 @@ static estimate_status_t plan_first(est_t *est, int fi, face_plan_t *p) {
   if (s != ESTIMATE_OK) return s;
   p->face = fi;
   p->score = -HUGE_VAL;
-  int min_sep = (int)ceil(est->cfg->min_dir_angle_rad / (PI / YAW_STEPS) - 1e-9);
+  int min_sep = (int)ceil(est->cfg->min_dir_angle_rad / (CL_PI / YAW_STEPS) - 1e-9);
   for (int i = 0; i < YAW_STEPS; ++i) {
     for (int j = i + min_sep; j <= i + YAW_STEPS - min_sep; ++j) {
       int jj = j % YAW_STEPS;
       double sc = fmin(m[i], m[jj]);
       /* prefer perpendicular directions among near-equal margins */
-      double sep = fabs(sin((j - i) * PI / YAW_STEPS));
+      double sep = fabs(sin((j - i) * CL_PI / YAW_STEPS));
       sc += 1e-4 * sep;
       if (sc > p->score) {
         p->score = sc;
-        p->yaw[0] = i * PI / YAW_STEPS;
-        p->yaw[1] = jj * PI / YAW_STEPS;
+        p->yaw[0] = i * CL_PI / YAW_STEPS;
+        p->yaw[1] = jj * CL_PI / YAW_STEPS;
         p->margin[0] = m[i];
         p->margin[1] = m[jj];
       }
@@ -818,12 +809,12 @@ static estimate_status_t plan_partner(est_t *est, int fi, double yaw0, double *y
     const double need = est->cfg->min_chord_margin_m * (pass == 0 ? 2.0 : 1.0);
     double best = -1.0;
     for (int k = 0; k < YAW_STEPS; ++k) {
-      const double sep = fabs(sin(k * PI / YAW_STEPS - yaw0));
+      const double sep = fabs(sin(k * CL_PI / YAW_STEPS - yaw0));
       if (!(m[k] >= need) || sep < sin(est->cfg->min_dir_angle_rad) - 1e-9) continue;
       const double sc = sep + 1e-6 * m[k]; /* ties: the larger margin */
       if (sc > best) {
         best = sc;
-        *yaw1 = k * PI / YAW_STEPS;
+        *yaw1 = k * CL_PI / YAW_STEPS;
         *margin1 = m[k];
       }
     }
@@ -845,12 +836,12 @@ static estimate_status_t plan_second(est_t *est, int fi, const double n1[3], fac
     for (int k = 0; k < YAW_STEPS; ++k) {
       if (!(m[k] >= need)) continue;
       double q[4], u[3];
-      model_orientation_yawed(est->faces[fi].orientation_wxyz, k * PI / YAW_STEPS, q);
+      model_orientation_yawed(est->faces[fi].orientation_wxyz, k * CL_PI / YAW_STEPS, q);
       dir_of(q, u);
-      double sc = fabs(dot3(u, n1));
+      double sc = fabs(cl_vec3_dot(u, n1));
       if (sc > p->score) {
         p->score = sc;
-        p->yaw[0] = k * PI / YAW_STEPS;
+        p->yaw[0] = k * CL_PI / YAW_STEPS;
         p->margin[0] = m[k];
       }
     }
@@ -931,7 +922,7 @@ static estimate_status_t face_two(est_t *est) {
   for (size_t i = 0; i < est->nfaces; ++i) {
     const model_face_t *f = &est->faces[i];
     if (!f->flat || !f->candidate || (int)i == est->face1) continue;
-    if (fabs(dot3(f->normal_link, n1)) > cos_max) continue;
+    if (fabs(cl_vec3_dot(f->normal_link, n1)) > cos_max) continue;
     estimate_status_t s = plan_second(est, (int)i, n1, &est->plans[np]);
     if (s != ESTIMATE_OK) return s;
     if (est->plans[np].score > 0.0) ++np;
@@ -939,7 +930,7 @@ static estimate_status_t face_two(est_t *est) {
   if (np == 0) {
     snprintf(est->face2_note, sizeof est->face2_note,
              "no second flat resting face at >= %.0f deg to the first",
-             est->cfg->min_face_angle_rad * 180.0 / PI);
+             est->cfg->min_face_angle_rad * 180.0 / CL_PI);
     return verify_begin(est);
   }
   qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
@@ -972,9 +963,9 @@ static estimate_status_t confirmed(est_t *est) {
  * farthest vertex, as it lies inside the object. */
 static double hull_extent(const est_t *est, const double a[3]) {
   double ext = 0.0;
-  const double g = dot3(est->guess_m, a);
+  const double g = cl_vec3_dot(est->guess_m, a);
   for (size_t i = 0; i < est->mesh->vertex_count; ++i)
-    ext = fmax(ext, fabs(dot3(est->mesh->vertices_m[i], a) - g));
+    ext = fmax(ext, fabs(cl_vec3_dot(est->mesh->vertices_m[i], a) - g));
   return ext;
 }
 
@@ -1023,16 +1014,16 @@ static int retest_yaw(est_t *est, const estimate_search_t *old, int fi, const do
   int best = -1;
   for (int k = 0; k < 2 * YAW_STEPS; ++k) { /* yaw and yaw + pi share a chord */
     double q[4], u[3];
-    model_orientation_yawed(est->faces[fi].orientation_wxyz, k * PI / YAW_STEPS, q);
+    model_orientation_yawed(est->faces[fi].orientation_wxyz, k * CL_PI / YAW_STEPS, q);
     dir_of(q, u);
     int ok = m[k % YAW_STEPS] >= est->cfg->min_chord_margin_m &&
-             (siblings > 0 || dot3(u, old->dir_link) >= cos(PI / 6.0));
+             (siblings > 0 || cl_vec3_dot(u, old->dir_link) >= cos(CL_PI / 6.0));
     for (size_t j = 0; ok && j < out->search_count; ++j) {
       const estimate_search_t *o = &out->search[j];
       if (o->face != old->face) continue;
-      const double c = fabs(dot3(u, o->dir_link));
+      const double c = fabs(cl_vec3_dot(u, o->dir_link));
       if (o->fed && c > cos(min_angle) + 1e-9) ok = 0;
-      if (!o->fed && c > cos(PI / 9.0)) ok = 0;
+      if (!o->fed && c > cos(CL_PI / 9.0)) ok = 0;
     }
     if (ok && (best < 0 || m[k % YAW_STEPS] > m[best % YAW_STEPS])) best = k;
   }
@@ -1062,7 +1053,7 @@ static estimate_status_t retest_start(est_t *est, int si, int *started) {
   *started = 1;
   est->phase = PHASE_RETEST;
   est->retest_of = si;
-  return search_start(est, fi, old.face, best * PI / YAW_STEPS, m[best % YAW_STEPS], si);
+  return search_start(est, fi, old.face, best * CL_PI / YAW_STEPS, m[best % YAW_STEPS], si);
 }
 
 /* The next search to do again: one whose own trials left the flat-patch regime (its plane was
@@ -1245,8 +1236,8 @@ static int config_ok(const estimate_config_t *cfg) {
   return cfg->resolution_m >= 1e-6 && cfg->resolution_m <= 1e-2 && cfg->max_halfwidth_m > 0 &&
          isfinite(cfg->max_halfwidth_m) && cfg->z > 0 && isfinite(cfg->z) &&
          cfg->min_chord_margin_m > 0 && isfinite(cfg->min_chord_margin_m) &&
-         cfg->min_dir_angle_rad > 0 && cfg->min_dir_angle_rad <= PI / 2 &&
-         cfg->min_face_angle_rad > 0 && cfg->min_face_angle_rad <= PI / 2 &&
+         cfg->min_dir_angle_rad > 0 && cfg->min_dir_angle_rad <= CL_PI / 2 &&
+         cfg->min_face_angle_rad > 0 && cfg->min_face_angle_rad <= CL_PI / 2 &&
          cfg->noise_sigma_m >= 0.0 && cfg->noise_sigma_m <= 0.1 && cfg->noise_max_trials >= 1 &&
          cfg->noise_max_trials <= 200 && cfg->verify_margin_m >= 0.0 &&
          cfg->verify_margin_m <= 0.02 && cfg->max_retests <= 6 &&

@@ -3,6 +3,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model_inertial.h"
 #include "model_internal.h"
 
@@ -200,8 +201,7 @@ static model_status_t plausible_moments(const model_mass_t *mass, const model_me
                       m[2], mass->mass_kg, sqrt(r2), upper);
   }
   /* Least sum of moments: the mass packed into a ball at the densest material's density. */
-  const double pi = 3.14159265358979323846;
-  const double ball_r = cbrt(3.0 * mass->mass_kg / (4.0 * pi * MODEL_DENSITY_MAX_KG_M3));
+  const double ball_r = cbrt(3.0 * mass->mass_kg / (4.0 * CL_PI * MODEL_DENSITY_MAX_KG_M3));
   const double lower = 1.2 * mass->mass_kg * ball_r * ball_r;
   const double sum = m[0] + m[1] + m[2];
   if (sum < lower * (1.0 - PLAUSIBLE_REL_TOL)) {

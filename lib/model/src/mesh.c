@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "model_internal.h"
 
 void model_mesh_free(model_mesh_t *mesh) {
@@ -89,18 +90,6 @@ static int edge_key_cmp(const void *pa, const void *pb) {
     return a->hi < b->hi ? -1 : 1;
   }
   return (a->triangle > b->triangle) - (a->triangle < b->triangle);
-}
-
-static void sub3(const double a[3], const double b[3], double out[3]) {
-  out[0] = a[0] - b[0];
-  out[1] = a[1] - b[1];
-  out[2] = a[2] - b[2];
-}
-
-static void cross3(const double a[3], const double b[3], double out[3]) {
-  out[0] = a[1] * b[2] - a[2] * b[1];
-  out[1] = a[2] * b[0] - a[0] * b[2];
-  out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
 /* Edge sort and scan; reports the first defect found in `err`. */
@@ -258,9 +247,9 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
       continue;
     }
     double ab[3], ac[3], n[3];
-    sub3(mesh->vertices_m[b], mesh->vertices_m[a], ab);
-    sub3(mesh->vertices_m[c], mesh->vertices_m[a], ac);
-    cross3(ab, ac, n);
+    cl_vec3_sub(mesh->vertices_m[b], mesh->vertices_m[a], ab);
+    cl_vec3_sub(mesh->vertices_m[c], mesh->vertices_m[a], ac);
+    cl_vec3_cross(ab, ac, n);
     if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0) {
       ++rep.removed_degenerate;
       continue;
@@ -333,10 +322,10 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
   double volume6 = 0.0;
   for (size_t t = 0; t < kept; ++t) {
     double a[3], b[3], c[3], bc[3];
-    sub3(verts[tris[t][0]], ref, a);
-    sub3(verts[tris[t][1]], ref, b);
-    sub3(verts[tris[t][2]], ref, c);
-    cross3(b, c, bc);
+    cl_vec3_sub(verts[tris[t][0]], ref, a);
+    cl_vec3_sub(verts[tris[t][1]], ref, b);
+    cl_vec3_sub(verts[tris[t][2]], ref, c);
+    cl_vec3_cross(b, c, bc);
     volume6 += a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2];
   }
   double volume = volume6 / 6.0;

@@ -6,12 +6,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "model_internal.h"
 
 enum { PATH_BUF = 4096, MAX_PARENT_LEVELS = 64, SPHERE_SEGMENTS = 32, SPHERE_RINGS = 16,
        CYLINDER_SEGMENTS = 64 };
 
-static const double PI = 3.14159265358979323846;
 
 static int file_exists(const char *path) {
   FILE *f = fopen(path, "rb");
@@ -200,9 +200,9 @@ static model_status_t make_sphere(double r, model_mesh_t *out) {
   out->vertices_m[1][1] = 0.0;
   out->vertices_m[1][2] = -r;
   for (uint32_t i = 1; i < R; ++i) {
-    double theta = PI * i / R;
+    double theta = CL_PI * i / R;
     for (uint32_t j = 0; j < S; ++j) {
-      double phi = 2.0 * PI * j / S;
+      double phi = 2.0 * CL_PI * j / S;
       double *v = out->vertices_m[2 + (i - 1) * S + j];
       v[0] = r * sin(theta) * cos(phi);
       v[1] = r * sin(theta) * sin(phi);
@@ -250,7 +250,7 @@ static model_status_t make_cylinder(double r, double length, model_mesh_t *out) 
   out->vertices_m[1][0] = out->vertices_m[1][1] = 0.0;
   out->vertices_m[1][2] = -h;
   for (uint32_t j = 0; j < S; ++j) {
-    double phi = 2.0 * PI * j / S;
+    double phi = 2.0 * CL_PI * j / S;
     for (uint32_t k = 0; k < 2; ++k) {
       double *v = out->vertices_m[2 + 2 * j + k];
       v[0] = r * cos(phi);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model_support.h"
 #include "support_geom.h"
 
@@ -177,7 +178,7 @@ static model_status_t config_resolve(const model_regime_config_t *cfg,
 void model_orientation_yawed(const double orientation_wxyz[4], double yaw_rad, double out[4]) {
   const double rz[4] = {cos(0.5 * yaw_rad), 0.0, 0.0, sin(0.5 * yaw_rad)};
   double r[4];
-  model_quat_mul(rz, orientation_wxyz, r);
+  cl_quat_mul(rz, orientation_wxyz, r);
   const double n = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
   for (int k = 0; k < 4; ++k) out[k] = r[k] / n;
 }
@@ -231,7 +232,7 @@ static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
   memset(out, 0, sizeof *out);
   double zmin = HUGE_VAL;
   for (size_t v = 0; v < nv; ++v) {
-    model_quat_rotate(q, mesh->vertices_m[v], w[v]);
+    cl_quat_rotate(q, mesh->vertices_m[v], w[v]);
     for (int k = 0; k < 3; ++k) w[v][k] += pos[k];
     xy[v][0] = w[v][0];
     xy[v][1] = w[v][1];
@@ -412,7 +413,7 @@ model_status_t model_regime_classify(const model_mesh_t *mesh_link, const model_
   if (cfg != NULL) c = *cfg; /* checked by contact_build */
   double q[4], cw[3];
   model_quat_unit(pose->orientation_wxyz, q);
-  model_quat_rotate(q, com_estimate_link_m, cw);
+  cl_quat_rotate(q, com_estimate_link_m, cw);
   const double p[2] = {cw[0] + pose->position_m[0], cw[1] + pose->position_m[1]};
   const double half = 0.5 * (normal[0] != 0.0 ? base_size_m[0] : base_size_m[1]);
   out->com_along_m = p[0] * along[0] + p[1] * along[1];
@@ -470,7 +471,7 @@ static model_status_t yaw_setup(const model_mesh_t *mesh_link, const double orie
   if (st != MODEL_OK) return st;
   double q[4], cw[3];
   model_quat_unit(orientation_wxyz, q);
-  model_quat_rotate(q, com_estimate_link_m, cw);
+  cl_quat_rotate(q, com_estimate_link_m, cw);
   p[0] = cw[0];
   p[1] = cw[1];
   return MODEL_OK;
@@ -499,7 +500,7 @@ model_status_t model_yaw_margins(const model_mesh_t *mesh_link,
     model_quat_unit(orientation_wxyz, q);
     for (size_t i = 0; i < n; ++i) {
       double cw[3];
-      model_quat_rotate(q, com_estimate_link_m[i], cw);
+      cl_quat_rotate(q, com_estimate_link_m[i], cw);
       const double pi[2] = {cw[0], cw[1]};
       margin_m[i] = yaw_margin(ct, pi, along, yaw_rad[i]);
     }
@@ -527,7 +528,7 @@ model_status_t model_yaw_best(const model_mesh_t *mesh_link, const double orient
                                   margin_m, cfg, &ct, p, along);
   if (st != MODEL_OK) return st;
   enum { STEPS = 360, GOLDEN_ITERS = 40 };
-  const double pi = 3.14159265358979323846, step = pi / STEPS;
+  const double pi = CL_PI, step = pi / STEPS;
   int best = -1;
   double best_m = -HUGE_VAL;
   for (int i = 0; i < STEPS; ++i) {

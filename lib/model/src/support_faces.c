@@ -4,18 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model_support.h"
 #include "support_geom.h"
-
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-static void cross3(const double a[3], const double b[3], double c[3]) {
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
 
 typedef struct {
   double n[3];
@@ -49,7 +40,7 @@ static model_status_t face_analyse(const model_mesh_t *mesh, const double n[3],
   memcpy(f->normal_link, n, sizeof f->normal_link);
   double h = -HUGE_VAL;
   for (size_t v = 0; v < nv; ++v) {
-    const double s = dot3(n, mesh->vertices_m[v]);
+    const double s = cl_vec3_dot(n, mesh->vertices_m[v]);
     if (s > h) h = s;
   }
   f->offset_m = h;
@@ -57,16 +48,16 @@ static model_status_t face_analyse(const model_mesh_t *mesh, const double n[3],
   model_plane_basis(n, u, w);
   size_t np = 0;
   for (size_t v = 0; v < nv; ++v) {
-    if (h - dot3(n, mesh->vertices_m[v]) > cfg->plane_tol_m) continue;
+    if (h - cl_vec3_dot(n, mesh->vertices_m[v]) > cfg->plane_tol_m) continue;
     on[v] = 1;
-    xy[v][0] = pts[np][0] = dot3(u, mesh->vertices_m[v]);
-    xy[v][1] = pts[np][1] = dot3(w, mesh->vertices_m[v]);
+    xy[v][0] = pts[np][0] = cl_vec3_dot(u, mesh->vertices_m[v]);
+    xy[v][1] = pts[np][1] = cl_vec3_dot(w, mesh->vertices_m[v]);
     ++np;
   }
   size_t nh = model_polygon_hull(pts, np, hull);
   f->area_m2 = model_polygon_area((const double(*)[2])hull, nh);
   f->width_m = model_polygon_width((const double(*)[2])hull, nh);
-  const double c2[2] = {dot3(u, com), dot3(w, com)};
+  const double c2[2] = {cl_vec3_dot(u, com), cl_vec3_dot(w, com)};
   f->com_margin_m = model_polygon_margin((const double(*)[2])hull, nh, c2);
   f->candidate = f->com_margin_m >= cfg->min_com_margin_m;
   /* The real contact: mesh triangles in the plane, grouped into regions. */
@@ -122,8 +113,8 @@ model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_
     const double *d = hull.vertices_m[hull.triangles[t][2]];
     const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     const double e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-    cross3(e1, e2, fac[t].n);
-    const double len = sqrt(dot3(fac[t].n, fac[t].n));
+    cl_vec3_cross(e1, e2, fac[t].n);
+    const double len = sqrt(cl_vec3_dot(fac[t].n, fac[t].n));
     fac[t].area = 0.5 * len;
     fac[t].index = t;
     for (int k = 0; k < 3; ++k) fac[t].n[k] = len > 0.0 ? fac[t].n[k] / len : 0.0;
@@ -135,13 +126,13 @@ model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_
     if (taken[s] || !(fac[s].area > 0.0)) continue;
     /* Merge every facet coplanar with the seed (on a convex hull they are one convex face). */
     const double *n0 = fac[s].n;
-    const double h0 = dot3(n0, hull.vertices_m[hull.triangles[fac[s].index][0]]);
+    const double h0 = cl_vec3_dot(n0, hull.vertices_m[hull.triangles[fac[s].index][0]]);
     double nsum[3] = {0.0, 0.0, 0.0}, area = 0.0;
     for (size_t t = s; t < nf; ++t) {
-      if (taken[t] || dot3(fac[t].n, n0) < cos_tol) continue;
+      if (taken[t] || cl_vec3_dot(fac[t].n, n0) < cos_tol) continue;
       int in = 1;
       for (int k = 0; k < 3; ++k) {
-        if (fabs(dot3(n0, hull.vertices_m[hull.triangles[fac[t].index][k]]) - h0) > c.plane_tol_m)
+        if (fabs(cl_vec3_dot(n0, hull.vertices_m[hull.triangles[fac[t].index][k]]) - h0) > c.plane_tol_m)
           in = 0;
       }
       if (!in) continue;
@@ -150,7 +141,7 @@ model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_
       for (int k = 0; k < 3; ++k) nsum[k] += fac[t].area * fac[t].n[k];
     }
     if (area < c.min_face_area_m2) continue;
-    const double nl = sqrt(dot3(nsum, nsum));
+    const double nl = sqrt(cl_vec3_dot(nsum, nsum));
     const double n[3] = {nsum[0] / nl, nsum[1] / nl, nsum[2] / nl};
     st = face_analyse(mesh_link, n, com_guess_link_m, &c, xy, pts, poly, used, &tmp[found]);
     if (st != MODEL_OK) goto done;

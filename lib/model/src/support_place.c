@@ -22,21 +22,10 @@ void model_edge_line(const double base_size_m[3], model_edge_t edge, double norm
   }
 }
 
-static int quat_ok(const double q[4]) {
-  if (!q) return 0;
-  double n = 0.0;
-  for (int i = 0; i < 4; i++) {
-    if (!isfinite(q[i])) return 0;
-    n += q[i] * q[i];
-  }
-  return fabs(sqrt(n) - 1.0) <= MODEL_QUAT_UNIT_TOL;
-}
-
 double model_mesh_bottom_z(const model_mesh_t *m, const double q_in[4]) {
-  if (!m || !m->vertices_m || m->vertex_count == 0 || !quat_ok(q_in)) return NAN;
-  double q[4], n = sqrt(q_in[0] * q_in[0] + q_in[1] * q_in[1] + q_in[2] * q_in[2] +
-                        q_in[3] * q_in[3]);
-  for (int i = 0; i < 4; i++) q[i] = q_in[i] / n;
+  double q[4];
+  if (!m || !m->vertices_m || m->vertex_count == 0 || model_quat_unit(q_in, q) != MODEL_OK)
+    return NAN;
   double r[3][3];
   model_quat_to_rot(q, r);
   double lo = INFINITY;
@@ -130,7 +119,8 @@ model_status_t model_pose_over_edge(const model_mesh_t *m, const double base_siz
   for (int i = 0; i < 3; i++)
     if (!isfinite(point_link_m[i])) return MODEL_E_NONFINITE;
   if (!isfinite(along_m) || !isfinite(touch_depth_m)) return MODEL_E_NONFINITE;
-  if (!quat_ok(q_in)) return MODEL_E_POSE;
+  model_pose_t p;
+  if (model_quat_unit(q_in, p.orientation_wxyz) != MODEL_OK) return MODEL_E_POSE;
   if (touch_depth_m < 0.0 || touch_depth_m > MODEL_MAX_TOUCH_DEPTH_M) return MODEL_E_ARG;
   for (int i = 0; i < 3; i++)
     if (fabs(point_link_m[i]) > MODEL_MAX_POSITION_M) return MODEL_E_POSE;
@@ -138,10 +128,6 @@ model_status_t model_pose_over_edge(const model_mesh_t *m, const double base_siz
   if (fabs(along_m) > 0.5 * base_size_m[1 - axis]) return MODEL_E_POSE;
   double n[3], d;
   model_edge_line(base_size_m, edge, n, &d);
-  model_pose_t p;
-  const double qn = sqrt(q_in[0] * q_in[0] + q_in[1] * q_in[1] + q_in[2] * q_in[2] +
-                         q_in[3] * q_in[3]);
-  for (int i = 0; i < 4; i++) p.orientation_wxyz[i] = q_in[i] / qn;
   double r[3][3], rp[3];
   model_quat_to_rot(p.orientation_wxyz, r);
   for (int i = 0; i < 3; i++)

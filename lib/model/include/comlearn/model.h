@@ -215,14 +215,7 @@ void model_rot_to_quat(const double rot[3][3], double q_wxyz[4]);
  * MODEL_E_ARG (NULL), MODEL_E_NONFINITE, MODEL_E_POSE (not unit). */
 model_status_t model_quat_unit(const double q_wxyz[4], double unit[4]);
 
-/* v' = R(q) v for a unit quaternion (w, x, y, z). out may alias v. */
-void model_quat_rotate(const double q_wxyz[4], const double v[3], double out[3]);
-
-/* The product a * b (apply b, then a). out may alias a or b. */
-void model_quat_mul(const double a[4], const double b[4], double out[4]);
-
-/* Angle between the rotations of two unit quaternions, [0, pi]. */
-double model_quat_angle(const double a[4], const double b[4]);
+/* Rotating, composing and comparing quaternions: comlearn/math3d.h (cl_quat_*). */
 
 /* An object as the estimator sees it: the collision geometry of one URDF link. */
 typedef struct {

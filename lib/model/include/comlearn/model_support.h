@@ -28,17 +28,16 @@
 
 #include <stddef.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/* A pose of an object's link frame in the world: position and unit quaternion (w, x, y, z). */
-typedef struct {
-  double position_m[3];
-  double orientation_wxyz[4];
-} model_pose_t;
+/* A pose of an object's link frame in the world: position and unit quaternion (w, x, y, z); the
+ * project's one pose type (comlearn/math3d.h). */
+typedef cl_pose_t model_pose_t;
 
 /* The four top edges of B, by outward normal (world frame). */
 typedef enum {
