@@ -159,8 +159,9 @@ START_TEST(caller_memory) {
   rock_open(&r, "rock_3_even");
   estimate_config_t cfg;
   estimate_config_default(&cfg);
-  const size_t size = estimate_size();
+  const size_t size = estimate_size(&r.obj.mesh);
   ck_assert_uint_gt(size, sizeof(estimate_result_t));
+  ck_assert_uint_eq(estimate_size(NULL), 0);
   double *mem = malloc(size);
   ck_assert_ptr_nonnull(mem);
   estimate_t *est = NULL;

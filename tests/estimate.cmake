@@ -21,3 +21,9 @@ add_test(NAME estimate_calls_no_physics
 # lib/estimate's own loop: next / observe, refused replies, caller memory, final failures.
 comlearn_add_check(check_estimate_api SOURCES check_estimate_api.c
   LIBS comlearn_estimate_direct comlearn_estimate comlearn_model_sim)
+# No allocation per trial: malloc / calloc / realloc of the project's archives counted (--wrap)
+# while estimate_next / estimate_observe run.
+comlearn_add_check(check_estimate_noalloc SOURCES check_estimate_noalloc.c
+  LIBS comlearn_estimate_direct comlearn_estimate comlearn_model_sim)
+target_link_options(check_estimate_noalloc PRIVATE
+  -Wl,--wrap=malloc -Wl,--wrap=calloc -Wl,--wrap=realloc)

@@ -5,6 +5,7 @@
 #include "comlearn/estimate.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -153,6 +154,7 @@ struct estimate {
   size_t nfaces;
   face_plan_t plans[FACE_CAP];  /* the candidates of face 1, then of face 2 */
   model_regime_t regime;        /* scratch (~4 KiB) */
+  model_support_work_t *work;   /* the geometry's scratch memory, after this struct */
   qlearn_policy_t policy;       /* the current search (~12 KiB for PBA) */
   qlearn_policy_t handover;     /* PBA after a noisy walk */
   qlearn_solve_t solve;
@@ -224,8 +226,8 @@ static estimate_trial_t *log_trial(est_t *est, const estimate_trial_reply_t *rep
     /* Classify what was actually released, with the current estimate: only flat-patch trials
      * measure the CoM (docs/physics.md, "Where an edge test measures the CoM exactly"). */
     model_regime_t *reg = &est->regime;
-    model_status_t ms = model_regime_classify(est->mesh, &reply->released, est->base_size_m,
-                                              req->edge, est->guess_m, NULL, reg);
+    model_status_t ms = model_regime_classify_in(est->mesh, &reply->released, est->base_size_m,
+                                                 req->edge, est->guess_m, NULL, est->work, reg);
     if (ms == MODEL_OK) {
       t->regime = (int)reg->kind;
       t->chord_margin_m = reg->chord_margin_m;
@@ -317,8 +319,8 @@ static estimate_status_t edge_request(est_t *est, const search_ctx_t *sc, double
   /* the planned pose's regime, as log_trial classifies the released one */
   req.flat_patch = 0;
   req.sideways_margin_m = -HUGE_VAL;
-  if (model_regime_classify(est->mesh, &req.release, est->base_size_m, req.edge, est->guess_m,
-                            NULL, &est->regime) == MODEL_OK) {
+  if (model_regime_classify_in(est->mesh, &req.release, est->base_size_m, req.edge, est->guess_m,
+                               NULL, est->work, &est->regime) == MODEL_OK) {
     req.flat_patch = est->regime.flat_patch_regime != 0;
     req.sideways_margin_m = est->regime.chord_margin_m;
   }
@@ -762,8 +764,8 @@ static estimate_status_t yaw_margins(est_t *est, const model_face_t *f, double m
       for (int i = 0; i < 3; ++i) com[3 * k + j][i] = est->guess_m[i] + (j - 1) * e * u[i];
     }
   }
-  model_status_t ms = model_yaw_margins(est->mesh, f->orientation_wxyz, MODEL_EDGE_PX, NULL,
-                                            N, yaw, (const double(*)[3])com, mj);
+  model_status_t ms = model_yaw_margins_in(est->mesh, f->orientation_wxyz, MODEL_EDGE_PX, NULL, N,
+                                           yaw, (const double(*)[3])com, est->work, mj);
   if (ms != MODEL_OK) return fail(est, ESTIMATE_E_GEOMETRY, model_status_str(ms));
   for (int k = 0; k < YAW_STEPS; ++k) m[k] = fmin(mj[3 * k], fmin(mj[3 * k + 1], mj[3 * k + 2]));
   return ESTIMATE_OK;
@@ -982,8 +984,8 @@ static double search_verified_margin(est_t *est, int si, const qlearn_solve_resu
   for (size_t i = 0; i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
     if (t->search != si || !clear_outcome(t) || !deciding_trial(est, sr, i)) continue;
-    if (model_regime_classify(est->mesh, &t->released, est->base_size_m,
-                                MODEL_EDGE_PX, est->guess_m, NULL, &est->regime) != MODEL_OK ||
+    if (model_regime_classify_in(est->mesh, &t->released, est->base_size_m, MODEL_EDGE_PX,
+                                 est->guess_m, NULL, est->work, &est->regime) != MODEL_OK ||
         !est->regime.patch.flat)
       return -HUGE_VAL;
     double r[3][3], along[3];
@@ -1246,20 +1248,30 @@ static int config_ok(const estimate_config_t *cfg) {
           cfg->policy == QLEARN_POLICY_PAPER_QTABLE || cfg->policy == QLEARN_POLICY_PAPER_MLP);
 }
 
-size_t estimate_size(void) { return sizeof(est_t); }
+/* est_t, then the geometry's work area, 8-byte aligned. */
+static size_t est_head(void) { return (sizeof(est_t) + 7u) & ~(size_t)7u; }
+
+size_t estimate_size(const model_mesh_t *mesh_link) {
+  const size_t w = model_support_work_size(mesh_link);
+  return w > 0 ? est_head() + w : 0;
+}
 
 estimate_status_t estimate_init(void *mem, size_t size, const model_mesh_t *mesh_link,
                                 const double base_size_m[3], const estimate_config_t *cfg,
                                 estimate_t **out) {
   if (out) *out = NULL;
-  if (!mem || size < sizeof(est_t) || !mesh_link || !mesh_link->vertices_m ||
-      mesh_link->vertex_count == 0 || !base_size_m || !cfg || !out)
+  const size_t need = estimate_size(mesh_link);
+  if (!mem || need == 0 || size < need || ((uintptr_t)mem & 7u) != 0 || !mesh_link->vertices_m ||
+      !mesh_link->triangles || !base_size_m || !cfg || !out)
     return ESTIMATE_E_ARG;
   if (!config_ok(cfg)) return ESTIMATE_E_ARG;
   for (int k = 0; k < 3; ++k)
     if (!(base_size_m[k] > 0) || !isfinite(base_size_m[k])) return ESTIMATE_E_ARG;
   est_t *est = mem;
   memset(est, 0, sizeof *est);
+  est->work = model_support_work_init((unsigned char *)mem + est_head(), size - est_head(),
+                                      mesh_link);
+  if (!est->work) return ESTIMATE_E_ARG;
   est->mesh = mesh_link;
   memcpy(est->base_size_m, base_size_m, sizeof est->base_size_m);
   est->cfg_copy = *cfg;
@@ -1276,9 +1288,11 @@ estimate_status_t estimate_init(void *mem, size_t size, const model_mesh_t *mesh
 estimate_status_t estimate_create(const model_mesh_t *mesh_link, const double base_size_m[3],
                                   const estimate_config_t *cfg, estimate_t **out) {
   if (out) *out = NULL;
-  void *mem = malloc(sizeof(est_t));
+  const size_t size = estimate_size(mesh_link);
+  if (size == 0) return ESTIMATE_E_ARG;
+  void *mem = malloc(size);
   if (!mem) return ESTIMATE_E_NOMEM;
-  const estimate_status_t s = estimate_init(mem, sizeof(est_t), mesh_link, base_size_m, cfg, out);
+  const estimate_status_t s = estimate_init(mem, size, mesh_link, base_size_m, cfg, out);
   if (s != ESTIMATE_OK) free(mem);
   return s;
 }

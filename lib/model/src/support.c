@@ -37,20 +37,15 @@ static uint32_t region_root(uint32_t *parent, uint32_t v) {
   return v;
 }
 
-model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy)[2],
-                                      const unsigned char *on, double (*tri_xy)[3][2],
-                                      model_support_contact_t *out) {
+/* model_support_contact in the scratch buffers of a work area: parent[nv], area[nv] (zeroed
+ * here), pts[nv + 1], hull[nv + 1]. */
+static void contact_compute(const model_mesh_t *mesh, const double (*xy)[2],
+                            const unsigned char *on, double (*tri_xy)[3][2],
+                            model_support_contact_t *out, uint32_t *parent, double *area,
+                            double (*pts)[2], double (*hull)[2]) {
   const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
   memset(out, 0, sizeof *out);
-  uint32_t *parent = malloc(nv * sizeof *parent);
-  double *area = calloc(nv, sizeof *area);
-  double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
-  double(*hull)[2] = malloc((nv + 1) * sizeof *hull);
-  model_status_t st = MODEL_OK;
-  if (parent == NULL || area == NULL || pts == NULL || hull == NULL) {
-    st = MODEL_E_NOMEM;
-    goto done;
-  }
+  memset(area, 0, nv * sizeof *area);
   for (size_t v = 0; v < nv; ++v) parent[v] = (uint32_t)v;
   /* Group the in-plane triangles by shared vertices (union-find), summing real areas. */
   for (size_t t = 0; t < nt; ++t) {
@@ -73,7 +68,7 @@ model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy
     }
     area[r0] += ta;
   }
-  if (out->triangle_count == 0) goto done;
+  if (out->triangle_count == 0) return;
   /* Regions: roots of vertices that belong to an in-plane triangle; the largest by real area
    * (ties to the lowest vertex index, so the choice does not depend on rounding). */
   uint32_t best = UINT32_MAX;
@@ -100,6 +95,23 @@ model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy
   }
   const size_t nh = model_polygon_hull(pts, np, hull);
   out->region_width_m = model_polygon_width((const double(*)[2])hull, nh);
+}
+
+model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy)[2],
+                                      const unsigned char *on, double (*tri_xy)[3][2],
+                                      model_support_contact_t *out) {
+  const size_t nv = mesh->vertex_count;
+  memset(out, 0, sizeof *out);
+  uint32_t *parent = malloc(nv * sizeof *parent);
+  double *area = calloc(nv, sizeof *area);
+  double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
+  double(*hull)[2] = malloc((nv + 1) * sizeof *hull);
+  model_status_t st = MODEL_OK;
+  if (parent == NULL || area == NULL || pts == NULL || hull == NULL) {
+    st = MODEL_E_NOMEM;
+    goto done;
+  }
+  contact_compute(mesh, xy, on, tri_xy, out, parent, area, pts, hull);
 done:
   free(parent);
   free(area);
@@ -209,26 +221,93 @@ model_status_t model_orientation_resting(const double normal_link[3], double out
 
 /* ---- resting patch ------------------------------------------------------------------------ */
 
-/* The patch of the mesh in orientation q (unit) with the link origin at pos. When tris is not
- * NULL it receives the in-plane triangles in world x, y (malloc'd, out->face_count of them; the
- * caller frees it; NULL when there are none). */
-static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
-                                      const double pos[3], const model_regime_config_t *cfg,
-                                      model_patch_t *out, double (**tris)[3][2]) {
+/* ---- scratch memory ----------------------------------------------------------------------- */
+
+/* A resting patch with its in-plane triangles (world x, y), for chords. */
+typedef struct {
+  model_patch_t patch;
+  double (*tris)[3][2]; /* patch.face_count triangles (in the work area) */
+} contact_t;
+
+struct model_support_work {
+  size_t vertex_count, triangle_count;
+  double (*w)[3];          /* vertices in the world */
+  double (*xy)[2];         /* their x, y */
+  unsigned char *touch;    /* on the support plane */
+  double (*pts)[2], (*hull)[2];   /* the outline's points and hull (nv + 1) */
+  double (*tri_xy)[3][2];  /* the in-plane triangles */
+  uint32_t *parent;        /* the contact's regions (contact_compute) */
+  double *area;
+  double (*cpts)[2], (*chull)[2];
+  contact_t ct;
+};
+
+static size_t align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
+
+size_t model_support_work_size(const model_mesh_t *mesh) {
+  if (mesh == NULL || mesh->vertex_count == 0 || mesh->triangle_count == 0) return 0;
   const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
-  double(*w)[3] = malloc(nv * sizeof *w);
-  double(*xy)[2] = malloc(nv * sizeof *xy);
-  unsigned char *touch = calloc(nv, 1);
-  double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
-  double(*hull)[2] = malloc((nv + 1) * sizeof *hull);
-  double(*tri_xy)[3][2] = tris != NULL ? malloc(nt * sizeof *tri_xy) : NULL;
-  model_status_t st = MODEL_OK;
-  if (tris != NULL) *tris = NULL;
-  if (w == NULL || xy == NULL || touch == NULL || pts == NULL || hull == NULL ||
-      (tris != NULL && tri_xy == NULL)) {
-    st = MODEL_E_NOMEM;
-    goto done;
+  return align8(sizeof(model_support_work_t)) + align8(nv * sizeof(double[3])) +
+         align8(nv * sizeof(double[2])) + align8(nv) + 4 * align8((nv + 1) * sizeof(double[2])) +
+         align8(nt * sizeof(double[3][2])) + align8(nv * sizeof(uint32_t)) +
+         align8(nv * sizeof(double));
+}
+
+model_support_work_t *model_support_work_init(void *mem, size_t size, const model_mesh_t *mesh) {
+  const size_t need = model_support_work_size(mesh);
+  if (mem == NULL || need == 0 || size < need || ((uintptr_t)mem & 7u) != 0) return NULL;
+  const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
+  unsigned char *p = mem;
+  model_support_work_t *w = (model_support_work_t *)(void *)p;
+  memset(w, 0, sizeof *w);
+  p += align8(sizeof *w);
+  w->vertex_count = nv;
+  w->triangle_count = nt;
+  w->w = (double(*)[3])(void *)p;
+  p += align8(nv * sizeof(double[3]));
+  w->xy = (double(*)[2])(void *)p;
+  p += align8(nv * sizeof(double[2]));
+  w->touch = p;
+  p += align8(nv);
+  double(**pairs[4])[2] = {&w->pts, &w->hull, &w->cpts, &w->chull};
+  for (int k = 0; k < 4; ++k) {
+    *pairs[k] = (double(*)[2])(void *)p;
+    p += align8((nv + 1) * sizeof(double[2]));
   }
+  w->tri_xy = (double(*)[3][2])(void *)p;
+  p += align8(nt * sizeof(double[3][2]));
+  w->parent = (uint32_t *)(void *)p;
+  p += align8(nv * sizeof(uint32_t));
+  w->area = (double *)(void *)p;
+  return w;
+}
+
+/* A work area of its own for mesh (malloc'd: free() it), or NULL (out of memory). */
+static model_support_work_t *work_new(const model_mesh_t *mesh) {
+  const size_t n = model_support_work_size(mesh);
+  void *mem = n > 0 ? malloc(n) : NULL;
+  model_support_work_t *w = mem != NULL ? model_support_work_init(mem, n, mesh) : NULL;
+  if (w == NULL) free(mem);
+  return w;
+}
+
+/* ---- resting patch ------------------------------------------------------------------------ */
+
+/* The patch of the mesh in orientation q (unit) with the link origin at pos, in the work area.
+ * When tri_xy is not NULL it receives the in-plane triangles in world x, y (out->face_count of
+ * them). */
+static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
+                                    const double pos[3], const model_regime_config_t *cfg,
+                                    model_patch_t *out, double (*tri_xy)[3][2],
+                                    model_support_work_t *work) {
+  const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
+  double(*w)[3] = work->w;
+  double(*xy)[2] = work->xy;
+  unsigned char *touch = work->touch;
+  double(*pts)[2] = work->pts;
+  double(*hull)[2] = work->hull;
+  memset(touch, 0, nv);
+  model_status_t st = MODEL_OK;
   memset(out, 0, sizeof *out);
   double zmin = HUGE_VAL;
   for (size_t v = 0; v < nv; ++v) {
@@ -246,8 +325,8 @@ static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
     }
   }
   model_support_contact_t ct;
-  st = model_support_contact(mesh, (const double(*)[2])xy, touch, tri_xy, &ct);
-  if (st != MODEL_OK) goto done;
+  contact_compute(mesh, (const double(*)[2])xy, touch, tri_xy, &ct, work->parent, work->area,
+                  work->cpts, work->chull);
   out->face_count = ct.triangle_count;
   out->faces_area_m2 = ct.area_m2;
   out->region_count = ct.region_count;
@@ -267,10 +346,7 @@ static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
       }
     }
     const size_t nh = model_polygon_hull(pts, np, hull);
-    if (nh > MODEL_PATCH_MAX_VERTICES) {
-      st = MODEL_E_CAPACITY;
-      goto done;
-    }
+    if (nh > MODEL_PATCH_MAX_VERTICES) return MODEL_E_CAPACITY;
     out->vertex_count = nh;
     memcpy(out->polygon_xy_m, hull, nh * sizeof *hull);
     out->area_m2 = model_polygon_area((const double(*)[2])hull, nh);
@@ -278,17 +354,6 @@ static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
   }
   out->flat = out->region_area_m2 >= cfg->min_patch_area_m2 &&
               out->region_width_m >= cfg->min_patch_width_m;
-  if (tris != NULL && out->face_count > 0) {
-    *tris = tri_xy;
-    tri_xy = NULL;
-  }
-done:
-  free(w);
-  free(xy);
-  free(touch);
-  free(pts);
-  free(hull);
-  free(tri_xy);
   return st;
 }
 
@@ -323,9 +388,13 @@ model_status_t model_patch_resting(const model_mesh_t *mesh_link, const model_po
   if (out == NULL) return MODEL_E_ARG;
   model_regime_config_t c;
   double q[4];
-  const model_status_t st = patch_args(mesh_link, pose, cfg, &c, q);
+  model_status_t st = patch_args(mesh_link, pose, cfg, &c, q);
   if (st != MODEL_OK) return st;
-  return patch_compute(mesh_link, q, pose->position_m, &c, out, NULL);
+  model_support_work_t *work = work_new(mesh_link);
+  if (work == NULL) return MODEL_E_NOMEM;
+  st = patch_compute(mesh_link, q, pose->position_m, &c, out, NULL, work);
+  free(work);
+  return st;
 }
 
 /* ---- chords and regimes ------------------------------------------------------------------- */
@@ -344,32 +413,29 @@ static int edge_axes(model_edge_t edge, double normal[2], double along[2]) {
   return 1;
 }
 
-/* A resting patch with its in-plane triangles (world x, y), for chords. */
-typedef struct {
-  model_patch_t patch;
-  double (*tris)[3][2]; /* patch.face_count triangles, malloc'd */
-} contact_t;
-
-static void contact_free(contact_t *c) {
-  free(c->tris);
-  free(c);
-}
-
-/* The patch of mesh_link resting in `pose` with its triangles; *out NULL on error. */
+/* The patch of mesh_link resting in `pose` with its triangles, in `work` (one of mesh_link's),
+ * or when work is NULL in one allocated here (*own: free() it, also on error); *out NULL on
+ * error. */
 static model_status_t contact_build(const model_mesh_t *mesh_link, const model_pose_t *pose,
-                                      const model_regime_config_t *cfg, contact_t **out) {
+                                    const model_regime_config_t *cfg, model_support_work_t *work,
+                                    model_support_work_t **own, contact_t **out) {
   *out = NULL;
+  *own = NULL;
   model_regime_config_t c;
   double q[4];
   model_status_t st = patch_args(mesh_link, pose, cfg, &c, q);
   if (st != MODEL_OK) return st;
-  contact_t *ct = calloc(1, sizeof *ct);
-  if (ct == NULL) return MODEL_E_NOMEM;
-  st = patch_compute(mesh_link, q, pose->position_m, &c, &ct->patch, &ct->tris);
-  if (st != MODEL_OK) {
-    contact_free(ct);
-    return st;
+  if (work == NULL) {
+    work = *own = work_new(mesh_link);
+    if (work == NULL) return MODEL_E_NOMEM;
+  } else if (work->vertex_count != mesh_link->vertex_count ||
+             work->triangle_count != mesh_link->triangle_count) {
+    return MODEL_E_ARG;
   }
+  contact_t *ct = &work->ct;
+  ct->tris = work->tri_xy;
+  st = patch_compute(mesh_link, q, pose->position_m, &c, &ct->patch, ct->tris, work);
+  if (st != MODEL_OK) return st;
   *out = ct;
   return MODEL_OK;
 }
@@ -390,10 +456,18 @@ static double chord_margin(const contact_t *ct, const double p[2], const double 
 }
 
 model_status_t model_regime_classify(const model_mesh_t *mesh_link, const model_pose_t *pose,
-                                         const double base_size_m[3], model_edge_t edge,
-                                         const double com_estimate_link_m[3],
-                                         const model_regime_config_t *cfg,
-                                         model_regime_t *out) {
+                                     const double base_size_m[3], model_edge_t edge,
+                                     const double com_estimate_link_m[3],
+                                     const model_regime_config_t *cfg, model_regime_t *out) {
+  return model_regime_classify_in(mesh_link, pose, base_size_m, edge, com_estimate_link_m, cfg,
+                                  NULL, out);
+}
+
+model_status_t model_regime_classify_in(const model_mesh_t *mesh_link, const model_pose_t *pose,
+                                        const double base_size_m[3], model_edge_t edge,
+                                        const double com_estimate_link_m[3],
+                                        const model_regime_config_t *cfg,
+                                        model_support_work_t *work, model_regime_t *out) {
   if (out == NULL || base_size_m == NULL) return MODEL_E_ARG;
   model_status_t st = vec_check(com_estimate_link_m);
   if (st == MODEL_OK) st = vec_check(base_size_m);
@@ -405,8 +479,12 @@ model_status_t model_regime_classify(const model_mesh_t *mesh_link, const model_
   }
   memset(out, 0, sizeof *out);
   contact_t *ct = NULL;
-  st = contact_build(mesh_link, pose, cfg, &ct);
-  if (st != MODEL_OK) return st;
+  model_support_work_t *own = NULL;
+  st = contact_build(mesh_link, pose, cfg, work, &own, &ct);
+  if (st != MODEL_OK) {
+    free(own);
+    return st;
+  }
   out->patch = ct->patch;
   model_regime_config_t c;
   model_regime_config_default(&c);
@@ -429,7 +507,7 @@ model_status_t model_regime_classify(const model_mesh_t *mesh_link, const model_
     out->chord_m[1] = out->com_along_m + s1;
     out->chord_margin_m = fmin(-s0, s1);
   }
-  contact_free(ct);
+  free(own);
   if (!out->patch.flat || !out->chord_valid) {
     /* No flat patch on the edge line. A patch that exists but is too small still meets the edge
      * along a short segment: that rolls, it does not drop. */
@@ -457,9 +535,11 @@ static double yaw_margin(const contact_t *ct, const double p[2], const double al
 static model_status_t yaw_setup(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
                                   const double com_estimate_link_m[3], model_edge_t edge,
                                   const double *out1, const double *out2,
-                                  const model_regime_config_t *cfg, contact_t **ct,
-                                  double p[2], double along[2]) {
+                                  const model_regime_config_t *cfg, model_support_work_t *work,
+                                  model_support_work_t **own, contact_t **ct, double p[2],
+                                  double along[2]) {
   *ct = NULL;
+  *own = NULL;
   if (out1 == NULL || out2 == NULL || orientation_wxyz == NULL) return MODEL_E_ARG;
   double normal[2];
   if (!edge_axes(edge, normal, along)) return MODEL_E_ARG;
@@ -467,7 +547,7 @@ static model_status_t yaw_setup(const model_mesh_t *mesh_link, const double orie
   if (st != MODEL_OK) return st;
   model_pose_t pose = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}};
   memcpy(pose.orientation_wxyz, orientation_wxyz, sizeof pose.orientation_wxyz);
-  st = contact_build(mesh_link, &pose, cfg, ct);
+  st = contact_build(mesh_link, &pose, cfg, work, own, ct);
   if (st != MODEL_OK) return st;
   double q[4], cw[3];
   model_quat_unit(orientation_wxyz, q);
@@ -478,10 +558,20 @@ static model_status_t yaw_setup(const model_mesh_t *mesh_link, const double orie
 }
 
 model_status_t model_yaw_margins(const model_mesh_t *mesh_link,
-                                     const double orientation_wxyz[4], model_edge_t edge,
-                                     const model_regime_config_t *cfg, size_t n,
-                                     const double *yaw_rad, const double (*com_estimate_link_m)[3],
-                                     double *margin_m) {
+                                 const double orientation_wxyz[4], model_edge_t edge,
+                                 const model_regime_config_t *cfg, size_t n,
+                                 const double *yaw_rad, const double (*com_estimate_link_m)[3],
+                                 double *margin_m) {
+  return model_yaw_margins_in(mesh_link, orientation_wxyz, edge, cfg, n, yaw_rad,
+                              com_estimate_link_m, NULL, margin_m);
+}
+
+model_status_t model_yaw_margins_in(const model_mesh_t *mesh_link,
+                                    const double orientation_wxyz[4], model_edge_t edge,
+                                    const model_regime_config_t *cfg, size_t n,
+                                    const double *yaw_rad,
+                                    const double (*com_estimate_link_m)[3],
+                                    model_support_work_t *work, double *margin_m) {
   if (n == 0) return MODEL_OK;
   if (yaw_rad == NULL || com_estimate_link_m == NULL) return MODEL_E_ARG;
   for (size_t i = 0; i < n; ++i) {
@@ -490,11 +580,12 @@ model_status_t model_yaw_margins(const model_mesh_t *mesh_link,
     if (st != MODEL_OK) return st;
   }
   contact_t *ct = NULL;
+  model_support_work_t *own = NULL;
   double p[2], along[2];
   const double dummy = 0.0;
   /* the contact depends on the orientation only: built once for every (yaw, point) */
   model_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m[0], edge,
-                                  margin_m, &dummy, cfg, &ct, p, along);
+                                margin_m, &dummy, cfg, work, &own, &ct, p, along);
   if (st == MODEL_OK) {
     double q[4];
     model_quat_unit(orientation_wxyz, q);
@@ -505,7 +596,7 @@ model_status_t model_yaw_margins(const model_mesh_t *mesh_link,
       margin_m[i] = yaw_margin(ct, pi, along, yaw_rad[i]);
     }
   }
-  if (ct != NULL) contact_free(ct);
+  free(own);
   return st;
 }
 
@@ -523,10 +614,14 @@ model_status_t model_yaw_best(const model_mesh_t *mesh_link, const double orient
                                   const model_regime_config_t *cfg, double *yaw_rad,
                                   double *margin_m) {
   contact_t *ct = NULL;
+  model_support_work_t *own = NULL;
   double p[2], along[2];
   model_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m, edge, yaw_rad,
-                                  margin_m, cfg, &ct, p, along);
-  if (st != MODEL_OK) return st;
+                                margin_m, cfg, NULL, &own, &ct, p, along);
+  if (st != MODEL_OK) {
+    free(own);
+    return st;
+  }
   enum { STEPS = 360, GOLDEN_ITERS = 40 };
   const double pi = CL_PI, step = pi / STEPS;
   int best = -1;
@@ -569,6 +664,6 @@ model_status_t model_yaw_best(const model_mesh_t *mesh_link, const double orient
   }
   *yaw_rad = best_psi;
   *margin_m = best_m;
-  contact_free(ct);
+  free(own);
   return MODEL_OK;
 }

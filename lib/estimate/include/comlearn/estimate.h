@@ -21,10 +21,10 @@
  * Frames and units: SI. World as in comlearn/model_support.h (z up, B's top at z = 0, its edges
  * along X and Y). Object: the URDF link frame. A pose is the link frame's pose in the world.
  *
- * Memory: estimate_create makes one allocation of estimate_size() bytes (or estimate_init uses
- * the caller's); the estimator allocates nothing after that (lib/model's geometry functions it
- * calls allocate temporary memory and free it before returning). The mesh is the caller's and
- * must outlive the estimate. Nothing here prints or does I/O. One thread per estimate; separate
+ * Memory: estimate_create makes one allocation of estimate_size(mesh) bytes (or estimate_init uses
+ * the caller's); nothing is allocated per trial after that (the planning geometry runs in a work
+ * area inside that memory). The first estimate_next finds the mesh's hull faces, which allocates
+ * temporary memory once and frees it. The mesh is the caller's and must outlive the estimate. Nothing here prints or does I/O. One thread per estimate; separate
  * estimates are independent.
  */
 #ifndef COMLEARN_ESTIMATE_H
@@ -250,13 +250,15 @@ typedef struct {
 
 typedef struct estimate estimate_t; /* opaque */
 
-/* Bytes an estimate needs (for estimate_init): a few hundred KiB, fixed. */
-size_t estimate_size(void);
+/* Bytes an estimate of mesh_link needs (for estimate_init): the estimator's state (~170 KiB) and
+ * lib/model's scratch memory for this mesh (~150 KiB for a 1000-vertex rock); 0 for NULL or an
+ * empty mesh. */
+size_t estimate_size(const model_mesh_t *mesh_link);
 
 /* Start an estimate of the object whose link-frame geometry is mesh_link (kept by pointer: it must
  * outlive the estimate) on a block B of size base_size_m (world x, y, z). cfg is copied.
- * estimate_create allocates estimate_size() bytes; estimate_init uses the caller's `size` bytes
- * at mem (aligned for a double). ESTIMATE_E_ARG for NULL, an empty mesh, a base size that is not
+ * estimate_create allocates estimate_size(mesh_link) bytes; estimate_init uses the caller's `size`
+ * bytes at mem (8-byte aligned, at least estimate_size(mesh_link)). ESTIMATE_E_ARG for NULL, an empty mesh, a base size that is not
  * finite and positive or a setting out of its documented range (*out NULL); ESTIMATE_E_NOMEM. */
 estimate_status_t estimate_create(const model_mesh_t *mesh_link, const double base_size_m[3],
                                   const estimate_config_t *cfg, estimate_t **out);

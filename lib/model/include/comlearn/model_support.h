@@ -189,6 +189,16 @@ typedef struct {
   model_regime_kind_t kind;
 } model_regime_t;
 
+/* Scratch memory for the patch, regime and yaw functions of one mesh: with it (the *_in variants)
+ * they allocate nothing. model_support_work_size: the bytes for mesh (0 for NULL or an empty
+ * mesh; ~150 KiB for a 1000-vertex rock). model_support_work_init lays a work area out in the
+ * caller's `size` bytes at mem (8-byte aligned); NULL when mem is NULL, misaligned or too small.
+ * A work area serves any mesh with the same vertex and triangle counts (others: MODEL_E_ARG),
+ * one call at a time. The functions without _in allocate one per call. */
+typedef struct model_support_work model_support_work_t;
+size_t model_support_work_size(const model_mesh_t *mesh);
+model_support_work_t *model_support_work_init(void *mem, size_t size, const model_mesh_t *mesh);
+
 /* Analyse a planned trial: the object (mesh_link) released at `pose` (as model_pose_over_edge
  * gives it) over `edge` of a block of size base_size_m, with the CoM estimate
  * com_estimate_link_m (link frame). Pure geometry. Errors as model_patch_resting, and
@@ -198,6 +208,11 @@ model_status_t model_regime_classify(const model_mesh_t *mesh_link, const model_
                                          const double com_estimate_link_m[3],
                                          const model_regime_config_t *cfg,
                                          model_regime_t *out);
+model_status_t model_regime_classify_in(const model_mesh_t *mesh_link, const model_pose_t *pose,
+                                        const double base_size_m[3], model_edge_t edge,
+                                        const double com_estimate_link_m[3],
+                                        const model_regime_config_t *cfg,
+                                        model_support_work_t *work, model_regime_t *out);
 
 /* The chord margin (as in model_regime_t) that a trial would have with the object in
  * orientation Rz(yaw_rad) q, the CoM estimate over `edge`: pure geometry, independent of the
@@ -217,6 +232,12 @@ model_status_t model_yaw_margins(const model_mesh_t *mesh_link,
                                      const model_regime_config_t *cfg, size_t n,
                                      const double *yaw_rad, const double (*com_estimate_link_m)[3],
                                      double *margin_m);
+model_status_t model_yaw_margins_in(const model_mesh_t *mesh_link,
+                                    const double orientation_wxyz[4], model_edge_t edge,
+                                    const model_regime_config_t *cfg, size_t n,
+                                    const double *yaw_rad,
+                                    const double (*com_estimate_link_m)[3],
+                                    model_support_work_t *work, double *margin_m);
 
 /* The yaw in [0, pi) that maximises that chord margin (yaw + pi gives the same chord with the
  * object on the other side of the edge). Sweeps 0.5-degree steps, then refines by golden section
