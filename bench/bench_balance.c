@@ -100,6 +100,55 @@ static int run_case(bench_case_t *c, int ntrials, int verbose, bench_result_t *r
   return 0;
 }
 
+/* The cases: a box on the fast path, the rock on the stock and the fast path. obj holds the rock
+ * (freed by the caller). Returns 0, or 1 (logged when the rock cannot be read). */
+static int cases_load(const char *rock, bench_case_t cases[3], model_object_t *obj) {
+  memset(cases, 0, 3 * sizeof *cases);
+  const double lo[3] = {-0.02, -0.03, -0.025}, hi[3] = {0.02, 0.03, 0.025};
+  if (model_mesh_box(lo, hi, &cases[0].mesh) != MODEL_OK) return 1;
+  if (model_mesh_mass(&cases[0].mesh, 2650.0, &cases[0].mass) != MODEL_OK) return 1;
+  cases[0].name = "box 40x60x50 mm";
+  cases[0].path = BALANCE_CONTACT_FAST;
+  model_error_t err;
+  if (model_object_load(rock, NULL, obj, &err) != MODEL_OK) {
+    LOG_E("%s", err.msg);
+    return 1;
+  }
+  model_mass_t rm;
+  if (model_inertial_load(rock, NULL, &rm, &err) != MODEL_OK) {
+    LOG_E("%s", err.msg);
+    return 1;
+  }
+  for (int k = 1; k < 3; k++) {
+    if (model_mesh_copy(&obj->mesh, &cases[k].mesh) != MODEL_OK) return 1;
+    cases[k].mass = rm;
+  }
+  static char rock_name[128];
+  const char *base = strrchr(rock, '/');
+  snprintf(rock_name, sizeof rock_name, "%s", base ? base + 1 : rock);
+  char *dot = strstr(rock_name, ".urdf");
+  if (dot) *dot = '\0';
+  cases[1].name = rock_name;
+  cases[1].path = BALANCE_CONTACT_STOCK;
+  cases[2].name = rock_name;
+  cases[2].path = BALANCE_CONTACT_FAST;
+  return 0;
+}
+
+/* One case's table row, or its JSON object (first: no comma before it). */
+static void case_print(int json, int first, const bench_case_t *c, const bench_result_t *r) {
+  const char *path = c->path == BALANCE_CONTACT_FAST ? "fast" : "stock";
+  if (json)
+    printf("%s{\"case\":\"%s\",\"path\":\"%s\",\"triangles\":%zu,\"trials\":%d,\"trials_per_s\":%.1f,"
+           "\"us_per_step\":%.2f,\"steps_per_trial\":%.1f,\"wrong\":%d,\"bias_um\":%.3f}",
+           first ? "" : ",", c->name, path, c->mesh.triangle_count, r->trials, r->trials_per_s,
+           r->us_per_step, r->steps_per_trial, r->wrong, r->bias_m * 1e6);
+  else
+    printf("| %s | %s | %zu | %d | %.0f | %.2f | %.0f | %d | %+.3f |\n", c->name, path,
+           c->mesh.triangle_count, r->trials, r->trials_per_s, r->us_per_step, r->steps_per_trial,
+           r->wrong, r->bias_m * 1e6);
+}
+
 int main(int argc, char **argv) {
   cli_log_init("bench_balance");
   int ntrials = 400, json = 0, verbose = 0;
@@ -121,36 +170,8 @@ int main(int argc, char **argv) {
   }
   if (ntrials < 8) ntrials = 8;
   bench_case_t cases[3];
-  memset(cases, 0, sizeof cases);
-  const double lo[3] = {-0.02, -0.03, -0.025}, hi[3] = {0.02, 0.03, 0.025};
-  if (model_mesh_box(lo, hi, &cases[0].mesh) != MODEL_OK) return 1;
-  if (model_mesh_mass(&cases[0].mesh, 2650.0, &cases[0].mass) != MODEL_OK) return 1;
-  cases[0].name = "box 40x60x50 mm";
-  cases[0].path = BALANCE_CONTACT_FAST;
   model_object_t obj;
-  model_error_t err;
-  if (model_object_load(rock, NULL, &obj, &err) != MODEL_OK) {
-    LOG_E("%s", err.msg);
-    return 1;
-  }
-  model_mass_t rm;
-  if (model_inertial_load(rock, NULL, &rm, &err) != MODEL_OK) {
-    LOG_E("%s", err.msg);
-    return 1;
-  }
-  for (int k = 1; k < 3; k++) {
-    if (model_mesh_copy(&obj.mesh, &cases[k].mesh) != MODEL_OK) return 1;
-    cases[k].mass = rm;
-  }
-  static char rock_name[128];
-  const char *base = strrchr(rock, '/');
-  snprintf(rock_name, sizeof rock_name, "%s", base ? base + 1 : rock);
-  char *dot = strstr(rock_name, ".urdf");
-  if (dot) *dot = '\0';
-  cases[1].name = rock_name;
-  cases[1].path = BALANCE_CONTACT_STOCK;
-  cases[2].name = rock_name;
-  cases[2].path = BALANCE_CONTACT_FAST;
+  if (cases_load(rock, cases, &obj) != 0) return 1;
   const char *only = getenv("BENCH_ONLY");
   if (json) printf("[");
   else
@@ -163,16 +184,7 @@ int main(int argc, char **argv) {
     bench_result_t r;
     const int nt = cases[k].path == BALANCE_CONTACT_STOCK ? (ntrials / 8 > 8 ? ntrials / 8 : 8) : ntrials;
     if (run_case(&cases[k], nt, verbose, &r) != 0) return 1;
-    const char *path = cases[k].path == BALANCE_CONTACT_FAST ? "fast" : "stock";
-    if (json)
-      printf("%s{\"case\":\"%s\",\"path\":\"%s\",\"triangles\":%zu,\"trials\":%d,\"trials_per_s\":%.1f,"
-             "\"us_per_step\":%.2f,\"steps_per_trial\":%.1f,\"wrong\":%d,\"bias_um\":%.3f}",
-             first ? "" : ",", cases[k].name, path, cases[k].mesh.triangle_count, r.trials,
-             r.trials_per_s, r.us_per_step, r.steps_per_trial, r.wrong, r.bias_m * 1e6);
-    else
-      printf("| %s | %s | %zu | %d | %.0f | %.2f | %.0f | %d | %+.3f |\n", cases[k].name, path,
-             cases[k].mesh.triangle_count, r.trials, r.trials_per_s, r.us_per_step,
-             r.steps_per_trial, r.wrong, r.bias_m * 1e6);
+    case_print(json, first, &cases[k], &r);
     fflush(stdout);
     first = 0;
   }

@@ -125,10 +125,8 @@ static void usage(FILE *f) {
           MAX_REPS);
 }
 
-int main(int argc, char **argv) {
-  cli_log_init("bench_estimate");
-  int reps = 3;
-  const char *only = NULL;
+/* Options: --reps into *reps, --rock into *only. Returns -1 to go on, else the exit status. */
+static int parse_args(int argc, char **argv, int *reps, const char **only) {
   static const struct option opts[] = {{"reps", required_argument, NULL, 'r'},
                                        {"rock", required_argument, NULL, 'k'},
                                        {"help", no_argument, NULL, 'h'},
@@ -137,13 +135,13 @@ int main(int argc, char **argv) {
   while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
     switch (c) {
     case 'r':
-      reps = atoi(optarg);
-      if (reps < 1 || reps > MAX_REPS) {
+      *reps = atoi(optarg);
+      if (*reps < 1 || *reps > MAX_REPS) {
         usage(stderr);
         return 2;
       }
       break;
-    case 'k': only = optarg; break;
+    case 'k': *only = optarg; break;
     case 'h': usage(stdout); return 0;
     default: usage(stderr); return 2;
     }
@@ -152,6 +150,79 @@ int main(int argc, char **argv) {
     usage(stderr);
     return 2;
   }
+  return -1;
+}
+
+/* The repetitions of one rock: wall times, LCM messages per trial (summed over repetitions). */
+typedef struct {
+  double td[MAX_REPS], tl[MAX_REPS], to[MAX_REPS];
+  double cmd, ctl, sta, obs;
+  int agree; /* both backends found every component, at the same place, in as many trials */
+  size_t trials;
+} rock_reps_t;
+
+/* reps direct + LCM estimate pairs of one rock. Returns 0, or -1 when an estimate failed. */
+static int rock_reps(const char *urdf, const model_mesh_t *mesh, int reps, estimate_result_t *rd,
+                     estimate_result_t *rl, rock_reps_t *rr) {
+  rr->cmd = rr->ctl = rr->sta = rr->obs = 0;
+  rr->agree = 1;
+  rr->trials = 0;
+  for (int k = 0; k < reps; ++k) {
+    estimate_lcm_stats_t st;
+    rr->td[k] = run_direct(urdf, mesh, rd);
+    rr->tl[k] = rr->td[k] < 0 ? -1.0 : run_lcm(urdf, mesh, rl, &rr->to[k], &st);
+    if (rr->td[k] < 0 || rr->tl[k] < 0) return -1;
+    rr->trials = rl->trial_count;
+    const double n = st.trials ? (double)st.trials : 1.0;
+    rr->cmd += (double)st.commands_sent / n;
+    rr->ctl += (double)st.controls_sent / n;
+    rr->sta += (double)st.statuses / n;
+    rr->obs += (double)st.object_states / n;
+    if (rl->trial_count != rd->trial_count) rr->agree = 0;
+    for (int j = 0; j < 3; ++j)
+      if (rl->found[j] != rd->found[j] || !rl->found[j] ||
+          fabs(rl->com_m[j] - rd->com_m[j]) > 1e-12)
+        rr->agree = 0;
+  }
+  return 0;
+}
+
+/* The row of one rock; *lcm_s its median LCM wall time (NAN when it failed). Returns 0, or 1
+ * when the rock failed or the backends disagree. */
+static int rock_row(const char *rock, int reps, estimate_result_t *rd, estimate_result_t *rl,
+                    double *lcm_s) {
+  *lcm_s = NAN;
+  char urdf[512];
+  snprintf(urdf, sizeof urdf, "%s/rocks/%s.urdf", COMLEARN_ASSETS_DIR, rock);
+  model_object_t obj = {0};
+  model_error_t err = {{0}};
+  if (model_object_load(urdf, NULL, &obj, &err) != MODEL_OK) {
+    LOG_E("%s: %s", urdf, err.msg);
+    return 1;
+  }
+  static rock_reps_t rr;
+  const int ok = rock_reps(urdf, &obj.mesh, reps, rd, rl, &rr) == 0;
+  model_object_free(&obj);
+  if (!ok) {
+    printf("| %s | failed | | | | | | | | | |\n", rock);
+    return 1;
+  }
+  const double mtl = median(rr.tl, (size_t)reps);
+  *lcm_s = mtl;
+  printf("| %s | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f | %.1f | %s | %s |\n", rock,
+         rr.trials, median(rr.td, (size_t)reps), mtl, median(rr.to, (size_t)reps), rr.cmd / reps,
+         rr.ctl / reps, rr.sta / reps, rr.obs / reps, mtl <= 1.0 ? "yes" : "no",
+         rr.agree ? "yes" : "NO");
+  fflush(stdout);
+  return rr.agree ? 0 : 1;
+}
+
+int main(int argc, char **argv) {
+  cli_log_init("bench_estimate");
+  int reps = 3;
+  const char *only = NULL;
+  const int prc = parse_args(argc, argv, &reps, &only);
+  if (prc >= 0) return prc;
 
   estimate_result_t *rd = malloc(sizeof *rd), *rl = malloc(sizeof *rl);
   if (!rd || !rl) {
@@ -168,55 +239,12 @@ int main(int argc, char **argv) {
   double worst = 0.0;
   for (size_t i = 0; i < N_ROCKS; ++i) {
     if (only && strcmp(only, all_rocks[i]) != 0) continue;
-    char urdf[512];
-    snprintf(urdf, sizeof urdf, "%s/rocks/%s.urdf", COMLEARN_ASSETS_DIR, all_rocks[i]);
-    model_object_t obj = {0};
-    model_error_t err = {{0}};
-    if (model_object_load(urdf, NULL, &obj, &err) != MODEL_OK) {
-      LOG_E("%s: %s", urdf, err.msg);
-      failed = 1;
-      continue;
-    }
-    double td[MAX_REPS], tl[MAX_REPS], to[MAX_REPS];
-    double cmd = 0, ctl = 0, sta = 0, obs = 0;
-    int agree = 1, ok = 1;
-    size_t trials = 0;
-    for (int k = 0; k < reps && ok; ++k) {
-      estimate_lcm_stats_t st;
-      td[k] = run_direct(urdf, &obj.mesh, rd);
-      tl[k] = td[k] < 0 ? -1.0 : run_lcm(urdf, &obj.mesh, rl, &to[k], &st);
-      if (td[k] < 0 || tl[k] < 0) {
-        ok = 0;
-        break;
-      }
-      trials = rl->trial_count;
-      const double n = st.trials ? (double)st.trials : 1.0;
-      cmd += (double)st.commands_sent / n;
-      ctl += (double)st.controls_sent / n;
-      sta += (double)st.statuses / n;
-      obs += (double)st.object_states / n;
-      if (rl->trial_count != rd->trial_count) agree = 0;
-      for (int j = 0; j < 3; ++j)
-        if (rl->found[j] != rd->found[j] || !rl->found[j] ||
-            fabs(rl->com_m[j] - rd->com_m[j]) > 1e-12)
-          agree = 0;
-    }
-    model_object_free(&obj);
-    if (!ok) {
-      printf("| %s | failed | | | | | | | | | |\n", all_rocks[i]);
-      failed = 1;
-      continue;
-    }
-    const double mtl = median(tl, (size_t)reps);
+    double mtl;
+    if (rock_row(all_rocks[i], reps, rd, rl, &mtl) != 0) failed = 1;
+    if (isnan(mtl)) continue;
     ++rows;
     met += mtl <= 1.0;
     if (mtl > worst) worst = mtl;
-    printf("| %s | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f | %.1f | %s | %s |\n",
-           all_rocks[i], trials, median(td, (size_t)reps), mtl, median(to, (size_t)reps),
-           cmd / reps, ctl / reps, sta / reps, obs / reps, mtl <= 1.0 ? "yes" : "no",
-           agree ? "yes" : "NO");
-    fflush(stdout);
-    if (!agree) failed = 1;
   }
   printf("\nTarget (docs/design.md): full 3-component estimate over LCM with YuMi placement <= 1 s wall: "
          "%d of %d rocks (worst %.3f s).\n",

@@ -80,6 +80,71 @@ static void usage(FILE *f) {
           COMLEARN_ASSETS_DIR);
 }
 
+/* targets[0 .. n): FK of postures uniform within the arm's joint limits, drawn from rng. */
+static void targets_draw(const placement_arm_t *arm, uint64_t rng, placement_pose_t *targets,
+                         size_t n) {
+  for (size_t i = 0; i < n; ++i) {
+    double q[PLACEMENT_JOINTS];
+    for (int k = 0; k < PLACEMENT_JOINTS; ++k) {
+      double u = cl_rng_uniform(&rng);
+      q[k] = arm->lower_rad[k] + (arm->upper_rad[k] - arm->lower_rad[k]) * u;
+    }
+    placement_fk(arm, q, &targets[i]);
+  }
+}
+
+/* One arm's line (JSON: its object) for the two IK modes. */
+static void arm_print(int json, int side, double fk_us, size_t n, const run_stats_t *const rs[2]) {
+  const char *name = side == 0 ? "left" : "right";
+  const char *mode[2] = {"default", "no_redundancy"};
+  if (json) {
+    printf("%s{\"arm\": \"%s\", \"fk_us\": %.3f, \"runs\": [", side ? ", " : "", name, fk_us);
+    for (int r = 0; r < 2; ++r) {
+      printf("%s{\"mode\": \"%s\", \"success\": %.6f, \"worst_pos_m\": %.3g, "
+             "\"worst_rot_rad\": %.3g, \"iterations_median\": %.1f, \"iterations_max\": %.0f, "
+             "\"seeds_max\": %.0f, \"us_median\": %.2f, \"us_mean\": %.2f, \"us_max\": %.1f}",
+             r ? ", " : "", mode[r], (double)rs[r]->ok / (double)n, rs[r]->worst_pos_m,
+             rs[r]->worst_rot_rad, rs[r]->it_median, rs[r]->it_max, rs[r]->seeds_max,
+             rs[r]->us_median, rs[r]->us_mean, rs[r]->us_max);
+    }
+    printf("]}");
+  } else {
+    printf("%s arm: FK %.3f us/call, %zu random reachable poses\n", name, fk_us, n);
+    for (int r = 0; r < 2; ++r) {
+      printf("  IK %-13s success %zu/%zu (%.4f %%), worst FK(IK(T)) error %.2g m %.2g rad, "
+             "iterations median %.0f max %.0f, seeds max %.0f, us/solve median %.1f mean %.1f "
+             "max %.0f\n",
+             mode[r], rs[r]->ok, n, 100.0 * (double)rs[r]->ok / (double)n, rs[r]->worst_pos_m,
+             rs[r]->worst_rot_rad, rs[r]->it_median, rs[r]->it_max, rs[r]->seeds_max,
+             rs[r]->us_median, rs[r]->us_mean, rs[r]->us_max);
+    }
+  }
+}
+
+/* One arm: targets, the FK cost, IK with and without the redundancy phase. Returns 0 or 1. */
+static int arm_bench(const char *urdf, int side, uint64_t seed, size_t n, int json,
+                     placement_pose_t *targets, double *it_buf, double *us_buf) {
+  placement_arm_t arm;
+  placement_error_t err;
+  if (placement_arm_load_yumi(&arm, urdf, (placement_side_t)side, &err) != PLACEMENT_OK) {
+    LOG_E("%s", err.msg);
+    return 1;
+  }
+  targets_draw(&arm, seed + (uint64_t)side, targets, n);
+  /* FK cost: the same postures again, ten times over, with the poses regenerated. */
+  const double t0 = now_us();
+  for (int rep = 0; rep < 10; ++rep) targets_draw(&arm, seed + (uint64_t)side, targets, n);
+  double fk_us = (now_us() - t0) / (10.0 * (double)n); /* includes drawing q */
+  placement_ik_config_t cfg = PLACEMENT_IK_CONFIG_INIT;
+  run_stats_t full, plain;
+  run(&arm, targets, n, &cfg, it_buf, us_buf, &full);
+  cfg.nullspace_gain = 0.0;
+  run(&arm, targets, n, &cfg, it_buf, us_buf, &plain);
+  const run_stats_t *const rs[2] = {&full, &plain};
+  arm_print(json, side, fk_us, n, rs);
+  return 0;
+}
+
 int main(int argc, char **argv) {
   cli_log_init("bench_ik");
   long poses = 10000;
@@ -117,68 +182,8 @@ int main(int argc, char **argv) {
   if (json) {
     printf("{\"poses\": %zu, \"arms\": [", n);
   }
-  for (int side = 0; side < 2; ++side) {
-    placement_arm_t arm;
-    placement_error_t err;
-    if (placement_arm_load_yumi(&arm, urdf, (placement_side_t)side, &err) != PLACEMENT_OK) {
-      LOG_E("%s", err.msg);
-      return 1;
-    }
-    uint64_t rng = seed + (uint64_t)side;
-    double t0 = now_us();
-    for (size_t i = 0; i < n; ++i) {
-      double q[PLACEMENT_JOINTS];
-      for (int k = 0; k < PLACEMENT_JOINTS; ++k) {
-        double u = cl_rng_uniform(&rng);
-        q[k] = arm.lower_rad[k] + (arm.upper_rad[k] - arm.lower_rad[k]) * u;
-      }
-      placement_fk(&arm, q, &targets[i]);
-    }
-    /* FK cost: the same postures again, ten times over, with the poses regenerated. */
-    t0 = now_us();
-    for (int rep = 0; rep < 10; ++rep) {
-      uint64_t r2 = seed + (uint64_t)side;
-      for (size_t i = 0; i < n; ++i) {
-        double q[PLACEMENT_JOINTS];
-        for (int k = 0; k < PLACEMENT_JOINTS; ++k) {
-          double u = cl_rng_uniform(&r2);
-          q[k] = arm.lower_rad[k] + (arm.upper_rad[k] - arm.lower_rad[k]) * u;
-        }
-        placement_fk(&arm, q, &targets[i]);
-      }
-    }
-    double fk_us = (now_us() - t0) / (10.0 * (double)n); /* includes drawing q */
-    placement_ik_config_t cfg = PLACEMENT_IK_CONFIG_INIT;
-    run_stats_t full, plain;
-    run(&arm, targets, n, &cfg, it_buf, us_buf, &full);
-    cfg.nullspace_gain = 0.0;
-    run(&arm, targets, n, &cfg, it_buf, us_buf, &plain);
-    const char *name = side == 0 ? "left" : "right";
-    const run_stats_t *rs[2] = {&full, &plain};
-    const char *mode[2] = {"default", "no_redundancy"};
-    if (json) {
-      printf("%s{\"arm\": \"%s\", \"fk_us\": %.3f, \"runs\": [", side ? ", " : "", name, fk_us);
-      for (int r = 0; r < 2; ++r) {
-        printf("%s{\"mode\": \"%s\", \"success\": %.6f, \"worst_pos_m\": %.3g, "
-               "\"worst_rot_rad\": %.3g, \"iterations_median\": %.1f, \"iterations_max\": %.0f, "
-               "\"seeds_max\": %.0f, \"us_median\": %.2f, \"us_mean\": %.2f, \"us_max\": %.1f}",
-               r ? ", " : "", mode[r], (double)rs[r]->ok / (double)n, rs[r]->worst_pos_m,
-               rs[r]->worst_rot_rad, rs[r]->it_median, rs[r]->it_max, rs[r]->seeds_max,
-               rs[r]->us_median, rs[r]->us_mean, rs[r]->us_max);
-      }
-      printf("]}");
-    } else {
-      printf("%s arm: FK %.3f us/call, %zu random reachable poses\n", name, fk_us, n);
-      for (int r = 0; r < 2; ++r) {
-        printf("  IK %-13s success %zu/%zu (%.4f %%), worst FK(IK(T)) error %.2g m %.2g rad, "
-               "iterations median %.0f max %.0f, seeds max %.0f, us/solve median %.1f mean %.1f "
-               "max %.0f\n",
-               mode[r], rs[r]->ok, n, 100.0 * (double)rs[r]->ok / (double)n, rs[r]->worst_pos_m,
-               rs[r]->worst_rot_rad, rs[r]->it_median, rs[r]->it_max, rs[r]->seeds_max,
-               rs[r]->us_median, rs[r]->us_mean, rs[r]->us_max);
-      }
-    }
-  }
+  for (int side = 0; side < 2; ++side)
+    if (arm_bench(urdf, side, seed, n, json, targets, it_buf, us_buf) != 0) return 1;
   if (json) {
     printf("]}\n");
   }

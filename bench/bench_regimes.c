@@ -110,135 +110,163 @@ static int rock(int which, int uneven, model_object_t *obj, model_mass_t *truth,
   return model_mesh_mass(&obj->mesh, 2650.0, uni) == MODEL_OK;
 }
 
+/* The -z face at yaw 0 and at the yaw of the largest chord margin, then every flat face at the
+ * yaw with the smallest chord margin (sweep) and at the best one. */
+static void rows_flat(int which, const model_mesh_t *mesh, balance_world_t *w,
+                      balance_object_t *o, const double com_m[3]) {
+  char name[96];
+  const double up[4] = {1, 0, 0, 0};
+  snprintf(name, sizeof name, "rock_%d -z face, yaw 0", which);
+  report(name, mesh, w, o, up, com_m, com_m, 0.008);
+  double yaw = 0.0, mbest = 0.0, q[4];
+  model_yaw_best(mesh, up, com_m, MODEL_EDGE_PX, NULL, &yaw, &mbest);
+  model_orientation_yawed(up, yaw, q);
+  snprintf(name, sizeof name, "rock_%d -z face, best yaw %.0f deg", which, yaw * 180.0 / CL_PI);
+  report(name, mesh, w, o, q, com_m, com_m, 0.008);
+  model_face_t faces[256];
+  size_t nf = 0;
+  model_regime_config_t rc;
+  model_regime_config_default(&rc);
+  rc.min_com_margin_m = -1.0; /* list all faces, stable or not */
+  model_faces_find(mesh, com_m, &rc, faces, 256, &nf);
+  for (size_t i = 0; i < nf && i < 256; ++i) {
+    if (!faces[i].flat || faces[i].normal_link[2] == -1.0 || faces[i].com_margin_m < 0.0) continue;
+    double worst = HUGE_VAL, wyaw = 0.0;
+    for (int k = 0; k < 180; ++k) {
+      double mk;
+      model_yaw_margin(mesh, faces[i].orientation_wxyz, com_m, MODEL_EDGE_PX, k * CL_PI / 180.0,
+                       NULL, &mk);
+      if (mk > -HUGE_VAL && mk < worst) {
+        worst = mk;
+        wyaw = k * CL_PI / 180.0;
+      }
+    }
+    model_orientation_yawed(faces[i].orientation_wxyz, wyaw, q);
+    snprintf(name, sizeof name, "rock_%d face n=(%.2f,%.2f,%.2f) worst yaw", which,
+             faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2]);
+    report(name, mesh, w, o, q, com_m, com_m, 0.008);
+    model_yaw_best(mesh, faces[i].orientation_wxyz, com_m, MODEL_EDGE_PX, NULL, &yaw, &mbest);
+    model_orientation_yawed(faces[i].orientation_wxyz, yaw, q);
+    snprintf(name, sizeof name, "rock_%d face n=(%.2f,%.2f,%.2f) best yaw", which,
+             faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2]);
+    report(name, mesh, w, o, q, com_m, com_m, 0.008);
+  }
+}
+
+/* Point support: hull faces that are not flat patches (no mesh triangle in the plane: the rock
+ * rests on isolated vertices of its rounded side), stable (CoM margin >= 0.5 mm: none of the
+ * bundled rocks' rounded faces reaches the 2 mm candidate margin) and confirmed by a trial. Four
+ * yaws; range +-15 mm (the flip may lie millimetres inside). */
+static void rows_points(int which, const model_mesh_t *mesh, balance_world_t *w,
+                        balance_object_t *o, const double com_m[3]) {
+  char name[96];
+  double q[4];
+  model_face_t faces[256];
+  size_t nf = 0;
+  model_regime_config_t rc;
+  model_regime_config_default(&rc);
+  rc.min_com_margin_m = 0.5e-3;
+  model_faces_find(mesh, com_m, &rc, faces, 256, &nf);
+  for (size_t i = 0; i < nf && i < 256; ++i) {
+    if (faces[i].flat || faces[i].face_count > 0 || !faces[i].candidate) continue;
+    int confirmed = 0;
+    if (balance_stable_confirm(w, o, faces[i].orientation_wxyz, com_m, NULL, NULL, &confirmed) !=
+            BALANCE_OK ||
+        !confirmed)
+      continue;
+    for (int k = 0; k < 4; ++k) {
+      model_orientation_yawed(faces[i].orientation_wxyz, k * CL_PI / 4.0, q);
+      snprintf(name, sizeof name, "rock_%d points n=(%.2f,%.2f,%.2f) m %.2f yaw %d", which,
+               faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2],
+               faces[i].com_margin_m * 1e3, 45 * k);
+      report(name, mesh, w, o, q, com_m, com_m, 0.015);
+    }
+  }
+}
+
+/* The rows of even rock `which`. Returns 0, or 1 when it cannot be loaded or simulated. */
+static int rock_rows(int which, const balance_config_t *cfg) {
+  model_object_t obj;
+  model_mass_t truth, uni;
+  if (!rock(which, 0, &obj, &truth, &uni)) return 1;
+  balance_world_t *w = NULL;
+  balance_object_t *o = NULL;
+  if (balance_world_create(cfg, &w) != BALANCE_OK ||
+      balance_object_create(w, &obj.mesh, &truth, &o) != BALANCE_OK)
+    return 1;
+  rows_flat(which, &obj.mesh, w, o, truth.com_m);
+  rows_points(which, &obj.mesh, w, o, truth.com_m);
+  balance_world_destroy(w);
+  model_object_free(&obj);
+  return 0;
+}
+
+/* A UV ellipsoid, semi-axes a, rings x segs, poles first. Returns 0, or 1 out of memory. */
+static int ellipsoid_mesh(const double a[3], unsigned rings, unsigned segs, model_mesh_t *m) {
+  m->vertex_count = 2 + (size_t)(rings - 1) * segs;
+  m->triangle_count = 2 * (size_t)segs * (rings - 1);
+  m->vertices_m = malloc(m->vertex_count * sizeof *m->vertices_m);
+  m->triangles = malloc(m->triangle_count * sizeof *m->triangles);
+  if (m->vertices_m == NULL || m->triangles == NULL) return 1;
+  m->vertices_m[0][0] = m->vertices_m[0][1] = m->vertices_m[1][0] = m->vertices_m[1][1] = 0.0;
+  m->vertices_m[0][2] = a[2];
+  m->vertices_m[1][2] = -a[2];
+  for (unsigned i = 1; i < rings; ++i) {
+    for (unsigned j = 0; j < segs; ++j) {
+      const double th = CL_PI * i / rings, ph = 2.0 * CL_PI * j / segs;
+      double *v = m->vertices_m[2 + (i - 1) * segs + j];
+      v[0] = a[0] * sin(th) * cos(ph);
+      v[1] = a[1] * sin(th) * sin(ph);
+      v[2] = a[2] * cos(th);
+    }
+  }
+  size_t t = 0;
+#define RING(i, j) ((uint32_t)(2 + ((i) - 1) * segs + ((j) % segs)))
+  for (unsigned j = 0; j < segs; ++j) {
+    const uint32_t t0[3] = {0, RING(1, j), RING(1, j + 1)};
+    const uint32_t t1[3] = {1, RING(rings - 1, j + 1), RING(rings - 1, j)};
+    memcpy(m->triangles[t++], t0, sizeof t0);
+    memcpy(m->triangles[t++], t1, sizeof t1);
+  }
+  for (unsigned i = 1; i + 1 < rings; ++i) {
+    for (unsigned j = 0; j < segs; ++j) {
+      const uint32_t t0[3] = {RING(i, j), RING(i + 1, j), RING(i + 1, j + 1)};
+      const uint32_t t1[3] = {RING(i, j), RING(i + 1, j + 1), RING(i, j + 1)};
+      memcpy(m->triangles[t++], t0, sizeof t0);
+      memcpy(m->triangles[t++], t1, sizeof t1);
+    }
+  }
+#undef RING
+  return 0;
+}
+
+/* Rounded underside: a UV ellipsoid (semi-axes 35, 30, 25 mm; 24 x 48) resting on its pole.
+ * Returns 0 or 1. */
+static int ellipsoid_row(const balance_config_t *cfg) {
+  const double a[3] = {0.035, 0.03, 0.025};
+  model_mesh_t m = {0};
+  if (ellipsoid_mesh(a, 24, 48, &m) != 0) return 1;
+  model_mass_t mass;
+  if (model_mesh_mass(&m, 1000.0, &mass) != MODEL_OK) return 1;
+  balance_world_t *w = NULL;
+  balance_object_t *o = NULL;
+  if (balance_world_create(cfg, &w) != BALANCE_OK ||
+      balance_object_create(w, &m, &mass, &o) != BALANCE_OK)
+    return 1;
+  const double up[4] = {1, 0, 0, 0};
+  report("ellipsoid on its pole", &m, w, o, up, mass.com_m, mass.com_m, 0.008);
+  balance_world_destroy(w);
+  model_mesh_free(&m);
+  return 0;
+}
+
 int main(void) {
   cli_log_init("bench_regimes");
   balance_config_t cfg;
   balance_config_default(&cfg);
   printf("| case | regime (planned) | chord margin mm | bias um | innermost not-stay mm | invalid "
          "| trials |\n|---|---|---|---|---|---|---|\n");
-  for (int which = 1; which <= 3; ++which) {
-    model_object_t obj;
-    model_mass_t truth, uni;
-    if (!rock(which, 0, &obj, &truth, &uni)) return 1;
-    balance_world_t *w = NULL;
-    balance_object_t *o = NULL;
-    if (balance_world_create(&cfg, &w) != BALANCE_OK ||
-        balance_object_create(w, &obj.mesh, &truth, &o) != BALANCE_OK)
-      return 1;
-    char name[96];
-    /* -z face at yaw 0 and at the yaw of the largest chord margin. */
-    const double up[4] = {1, 0, 0, 0};
-    snprintf(name, sizeof name, "rock_%d -z face, yaw 0", which);
-    report(name, &obj.mesh, w, o, up, truth.com_m, truth.com_m, 0.008);
-    double yaw = 0.0, mbest = 0.0, q[4];
-    model_yaw_best(&obj.mesh, up, truth.com_m, MODEL_EDGE_PX, NULL, &yaw, &mbest);
-    model_orientation_yawed(up, yaw, q);
-    snprintf(name, sizeof name, "rock_%d -z face, best yaw %.0f deg", which, yaw * 180.0 / CL_PI);
-    report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.008);
-    /* Every flat face: the yaw with the smallest chord margin (sweep) and the best one. */
-    model_face_t faces[256];
-    size_t nf = 0;
-    model_regime_config_t rc;
-    model_regime_config_default(&rc);
-    rc.min_com_margin_m = -1.0; /* list all faces, stable or not */
-    model_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf);
-    for (size_t i = 0; i < nf && i < 256; ++i) {
-      if (!faces[i].flat || faces[i].normal_link[2] == -1.0 || faces[i].com_margin_m < 0.0) continue;
-      double worst = HUGE_VAL, wyaw = 0.0;
-      for (int k = 0; k < 180; ++k) {
-        double mk;
-        model_yaw_margin(&obj.mesh, faces[i].orientation_wxyz, truth.com_m, MODEL_EDGE_PX,
-                           k * CL_PI / 180.0, NULL, &mk);
-        if (mk > -HUGE_VAL && mk < worst) {
-          worst = mk;
-          wyaw = k * CL_PI / 180.0;
-        }
-      }
-      model_orientation_yawed(faces[i].orientation_wxyz, wyaw, q);
-      snprintf(name, sizeof name, "rock_%d face n=(%.2f,%.2f,%.2f) worst yaw", which,
-               faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2]);
-      report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.008);
-      model_yaw_best(&obj.mesh, faces[i].orientation_wxyz, truth.com_m, MODEL_EDGE_PX, NULL,
-                       &yaw, &mbest);
-      model_orientation_yawed(faces[i].orientation_wxyz, yaw, q);
-      snprintf(name, sizeof name, "rock_%d face n=(%.2f,%.2f,%.2f) best yaw", which,
-               faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2]);
-      report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.008);
-    }
-    /* Point support: hull faces that are not flat patches (no mesh triangle in the plane: the
-     * rock rests on isolated vertices of its rounded side), stable (CoM margin >= 0.5 mm: none of
-     * the bundled rocks' rounded faces reaches the 2 mm candidate margin) and confirmed by a
-     * trial. Four yaws; range +-15 mm (the flip may lie millimetres inside). */
-    model_regime_config_default(&rc);
-    rc.min_com_margin_m = 0.5e-3;
-    model_faces_find(&obj.mesh, truth.com_m, &rc, faces, 256, &nf);
-    for (size_t i = 0; i < nf && i < 256; ++i) {
-      if (faces[i].flat || faces[i].face_count > 0 || !faces[i].candidate) continue;
-      int confirmed = 0;
-      if (balance_stable_confirm(w, o, faces[i].orientation_wxyz, truth.com_m, NULL, NULL,
-                                 &confirmed) != BALANCE_OK || !confirmed)
-        continue;
-      for (int k = 0; k < 4; ++k) {
-        model_orientation_yawed(faces[i].orientation_wxyz, k * CL_PI / 4.0, q);
-        snprintf(name, sizeof name, "rock_%d points n=(%.2f,%.2f,%.2f) m %.2f yaw %d", which,
-                 faces[i].normal_link[0], faces[i].normal_link[1], faces[i].normal_link[2],
-                 faces[i].com_margin_m * 1e3, 45 * k);
-        report(name, &obj.mesh, w, o, q, truth.com_m, truth.com_m, 0.015);
-      }
-    }
-    balance_world_destroy(w);
-    model_object_free(&obj);
-  }
-  /* Rounded underside: a UV ellipsoid (semi-axes 35, 30, 25 mm; 24 x 48) resting on its pole. */
-  {
-    const double a[3] = {0.035, 0.03, 0.025};
-    const unsigned rings = 24, segs = 48;
-    model_mesh_t m = {0};
-    m.vertex_count = 2 + (size_t)(rings - 1) * segs;
-    m.triangle_count = 2 * (size_t)segs * (rings - 1);
-    m.vertices_m = malloc(m.vertex_count * sizeof *m.vertices_m);
-    m.triangles = malloc(m.triangle_count * sizeof *m.triangles);
-    if (m.vertices_m == NULL || m.triangles == NULL) return 1;
-    m.vertices_m[0][0] = m.vertices_m[0][1] = m.vertices_m[1][0] = m.vertices_m[1][1] = 0.0;
-    m.vertices_m[0][2] = a[2];
-    m.vertices_m[1][2] = -a[2];
-    for (unsigned i = 1; i < rings; ++i) {
-      for (unsigned j = 0; j < segs; ++j) {
-        const double th = CL_PI * i / rings, ph = 2.0 * CL_PI * j / segs;
-        double *v = m.vertices_m[2 + (i - 1) * segs + j];
-        v[0] = a[0] * sin(th) * cos(ph);
-        v[1] = a[1] * sin(th) * sin(ph);
-        v[2] = a[2] * cos(th);
-      }
-    }
-    size_t t = 0;
-#define RING(i, j) ((uint32_t)(2 + ((i) - 1) * segs + ((j) % segs)))
-    for (unsigned j = 0; j < segs; ++j) {
-      const uint32_t t0[3] = {0, RING(1, j), RING(1, j + 1)};
-      const uint32_t t1[3] = {1, RING(rings - 1, j + 1), RING(rings - 1, j)};
-      memcpy(m.triangles[t++], t0, sizeof t0);
-      memcpy(m.triangles[t++], t1, sizeof t1);
-    }
-    for (unsigned i = 1; i + 1 < rings; ++i) {
-      for (unsigned j = 0; j < segs; ++j) {
-        const uint32_t t0[3] = {RING(i, j), RING(i + 1, j), RING(i + 1, j + 1)};
-        const uint32_t t1[3] = {RING(i, j), RING(i + 1, j + 1), RING(i, j + 1)};
-        memcpy(m.triangles[t++], t0, sizeof t0);
-        memcpy(m.triangles[t++], t1, sizeof t1);
-      }
-    }
-#undef RING
-    model_mass_t mass;
-    if (model_mesh_mass(&m, 1000.0, &mass) != MODEL_OK) return 1;
-    balance_world_t *w = NULL;
-    balance_object_t *o = NULL;
-    if (balance_world_create(&cfg, &w) != BALANCE_OK ||
-        balance_object_create(w, &m, &mass, &o) != BALANCE_OK)
-      return 1;
-    const double up[4] = {1, 0, 0, 0};
-    report("ellipsoid on its pole", &m, w, o, up, mass.com_m, mass.com_m, 0.008);
-    balance_world_destroy(w);
-    model_mesh_free(&m);
-  }
-  return 0;
+  for (int which = 1; which <= 3; ++which)
+    if (rock_rows(which, &cfg) != 0) return 1;
+  return ellipsoid_row(&cfg);
 }

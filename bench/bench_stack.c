@@ -229,13 +229,11 @@ typedef struct {
   char err_tail[256]; /* last line of stderr */
 } run_t;
 
-/* Run argv with stdout and stderr captured, at most timeout_s (then SIGKILL). */
-static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
-  memset(res, 0, sizeof *res);
-  res->status = -1;
-  res->out = malloc(MAX_OUT + 1);
-  if (res->out == NULL) return -1;
-  res->out[0] = '\0';
+enum { ERR_KEEP = 4096 }; /* bytes of stderr kept, for its last line */
+
+/* argv started with stdout and stderr into pipes, whose read ends are *fd_out and *fd_err.
+ * Returns the pid, or -1 (nothing left open). */
+static pid_t spawn(char *const argv[], int *fd_out, int *fd_err) {
   int po[2], pe[2];
   if (pipe(po) != 0) return -1;
   if (pipe(pe) != 0) {
@@ -243,9 +241,6 @@ static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
     close(po[1]);
     return -1;
   }
-  fflush(stdout);
-  fflush(stderr);
-  const double t0 = cli_time_now_s();
   const pid_t pid = fork();
   if (pid < 0) {
     close(po[0]);
@@ -267,10 +262,17 @@ static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
   }
   close(po[1]);
   close(pe[1]);
-  char err[4096];
-  size_t err_len = 0;
+  *fd_out = po[0];
+  *fd_err = pe[0];
+  return pid;
+}
+
+/* Stdout into res->out (MAX_OUT at most), stderr's last ERR_KEEP bytes or more into err, until
+ * both pipes close or timeout_s after t0 (then SIGKILL pid, res->timed_out). Closes both. */
+static void pump(pid_t pid, int fd_out, int fd_err, double t0, double timeout_s, run_t *res,
+                 char err[ERR_KEEP], size_t *err_len) {
   int open_fds = 2;
-  struct pollfd fds[2] = {{po[0], POLLIN, 0}, {pe[0], POLLIN, 0}};
+  struct pollfd fds[2] = {{fd_out, POLLIN, 0}, {fd_err, POLLIN, 0}};
   while (open_fds > 0) {
     const double left = timeout_s - (cli_time_now_s() - t0);
     if (left <= 0.0) {
@@ -296,11 +298,11 @@ static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
         res->out_len += take;
       } else {
         for (ssize_t k = 0; k < got; ++k) { /* keep the last 4 KiB */
-          if (err_len == sizeof err) {
-            memmove(err, err + sizeof err / 2, sizeof err / 2);
-            err_len = sizeof err / 2;
+          if (*err_len == ERR_KEEP) {
+            memmove(err, err + ERR_KEEP / 2, ERR_KEEP / 2);
+            *err_len = ERR_KEEP / 2;
           }
-          err[err_len++] = buf[k];
+          err[(*err_len)++] = buf[k];
         }
       }
     }
@@ -308,6 +310,34 @@ static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
   for (int i = 0; i < 2; ++i) {
     if (fds[i].fd >= 0) close(fds[i].fd);
   }
+}
+
+/* The last non-empty line of err[0 .. err_len) into tail. */
+static void last_line(const char *err, size_t err_len, char *tail, size_t size) {
+  while (err_len > 0 && (err[err_len - 1] == '\n' || err[err_len - 1] == '\r')) --err_len;
+  size_t start = err_len;
+  while (start > 0 && err[start - 1] != '\n') --start;
+  const size_t n = err_len - start < size - 1 ? err_len - start : size - 1;
+  memcpy(tail, err + start, n);
+  tail[n] = '\0';
+}
+
+/* Run argv with stdout and stderr captured, at most timeout_s (then SIGKILL). */
+static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
+  memset(res, 0, sizeof *res);
+  res->status = -1;
+  res->out = malloc(MAX_OUT + 1);
+  if (res->out == NULL) return -1;
+  res->out[0] = '\0';
+  fflush(stdout);
+  fflush(stderr);
+  const double t0 = cli_time_now_s();
+  int fd_out, fd_err;
+  const pid_t pid = spawn(argv, &fd_out, &fd_err);
+  if (pid < 0) return -1;
+  char err[ERR_KEEP];
+  size_t err_len = 0;
+  pump(pid, fd_out, fd_err, t0, timeout_s, res, err, &err_len);
   int ws_ = 0;
   while (waitpid(pid, &ws_, 0) < 0 && errno == EINTR) {
   }
@@ -316,14 +346,7 @@ static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
   if (!res->timed_out) {
     res->status = WIFEXITED(ws_) ? WEXITSTATUS(ws_) : 128 + (WIFSIGNALED(ws_) ? WTERMSIG(ws_) : 0);
   }
-  /* the last non-empty line of stderr */
-  while (err_len > 0 && (err[err_len - 1] == '\n' || err[err_len - 1] == '\r')) --err_len;
-  size_t start = err_len;
-  while (start > 0 && err[start - 1] != '\n') --start;
-  const size_t n = err_len - start < sizeof res->err_tail - 1 ? err_len - start
-                                                             : sizeof res->err_tail - 1;
-  memcpy(res->err_tail, err + start, n);
-  res->err_tail[n] = '\0';
+  last_line(err, err_len, res->err_tail, sizeof res->err_tail);
   return 0;
 }
 
@@ -442,8 +465,36 @@ static int parse_file(const char *path) {
   return 0;
 }
 
-int main(int argc, char **argv) {
-  cli_log_init("bench_stack");
+typedef struct {
+  size_t n;                     /* triples */
+  unsigned long long seed_base; /* triple i: seeds seed_base + 3i .. + 2 */
+  double timeout_s;
+  const char *comlearn, *rockgen, *svg_dir;
+  int json, keep, dry, verbose, use[SOURCES];
+} opts_t;
+
+/* --com LIST into use. Returns 0, or 2 (logged). */
+static int parse_sources(const char *arg, int use[SOURCES]) {
+  for (int i = 0; i < SOURCES; ++i) use[i] = 0;
+  char list[64];
+  snprintf(list, sizeof list, "%s", arg);
+  char *save = NULL;
+  for (char *t = strtok_r(list, ",", &save); t != NULL; t = strtok_r(NULL, ",", &save)) {
+    int found = 0;
+    for (int i = 0; i < SOURCES; ++i) {
+      if (strcmp(t, kSources[i]) == 0) use[i] = found = 1;
+    }
+    if (!found) {
+      LOG_E("--com: unknown source %s", t);
+      return 2;
+    }
+  }
+  return 0;
+}
+
+/* Options into o (defaults as usage() says). Returns -1 to go on, else the exit status (--help,
+ * --parse, usage errors). */
+static int parse_args(int argc, char **argv, opts_t *o) {
   static const struct option opts[] = {{"count", required_argument, NULL, 'n'},
                                        {"seed-base", required_argument, NULL, 'b'},
                                        {"com", required_argument, NULL, 'c'},
@@ -458,12 +509,11 @@ int main(int argc, char **argv) {
                                        {"verbose", no_argument, NULL, 'v'},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
+  *o = (opts_t){.n = 50, .seed_base = 1000, .timeout_s = 600.0, .comlearn = COMLEARN_BIN,
+                .rockgen = COMLEARN_ROCKGEN, .use = {1, 1, 1}};
   long n_triples = 50;
-  unsigned long long seed_base = 1000;
-  double timeout_s = 600.0;
-  const char *comlearn = COMLEARN_BIN, *rockgen = COMLEARN_ROCKGEN, *svg_dir = NULL;
-  int json = 0, keep = 0, dry = 0, verbose = 0, use[SOURCES] = {1, 1, 1}, c;
   char *end = NULL;
+  int c;
   while ((c = getopt_long(argc, argv, "n:vh", opts, NULL)) != -1) {
     switch (c) {
       case 'n':
@@ -475,44 +525,30 @@ int main(int argc, char **argv) {
         break;
       case 'b':
         errno = 0;
-        seed_base = strtoull(optarg, &end, 0);
+        o->seed_base = strtoull(optarg, &end, 0);
         if (errno != 0 || *end != '\0' || optarg[0] < '0' || optarg[0] > '9') {
           usage(stderr);
           return 2;
         }
         break;
-      case 'c': {
-        for (int i = 0; i < SOURCES; ++i) use[i] = 0;
-        char list[64];
-        snprintf(list, sizeof list, "%s", optarg);
-        char *save = NULL;
-        for (char *t = strtok_r(list, ",", &save); t != NULL; t = strtok_r(NULL, ",", &save)) {
-          int found = 0;
-          for (int i = 0; i < SOURCES; ++i) {
-            if (strcmp(t, kSources[i]) == 0) use[i] = found = 1;
-          }
-          if (!found) {
-            LOG_E("--com: unknown source %s", t);
-            return 2;
-          }
-        }
+      case 'c':
+        if (parse_sources(optarg, o->use) != 0) return 2;
         break;
-      }
-      case 'C': comlearn = optarg; break;
-      case 'R': rockgen = optarg; break;
+      case 'C': o->comlearn = optarg; break;
+      case 'R': o->rockgen = optarg; break;
       case 'T':
-        timeout_s = strtod(optarg, &end);
-        if (*end != '\0' || !(timeout_s > 0.0) || timeout_s > 86400.0) {
+        o->timeout_s = strtod(optarg, &end);
+        if (*end != '\0' || !(o->timeout_s > 0.0) || o->timeout_s > 86400.0) {
           usage(stderr);
           return 2;
         }
         break;
-      case 's': svg_dir = optarg; break;
-      case 'j': json = 1; break;
-      case 'k': keep = 1; break;
-      case 'd': dry = 1; break;
+      case 's': o->svg_dir = optarg; break;
+      case 'j': o->json = 1; break;
+      case 'k': o->keep = 1; break;
+      case 'd': o->dry = 1; break;
       case 'p': return parse_file(optarg);
-      case 'v': verbose = 1; break;
+      case 'v': o->verbose = 1; break;
       case 'h': usage(stdout); return 0;
       default: usage(stderr); return 2;
     }
@@ -521,222 +557,300 @@ int main(int argc, char **argv) {
     usage(stderr);
     return 2;
   }
-  const size_t n = (size_t)n_triples, rocks = 3 * n;
-  if (seed_base > UINT64_MAX - rocks) {
+  o->n = (size_t)n_triples;
+  if (o->seed_base > UINT64_MAX - 3 * o->n) {
     LOG_E("--seed-base too large");
     return 2;
   }
-  const int progress = !verbose && !dry && isatty(2);
+  return -1;
+}
 
+/* The bench's state over all calls. */
+typedef struct {
+  const opts_t *o;
+  size_t rocks;
+  int progress; /* progress line on stderr */
   char dir[4096];
-  if (dry) {
-    snprintf(dir, sizeof dir, "SCRATCH");
-  } else if (make_scratch(dir, sizeof dir) != 0) {
+  stats_t st[SOURCES];
+  char svg_saved[4096], svg_tmp[4096];
+  size_t ok_calls, calls;
+  double t_start;
+} bench_t;
+
+/* The scratch folder with the rocks (--dry-run: the command only). Returns 0 or 1 (logged). */
+static int rocks_generate(bench_t *b) {
+  const opts_t *o = b->o;
+  if (o->dry) {
+    snprintf(b->dir, sizeof b->dir, "SCRATCH");
+  } else if (make_scratch(b->dir, sizeof b->dir) != 0) {
     LOG_E("cannot create a scratch folder: %s", strerror(errno));
     return 1;
   }
   char seed_s[32], count_s[32];
-  snprintf(seed_s, sizeof seed_s, "%llu", seed_base);
-  snprintf(count_s, sizeof count_s, "%zu", rocks);
-  char *gen_argv[] = {(char *)rockgen, "--random", seed_s, "--count", count_s, "--out-dir", dir,
-                      NULL};
-  if (dry) {
+  snprintf(seed_s, sizeof seed_s, "%llu", o->seed_base);
+  snprintf(count_s, sizeof count_s, "%zu", b->rocks);
+  char *gen_argv[] = {(char *)o->rockgen, "--random", seed_s, "--count", count_s, "--out-dir",
+                      b->dir, NULL};
+  if (o->dry) {
     print_cmd(gen_argv);
-  } else {
-    run_t g;
-    if (run_cmd(gen_argv, 600.0, &g) != 0 || g.status != 0) {
-      LOG_E("%s failed (%d): %s", rockgen, g.status, g.err_tail);
-      free(g.out);
-      remove_scratch(dir, seed_base, rocks);
-      return 1;
-    }
-    free(g.out);
+    return 0;
   }
+  run_t g;
+  if (run_cmd(gen_argv, 600.0, &g) != 0 || g.status != 0) {
+    LOG_E("%s failed (%d): %s", o->rockgen, g.status, g.err_tail);
+    free(g.out);
+    remove_scratch(b->dir, o->seed_base, b->rocks);
+    return 1;
+  }
+  free(g.out);
+  return 0;
+}
 
-  stats_t st[SOURCES];
-  memset(st, 0, sizeof st);
+/* Per source room for n values of each statistic; the --svg-dir folder. Returns 0 or 1. */
+static int bench_alloc(bench_t *b) {
+  const size_t n = b->o->n;
   for (int s = 0; s < SOURCES; ++s) {
-    st[s].fallen_s = malloc(n * sizeof(double));
-    st[s].min_margin_m = malloc(n * sizeof(double));
-    st[s].wall_s = malloc(n * sizeof(double));
-    if (!st[s].fallen_s || !st[s].min_margin_m || !st[s].wall_s) {
+    b->st[s].fallen_s = malloc(n * sizeof(double));
+    b->st[s].min_margin_m = malloc(n * sizeof(double));
+    b->st[s].wall_s = malloc(n * sizeof(double));
+    if (!b->st[s].fallen_s || !b->st[s].min_margin_m || !b->st[s].wall_s) {
       LOG_E("out of memory");
       return 1;
     }
   }
-  char svg_saved[4096] = "", svg_tmp[4096] = "";
+  const char *svg_dir = b->o->svg_dir;
   if (svg_dir != NULL) {
-    if (!dry && mkdir(svg_dir, 0777) != 0 && errno != EEXIST) {
+    if (!b->o->dry && mkdir(svg_dir, 0777) != 0 && errno != EEXIST) {
       LOG_E("cannot create %s: %s", svg_dir, strerror(errno));
       return 1;
     }
-    snprintf(svg_tmp, sizeof svg_tmp, "%s/.bench_stack_candidate.svg", svg_dir);
+    snprintf(b->svg_tmp, sizeof b->svg_tmp, "%s/.bench_stack_candidate.svg", svg_dir);
   }
+  return 0;
+}
 
-  const double t_start = cli_time_now_s();
-  size_t ok_calls = 0, calls = 0;
-  for (size_t i = 0; i < n; ++i) {
+/* A call that did not give a readable reply: counted by exit, the first one kept. */
+static void record_failure(stats_t *S, size_t i, const run_t *r) {
+  ++S->failed;
+  S->exit_hist[r->timed_out || r->status == 0 ? 3 : (r->status == 1 ? 0 : (r->status == 2 ? 1 : 2))]++;
+  if (S->first_failure[0] != '\0') return;
+  char *ff = S->first_failure;
+  const size_t size = sizeof S->first_failure;
+  const int len = snprintf(ff, size, "triple %zu: %s%s%d: ", i, r->timed_out ? "timeout " : "",
+                           r->status == 0 ? "bad JSON, exit " : "exit ", r->status);
+  /* then as much of the stderr line as fits */
+  if (len > 0 && (size_t)len < size) {
+    const size_t tail = strlen(r->err_tail), room = size - 1 - (size_t)len;
+    const size_t take = tail < room ? tail : room;
+    memcpy(ff + len, r->err_tail, take);
+    ff[(size_t)len + take] = '\0';
+  }
+}
+
+/* A planned and simulated stack: stands or how long it stood, its smallest margin. */
+static void record_reply(stats_t *S, const reply_t *rep) {
+  ++S->simulated;
+  if (rep->stands) {
+    ++S->stands;
+  } else if (isfinite(rep->seconds_standing)) {
+    S->fallen_s[S->n_fallen++] = rep->seconds_standing;
+  }
+  double m = HUGE_VAL;
+  for (size_t l = 0; l < rep->levels; ++l) {
+    if (isfinite(rep->margin_m[l]) && rep->margin_m[l] < m) m = rep->margin_m[l];
+  }
+  if (rep->levels > 0 && isfinite(m)) S->min_margin_m[S->n_margin++] = m;
+}
+
+/* The side view of triple i: kept when the stack stands, else removed. */
+static void svg_keep(bench_t *b, size_t i, int stands) {
+  const unsigned long long s0 = b->o->seed_base + 3 * i;
+  if (stands) {
+    snprintf(b->svg_saved, sizeof b->svg_saved, "%s/stack_learned_r%llu_r%llu_r%llu.svg",
+             b->o->svg_dir, s0, s0 + 1, s0 + 2);
+    if (rename(b->svg_tmp, b->svg_saved) != 0) {
+      LOG_E("%s: %s", b->svg_saved, strerror(errno));
+      b->svg_saved[0] = '\0';
+    }
+  } else {
+    remove(b->svg_tmp);
+  }
+}
+
+/* One `comlearn stack` call on triple i with source s. Returns 0, or 1 when it could not run. */
+static int bench_call(bench_t *b, size_t i, int s, char urdf[3][4200]) {
+  const opts_t *o = b->o;
+  const int want_svg = s == 0 && o->svg_dir != NULL && b->svg_saved[0] == '\0';
+  char *cmd[16] = {(char *)o->comlearn, "stack", urdf[0], urdf[1], urdf[2], "--com",
+                   (char *)kSources[s], "--json", "-q"};
+  size_t argc_cmd = 9;
+  if (want_svg) {
+    cmd[argc_cmd++] = "--svg";
+    cmd[argc_cmd++] = b->svg_tmp;
+  }
+  cmd[argc_cmd] = NULL;
+  if (o->dry) {
+    print_cmd(cmd);
+    return 0;
+  }
+  stats_t *S = &b->st[s];
+  run_t r;
+  ++b->calls;
+  if (run_cmd(cmd, o->timeout_s, &r) != 0) {
+    LOG_E("cannot run %s: %s", o->comlearn, strerror(errno));
+    free(r.out);
+    return 1;
+  }
+  ++S->runs;
+  S->wall_s[S->runs - 1] = r.wall_s;
+  reply_t rep;
+  const int parsed = r.status == 0 && reply_parse(r.out, r.out_len, &rep) == 0;
+  if (parsed && strcmp(rep.com_source, kSources[s]) != 0) {
+    LOG_E("triple %zu: asked --com %s, reply says \"%s\"", i, kSources[s], rep.com_source);
+  }
+  if (!parsed) {
+    record_failure(S, i, &r);
+  } else {
+    ++b->ok_calls;
+    record_reply(S, &rep);
+    if (want_svg) svg_keep(b, i, rep.stands);
+  }
+  if (o->verbose) {
+    fprintf(stderr, "triple %zu %-7s exit %d %s %.2f s%s%s\n", i, kSources[s], r.status,
+            parsed ? (rep.stands ? "stands" : "falls") : "FAILED", r.wall_s,
+            parsed ? "" : ": ", parsed ? "" : r.err_tail);
+  } else if (b->progress) {
+    fprintf(stderr, "\rbench_stack: triple %zu/%zu, %.0f s", i + 1, o->n,
+            cli_time_now_s() - b->t_start);
+  }
+  free(r.out);
+  return 0;
+}
+
+/* Every triple with every source asked for. Returns 0, or 1 when a call could not run. */
+static int bench_run(bench_t *b) {
+  const opts_t *o = b->o;
+  for (size_t i = 0; i < o->n; ++i) {
     char urdf[3][4200];
     for (int k = 0; k < 3; ++k) {
-      snprintf(urdf[k], sizeof urdf[k], "%s/rock_r%llu_uneven.urdf", dir,
-               seed_base + 3 * i + (unsigned long long)k);
+      snprintf(urdf[k], sizeof urdf[k], "%s/rock_r%llu_uneven.urdf", b->dir,
+               o->seed_base + 3 * i + (unsigned long long)k);
     }
     for (int s = 0; s < SOURCES; ++s) {
-      if (!use[s]) continue;
-      const int want_svg = s == 0 && svg_dir != NULL && svg_saved[0] == '\0';
-      char *cmd[16] = {(char *)comlearn, "stack", urdf[0], urdf[1], urdf[2], "--com",
-                       (char *)kSources[s], "--json", "-q"};
-      size_t argc_cmd = 9;
-      if (want_svg) {
-        cmd[argc_cmd++] = "--svg";
-        cmd[argc_cmd++] = svg_tmp;
-      }
-      cmd[argc_cmd] = NULL;
-      if (dry) {
-        print_cmd(cmd);
-        continue;
-      }
-      stats_t *S = &st[s];
-      run_t r;
-      ++calls;
-      if (run_cmd(cmd, timeout_s, &r) != 0) {
-        LOG_E("cannot run %s: %s", comlearn, strerror(errno));
-        free(r.out);
-        return 1;
-      }
-      ++S->runs;
-      S->wall_s[S->runs - 1] = r.wall_s;
-      reply_t rep;
-      const int parsed = r.status == 0 && reply_parse(r.out, r.out_len, &rep) == 0;
-      if (parsed && strcmp(rep.com_source, kSources[s]) != 0) {
-        LOG_E("triple %zu: asked --com %s, reply says \"%s\"", i, kSources[s], rep.com_source);
-      }
-      if (!parsed) {
-        ++S->failed;
-        S->exit_hist[r.timed_out || r.status == 0 ? 3 : (r.status == 1 ? 0 : (r.status == 2 ? 1 : 2))]++;
-        if (S->first_failure[0] == '\0') {
-          snprintf(S->first_failure, sizeof S->first_failure, "triple %zu: %s%s%d: %s", i,
-                   r.timed_out ? "timeout " : "", r.status == 0 ? "bad JSON, exit " : "exit ",
-                   r.status, r.err_tail);
-        }
-      } else {
-        ++ok_calls;
-        ++S->simulated;
-        if (rep.stands) {
-          ++S->stands;
-        } else if (isfinite(rep.seconds_standing)) {
-          S->fallen_s[S->n_fallen++] = rep.seconds_standing;
-        }
-        double m = HUGE_VAL;
-        for (size_t l = 0; l < rep.levels; ++l) {
-          if (isfinite(rep.margin_m[l]) && rep.margin_m[l] < m) m = rep.margin_m[l];
-        }
-        if (rep.levels > 0 && isfinite(m)) S->min_margin_m[S->n_margin++] = m;
-        if (want_svg) {
-          if (rep.stands) {
-            snprintf(svg_saved, sizeof svg_saved, "%s/stack_learned_r%llu_r%llu_r%llu.svg",
-                     svg_dir, seed_base + 3 * i, seed_base + 3 * i + 1, seed_base + 3 * i + 2);
-            if (rename(svg_tmp, svg_saved) != 0) {
-              LOG_E("%s: %s", svg_saved, strerror(errno));
-              svg_saved[0] = '\0';
-            }
-          } else {
-            remove(svg_tmp);
-          }
-        }
-      }
-      if (verbose) {
-        fprintf(stderr, "triple %zu %-7s exit %d %s %.2f s%s%s\n", i, kSources[s], r.status,
-                parsed ? (rep.stands ? "stands" : "falls") : "FAILED", r.wall_s,
-                parsed ? "" : ": ", parsed ? "" : r.err_tail);
-      } else if (progress) {
-        fprintf(stderr, "\rbench_stack: triple %zu/%zu, %.0f s", i + 1, n,
-                cli_time_now_s() - t_start);
-      }
-      free(r.out);
+      if (o->use[s] && bench_call(b, i, s, urdf) != 0) return 1;
     }
   }
-  if (progress) fprintf(stderr, "\n");
-  if (svg_dir != NULL && !dry) remove(svg_tmp);
-  if (!keep && !dry) remove_scratch(dir, seed_base, rocks);
-  if (dry) return 0;
+  return 0;
+}
 
-  if (json) {
-    printf("{\"n\": %zu, \"seed_base\": %llu, \"comlearn\": \"%s\", \"sources\": [", n, seed_base,
-           comlearn);
+/* One source's entry of the JSON "sources" array. */
+static void json_source(const stats_t *S, int s, int first, double rate, double lo, double hi,
+                        double mf, double mm, double mw) {
+  printf("%s\n  {\"com\": \"%s\", \"runs\": %zu, \"simulated\": %zu, \"stands\": %zu, "
+         "\"rate\": ",
+         first ? "" : ",", kSources[s], S->runs, S->simulated, S->stands);
+  cli_json_number(stdout, rate);
+  printf(", \"wilson95\": [%.4f, %.4f], \"failed\": %zu, \"failed_exit\": {\"1\": %zu, "
+         "\"2\": %zu, \"other\": %zu, \"timeout_or_bad_json\": %zu}, "
+         "\"median_seconds_standing_fallen\": ",
+         lo, hi, S->failed, S->exit_hist[0], S->exit_hist[1], S->exit_hist[2], S->exit_hist[3]);
+  cli_json_number(stdout, mf);
+  printf(", \"median_min_margin_m\": ");
+  cli_json_number(stdout, mm);
+  printf(", \"median_wall_s\": ");
+  cli_json_number(stdout, mw);
+  printf("}");
+}
+
+/* One source's row of the markdown table. */
+static void table_source(const stats_t *S, int s, double rate, double lo, double hi, double mf,
+                         double mm, double mw) {
+  printf("| %s | %zu/%zu | %.2f [%.2f, %.2f] | %zu (%zu / %zu / %zu / %zu) | ", kSources[s],
+         S->stands, S->runs, rate, lo, hi, S->failed, S->exit_hist[0], S->exit_hist[1],
+         S->exit_hist[2], S->exit_hist[3]);
+  if (S->n_fallen) {
+    printf("%.2f s (%zu fell) | ", mf, S->n_fallen);
+  } else {
+    printf("- (none fell) | ");
+  }
+  if (S->n_margin) {
+    printf("%.2f mm | ", 1e3 * mm);
+  } else {
+    printf("- | ");
+  }
+  printf("%.2f |\n", mw);
+}
+
+/* The report on stdout: a markdown table, or with --json one JSON object. */
+static void report(bench_t *b) {
+  const opts_t *o = b->o;
+  if (o->json) {
+    printf("{\"n\": %zu, \"seed_base\": %llu, \"comlearn\": \"%s\", \"sources\": [", o->n,
+           o->seed_base, o->comlearn);
   } else {
     printf("`comlearn stack` on %zu random triples of uneven rocks (seeds %llu..%llu, triple i: "
            "rock_r<%llu+3i..+2>).\n\n",
-           n, seed_base, seed_base + rocks - 1, seed_base);
+           o->n, o->seed_base, o->seed_base + b->rocks - 1, o->seed_base);
     printf("| --com | stands | rate [Wilson 95 %%] | failed runs (exit 1 / 2 / other / timeout or "
            "bad JSON) | median s standing, fallen | median smallest planned margin | median wall "
            "s / call |\n|---|---|---|---|---|---|---|\n");
   }
   int first = 1;
   for (int s = 0; s < SOURCES; ++s) {
-    if (!use[s]) continue;
-    stats_t *S = &st[s];
+    if (!o->use[s]) continue;
+    stats_t *S = &b->st[s];
     double lo, hi;
     wilson(S->stands, S->runs, &lo, &hi);
     const double rate = S->runs ? (double)S->stands / (double)S->runs : NAN;
     const double mf = median(S->fallen_s, S->n_fallen), mm = median(S->min_margin_m, S->n_margin);
     const double mw = median(S->wall_s, S->runs);
-    if (json) {
-      printf("%s\n  {\"com\": \"%s\", \"runs\": %zu, \"simulated\": %zu, \"stands\": %zu, "
-             "\"rate\": ",
-             first ? "" : ",", kSources[s], S->runs, S->simulated, S->stands);
-      cli_json_number(stdout, rate);
-      printf(", \"wilson95\": [%.4f, %.4f], \"failed\": %zu, \"failed_exit\": {\"1\": %zu, "
-             "\"2\": %zu, \"other\": %zu, \"timeout_or_bad_json\": %zu}, "
-             "\"median_seconds_standing_fallen\": ",
-             lo, hi, S->failed, S->exit_hist[0], S->exit_hist[1], S->exit_hist[2],
-             S->exit_hist[3]);
-      cli_json_number(stdout, mf);
-      printf(", \"median_min_margin_m\": ");
-      cli_json_number(stdout, mm);
-      printf(", \"median_wall_s\": ");
-      cli_json_number(stdout, mw);
-      printf("}");
-    } else {
-      printf("| %s | %zu/%zu | %.2f [%.2f, %.2f] | %zu (%zu / %zu / %zu / %zu) | ", kSources[s],
-             S->stands, S->runs, rate, lo, hi, S->failed, S->exit_hist[0], S->exit_hist[1],
-             S->exit_hist[2], S->exit_hist[3]);
-      if (S->n_fallen) {
-        printf("%.2f s (%zu fell) | ", mf, S->n_fallen);
-      } else {
-        printf("- (none fell) | ");
-      }
-      if (S->n_margin) {
-        printf("%.2f mm | ", 1e3 * mm);
-      } else {
-        printf("- | ");
-      }
-      printf("%.2f |\n", mw);
-    }
+    if (o->json) json_source(S, s, first, rate, lo, hi, mf, mm, mw);
+    else table_source(S, s, rate, lo, hi, mf, mm, mw);
     first = 0;
   }
-  if (json) {
+  if (o->json) {
     printf("\n], \"svg\": ");
-    if (svg_saved[0] != '\0') {
-      printf("\"%s\"", svg_saved);
+    if (b->svg_saved[0] != '\0') {
+      printf("\"%s\"", b->svg_saved);
     } else {
       printf("null");
     }
-    printf(", \"wall_s\": %.1f}\n", cli_time_now_s() - t_start);
+    printf(", \"wall_s\": %.1f}\n", cli_time_now_s() - b->t_start);
   } else {
-    printf("\nWall time %.0f s for %zu calls.", cli_time_now_s() - t_start, calls);
-    if (svg_saved[0] != '\0') printf(" Side view: %s.", svg_saved);
+    printf("\nWall time %.0f s for %zu calls.", cli_time_now_s() - b->t_start, b->calls);
+    if (b->svg_saved[0] != '\0') printf(" Side view: %s.", b->svg_saved);
     printf("\n");
     for (int s = 0; s < SOURCES; ++s) {
-      if (use[s] && st[s].first_failure[0] != '\0') {
-        printf("First failure with --com %s: %s\n", kSources[s], st[s].first_failure);
+      if (o->use[s] && b->st[s].first_failure[0] != '\0') {
+        printf("First failure with --com %s: %s\n", kSources[s], b->st[s].first_failure);
       }
     }
   }
+}
+
+int main(int argc, char **argv) {
+  cli_log_init("bench_stack");
+  opts_t o;
+  const int prc = parse_args(argc, argv, &o);
+  if (prc >= 0) return prc;
+  static bench_t b;
+  b.o = &o;
+  b.rocks = 3 * o.n;
+  b.progress = !o.verbose && !o.dry && isatty(2);
+  if (rocks_generate(&b) != 0 || bench_alloc(&b) != 0) return 1;
+
+  b.t_start = cli_time_now_s();
+  if (bench_run(&b) != 0) return 1;
+  if (b.progress) fprintf(stderr, "\n");
+  if (o.svg_dir != NULL && !o.dry) remove(b.svg_tmp);
+  if (!o.keep && !o.dry) remove_scratch(b.dir, o.seed_base, b.rocks);
+  if (o.dry) return 0;
+
+  report(&b);
   for (int s = 0; s < SOURCES; ++s) {
-    free(st[s].fallen_s);
-    free(st[s].min_margin_m);
-    free(st[s].wall_s);
+    free(b.st[s].fallen_s);
+    free(b.st[s].min_margin_m);
+    free(b.st[s].wall_s);
   }
-  return ok_calls > 0 ? 0 : 1;
+  return b.ok_calls > 0 ? 0 : 1;
 }

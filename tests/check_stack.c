@@ -359,6 +359,32 @@ START_TEST(cli_random_triple_twist_regression) {
 }
 END_TEST
 
+/* Regression: with --max-tilt-deg below 4 the slope search (which stops at 4 degrees) never
+ * called the planner and reported the unwritten plan's msg: exit 1, "error" empty or heap
+ * garbage. The first slope is always tried: the bundled uneven rocks plan on contacts up to 2
+ * degrees. */
+START_TEST(cli_low_max_tilt_plans) {
+  char cmd[2048];
+  static char out[65536];
+  snprintf(cmd, sizeof cmd,
+           "'%s' stack -q --json --com true --no-rehearse --max-tilt-deg 2 --duration-s 1 "
+           "'%s/rocks/rock_1_uneven.urdf' '%s/rocks/rock_2_uneven.urdf' "
+           "'%s/rocks/rock_3_uneven.urdf'",
+           COMLEARN_BIN, COMLEARN_ASSETS_DIR, COMLEARN_ASSETS_DIR, COMLEARN_ASSETS_DIR);
+  ck_assert_msg(run(cmd, out, sizeof out) == 0, "%s", out);
+  ck_assert_msg(strstr(out, "\"planned\": false") == NULL, "%s", out);
+  ck_assert_double_eq_tol(json_num(out, "max_tilt_deg"), 2.0, 1e-9);
+  ck_assert(json_num(out, "rehearsals") == 0.0);
+  ck_assert_int_eq(count_str(out, "\"urdf\": "), 3);
+  int tilts = 0;
+  for (const char *q = strstr(out, "\"tilt_rad\": "); q; q = strstr(q + 1, "\"tilt_rad\": ")) {
+    ck_assert_msg(atof(q + 12) >= 0.0 && atof(q + 12) <= 2.0 * CL_PI / 180.0 + 1e-9, "%s", q);
+    ++tilts;
+  }
+  ck_assert_int_gt(tilts, 0);
+}
+END_TEST
+
 START_TEST(cli_rocks_true_and_learned_stand) {
   char cmd[2048];
   static char out[65536];
@@ -460,6 +486,7 @@ int main(void) {
   tcase_add_test(cli, cli_boxes_table_and_bbox);
   tcase_add_test(cli, cli_rocks_true_and_learned_stand);
   tcase_add_test(cli, cli_random_triple_twist_regression);
+  tcase_add_test(cli, cli_low_max_tilt_plans);
   tcase_add_test(cli, rehearse_exact_beliefs_is_the_truth);
   suite_add_tcase(s, cli);
   SRunner *r = srunner_create(s);

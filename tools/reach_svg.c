@@ -333,9 +333,8 @@ static int write_svg(const char *path, const placement_plan_config_t *cfg, const
   return 0;
 }
 
-int main(int argc, char **argv) {
-  cli_log_init("comlearn-reach-svg");
-  options_t o = {COMLEARN_ASSETS_DIR "/yumi/yumi.urdf", NULL, NAN, NAN, NAN, NAN, 0};
+/* Options into o (defaults as usage() says). Returns -1 to go on, else the exit status. */
+static int parse_args(int argc, char **argv, options_t *o) {
   static const struct option longopts[] = {
       {"urdf", required_argument, NULL, 'u'},    {"out", required_argument, NULL, 'o'},
       {"block-x", required_argument, NULL, 'x'}, {"block-y", required_argument, NULL, 'y'},
@@ -345,23 +344,23 @@ int main(int argc, char **argv) {
   int c;
   while ((c = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
     switch (c) {
-      case 'u': o.urdf = optarg; break;
-      case 'o': o.out = optarg; break;
+      case 'u': o->urdf = optarg; break;
+      case 'o': o->out = optarg; break;
       case 'x':
       case 'y':
       case 'z':
       case 's': {
-        double *dst = c == 'x'   ? &o.block_x_m
-                      : c == 'y' ? &o.block_y_m
-                      : c == 'z' ? &o.block_z_m
-                                 : &o.max_step_rad;
+        double *dst = c == 'x'   ? &o->block_x_m
+                      : c == 'y' ? &o->block_y_m
+                      : c == 'z' ? &o->block_z_m
+                                 : &o->max_step_rad;
         if (parse_double(optarg, dst) != 0) {
           LOG_E("bad number '%s'", optarg);
           return 2;
         }
         break;
       }
-      case 'q': o.quiet = 1; break;
+      case 'q': o->quiet = 1; break;
       case 'h': usage(stdout); return 0;
       default: usage(stderr); return 2;
     }
@@ -370,6 +369,50 @@ int main(int argc, char **argv) {
     usage(stderr);
     return 2;
   }
+  return -1;
+}
+
+/* The summary on stdout: plans completed per arm and edge, failures by status, the cost. */
+static void print_summary(const placement_plan_config_t *cfg, const reach_t *reach,
+                          double wall_s) {
+  printf("B top centre (%.3f, %.3f, %.3f) m in yumi_body; %d positions x %d yaws per edge\n",
+         cfg->block_in_base.pos_m[0], cfg->block_in_base.pos_m[1], cfg->block_in_base.pos_m[2],
+         ALONG_N, YAW_N);
+  for (int a = 0; a < ARMS; ++a) {
+    printf("%-9s", kArmName[a]);
+    for (int e = 0; e < EDGES; ++e) {
+      printf("  %s %3d/%d", kEdgeName[e], reach->counts[a][e], ALONG_N * YAW_N);
+    }
+    printf("\n          failures:");
+    for (int k = 1; k < 16; ++k) {
+      if (reach->by_status[a][k]) {
+        printf(" %s %d;", placement_status_str((placement_status_t)-k), reach->by_status[a][k]);
+      }
+    }
+    printf("\n");
+  }
+  printf("%d plans in %.2f s: %.0f us per plan (IK included)\n", ARMS * EDGES * ALONG_N * YAW_N,
+         wall_s, 1e6 * wall_s / (ARMS * EDGES * ALONG_N * YAW_N));
+}
+
+/* The sweep of B's x on stdout. */
+static void print_sweep(const sweep_t *sw) {
+  printf("sweep of B's centre x (share of plans completed, left / right arm):\n");
+  for (int k = 0; k < SWEEP_N; ++k) {
+    printf("  x %.3f", sw->x_m[k]);
+    for (int e = 0; e < EDGES; ++e) {
+      printf("  %s %3.0f%% / %3.0f%%", kEdgeName[e], 100.0 * sw->share[k][0][e],
+             100.0 * sw->share[k][1][e]);
+    }
+    printf("\n");
+  }
+}
+
+int main(int argc, char **argv) {
+  cli_log_init("comlearn-reach-svg");
+  options_t o = {COMLEARN_ASSETS_DIR "/yumi/yumi.urdf", NULL, NAN, NAN, NAN, NAN, 0};
+  const int prc = parse_args(argc, argv, &o);
+  if (prc >= 0) return prc;
   placement_plan_config_t cfg;
   placement_plan_config_default(&cfg);
   if (isfinite(o.block_x_m)) cfg.block_in_base.pos_m[0] = o.block_x_m;
@@ -386,37 +429,11 @@ int main(int argc, char **argv) {
   static reach_t reach;
   const double t0 = cli_time_now_s();
   if (compute(arms, &cfg, 1, 1, o.quiet, &reach) != 0) return 1;
-  const double wall_s = cli_time_now_s() - t0;
-  printf("B top centre (%.3f, %.3f, %.3f) m in yumi_body; %d positions x %d yaws per edge\n",
-         cfg.block_in_base.pos_m[0], cfg.block_in_base.pos_m[1], cfg.block_in_base.pos_m[2],
-         ALONG_N, YAW_N);
-  for (int a = 0; a < ARMS; ++a) {
-    printf("%-9s", kArmName[a]);
-    for (int e = 0; e < EDGES; ++e) {
-      printf("  %s %3d/%d", kEdgeName[e], reach.counts[a][e], ALONG_N * YAW_N);
-    }
-    printf("\n          failures:");
-    for (int k = 1; k < 16; ++k) {
-      if (reach.by_status[a][k]) {
-        printf(" %s %d;", placement_status_str((placement_status_t)-k), reach.by_status[a][k]);
-      }
-    }
-    printf("\n");
-  }
-  printf("%d plans in %.2f s: %.0f us per plan (IK included)\n", ARMS * EDGES * ALONG_N * YAW_N,
-         wall_s, 1e6 * wall_s / (ARMS * EDGES * ALONG_N * YAW_N));
+  print_summary(&cfg, &reach, cli_time_now_s() - t0);
   if (!o.out) return 0;
   static sweep_t sw;
   if (sweep(arms, &cfg, o.quiet, &sw) != 0) return 1;
-  printf("sweep of B's centre x (share of plans completed, left / right arm):\n");
-  for (int k = 0; k < SWEEP_N; ++k) {
-    printf("  x %.3f", sw.x_m[k]);
-    for (int e = 0; e < EDGES; ++e) {
-      printf("  %s %3.0f%% / %3.0f%%", kEdgeName[e], 100.0 * sw.share[k][0][e],
-             100.0 * sw.share[k][1][e]);
-    }
-    printf("\n");
-  }
+  print_sweep(&sw);
   if (write_svg(o.out, &cfg, &reach, &sw) != 0) return 1;
   return 0;
 }

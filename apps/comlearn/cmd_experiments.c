@@ -33,8 +33,9 @@
 
 enum { EXIT_USAGE = 2, MAX_POLICIES = 4, MAX_SEEDS = 1000 };
 
-/* The paper's result as DESIGN.md states it (McGovern, Mao & Xiao, IROS 2019, Table I: three
- * even rocks, Gazebo + ODE + YuMi). Only the summary is given there: no per-cell numbers. */
+/* The paper's result as docs/design.md states it in "What is being reproduced" (McGovern, Mao &
+ * Xiao, IROS 2019, Table I: three even rocks, Gazebo + ODE + YuMi). Only the summary is given
+ * there: no per-cell numbers. */
 #define PAPER_ROCKS 3
 #define PAPER_COMPONENTS 9
 #define PAPER_NA 2
@@ -227,28 +228,29 @@ static void stem_of(const char *path, char *out, size_t size) {
 
 /* ---- one run -------------------------------------------------------------------------------- */
 
-/* Run one estimate. Returns 0 (the run is recorded, even when the estimator gave up: status),
- * 1 runtime failure of the machinery (backend could not open, out of memory), 2 bad input. */
-static int run_one(const exp_opts_t *o, const exp_rock_t *rock, const model_object_t *obj,
-                   recorder_t *rec, estimate_result_t *res, exp_run_t *run) {
-  estimate_config_t cfg;
-  estimate_config_default(&cfg);
-  cfg.policy = run->policy;
-  cfg.resolution_m = o->resolution_m;
-  cfg.start = run->kind == RUN_PRIOR ? ESTIMATE_START_UNIFORM : ESTIMATE_START_BBOX;
+/* The estimator's configuration of one run; records what it runs with in run. */
+static void run_config(const exp_opts_t *o, exp_run_t *run, estimate_config_t *cfg) {
+  estimate_config_default(cfg);
+  cfg->policy = run->policy;
+  cfg->resolution_m = o->resolution_m;
+  cfg->start = run->kind == RUN_PRIOR ? ESTIMATE_START_UNIFORM : ESTIMATE_START_BBOX;
   if (run->noisy) {
-    cfg.seed = run->seed;
+    cfg->seed = run->seed;
     /* outcomes are probit in the placement error along the edge normal (docs/estimate.md): every
      * policy gets the noise model, so every interval is a 95 % interval */
-    cfg.noise_sigma_m = o->placement_noise_m;
+    cfg->noise_sigma_m = o->placement_noise_m;
   }
-  run->resolution_m = run->noisy ? fmax(cfg.resolution_m, cfg.noise_sigma_m) : cfg.resolution_m;
-  run->noise_sigma_m = cfg.noise_sigma_m;
+  run->resolution_m = run->noisy ? fmax(cfg->resolution_m, cfg->noise_sigma_m) : cfg->resolution_m;
+  run->noise_sigma_m = cfg->noise_sigma_m;
+}
 
+/* The backend of one run: LCM to a running comlearn-sim (noiseless, with --lcm-url), else
+ * in-process with the run's noise. *sim or *lcmb is the one opened. Returns 0, or (logged, both
+ * closed) 1 when it could not open, 2 bad input. */
+static int run_backend_open(const exp_opts_t *o, const exp_rock_t *rock, const model_object_t *obj,
+                            const exp_run_t *run, estimate_direct_t **sim, estimate_lcm_t **lcmb,
+                            estimate_backend_t *inner) {
   char err[512] = "";
-  estimate_direct_t *sim = NULL;
-  estimate_lcm_t *lcmb = NULL;
-  estimate_backend_t inner;
   int rc;
   if (!run->noisy && o->lcm_url) {
     estimate_lcm_config_t lc;
@@ -259,37 +261,27 @@ static int run_one(const exp_opts_t *o, const exp_rock_t *rock, const model_obje
     lc.yumi_urdf = COMLEARN_YUMI_URDF;
     lc.policy = estimate_policy_name(run->policy);
     lc.log = lcm_log;
-    rc = estimate_lcm_open(&lc, &lcmb, &inner, err, sizeof err);
+    rc = estimate_lcm_open(&lc, lcmb, inner, err, sizeof err);
   } else {
-    rc = estimate_direct_open(rock->path, NULL, NULL, &sim, &inner, err, sizeof err);
+    rc = estimate_direct_open(rock->path, NULL, NULL, sim, inner, err, sizeof err);
     if (rc == 0 && run->noisy &&
-        estimate_direct_set_noise(sim, run->seed, o->placement_noise_m, o->pose_noise_m) != 0) {
+        estimate_direct_set_noise(*sim, run->seed, o->placement_noise_m, o->pose_noise_m) != 0) {
       snprintf(err, sizeof err, "noise out of range");
       rc = 2;
     }
   }
   if (rc != 0) {
     LOG_E("%s: %s", rock->path, err);
-    estimate_direct_close(sim);
-    estimate_lcm_close(lcmb);
-    return rc;
+    estimate_direct_close(*sim);
+    estimate_lcm_close(*lcmb);
+    *sim = NULL;
+    *lcmb = NULL;
   }
-  run->backend = inner.name;
-  rec->inner = &inner;
-  rec->n = 0;
-  estimate_backend_t deco = inner;
-  deco.ctx = rec;
-  deco.run = recorder_run;
+  return rc;
+}
 
-  double t0 = cli_time_now_s();
-  run->status = estimate_run(&obj->mesh, &deco, &cfg, res);
-  run->wall_s = cli_time_now_s() - t0;
-  if (lcmb && run->status == ESTIMATE_OK &&
-      estimate_lcm_publish_estimate(lcmb, res, cfg.resolution_m, 1) != 0)
-    LOG_W("publishing COM_ESTIMATE failed");
-  estimate_direct_close(sim);
-  estimate_lcm_close(lcmb);
-
+/* The estimator's result and the recorded trials into run. Returns 0, or 1 out of memory. */
+static int run_record(const estimate_result_t *res, const recorder_t *rec, exp_run_t *run) {
   snprintf(run->note, sizeof run->note, "%s", res->msg);
   run->trials = res->trial_count;
   run->stable_trials = res->stable_trials;
@@ -309,6 +301,37 @@ static int run_one(const exp_opts_t *o, const exp_rock_t *rock, const model_obje
     return 1;
   }
   memcpy(run->steps, rec->step, rec->n * sizeof *run->steps);
+  return 0;
+}
+
+/* Run one estimate. Returns 0 (the run is recorded, even when the estimator gave up: status),
+ * 1 runtime failure of the machinery (backend could not open, out of memory), 2 bad input. */
+static int run_one(const exp_opts_t *o, const exp_rock_t *rock, const model_object_t *obj,
+                   recorder_t *rec, estimate_result_t *res, exp_run_t *run) {
+  estimate_config_t cfg;
+  run_config(o, run, &cfg);
+  estimate_direct_t *sim = NULL;
+  estimate_lcm_t *lcmb = NULL;
+  estimate_backend_t inner;
+  const int rc = run_backend_open(o, rock, obj, run, &sim, &lcmb, &inner);
+  if (rc != 0) return rc;
+  run->backend = inner.name;
+  rec->inner = &inner;
+  rec->n = 0;
+  estimate_backend_t deco = inner;
+  deco.ctx = rec;
+  deco.run = recorder_run;
+
+  double t0 = cli_time_now_s();
+  run->status = estimate_run(&obj->mesh, &deco, &cfg, res);
+  run->wall_s = cli_time_now_s() - t0;
+  if (lcmb && run->status == ESTIMATE_OK &&
+      estimate_lcm_publish_estimate(lcmb, res, cfg.resolution_m, 1) != 0)
+    LOG_W("publishing COM_ESTIMATE failed");
+  estimate_direct_close(sim);
+  estimate_lcm_close(lcmb);
+
+  if (run_record(res, rec, run) != 0) return 1;
   if (run->status == ESTIMATE_E_BACKEND || run->status == ESTIMATE_E_NOMEM) {
     LOG_E("%s: %s: %s", rock->path, estimate_status_str(run->status), res->msg);
     return 1;
@@ -389,14 +412,34 @@ static void md_mm(FILE *f, double v_m, int digits) {
   else fprintf(f, " N/A |");
 }
 
-static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
-                        const exp_run_t *runs, size_t nruns, double *scratch, double wall_s) {
-  const char *backend = o->lcm_url ? "LCM (YuMi placement, comlearn-sim)" : "direct (in-process)";
-  fprintf(f, "# comlearn experiments\n\n");
-  fprintf(f, "%zu objects, policies:", nrocks);
-  for (int p = 0; p < o->npolicies; ++p) fprintf(f, "%s %s", p ? "," : "", estimate_policy_name(o->policy[p]));
-  fprintf(f, "; resolution %.3g mm; %.1f s wall.\n\n", 1e3 * o->resolution_m, wall_s);
+/* The Table I run of object ri with policy, or NULL. */
+static const exp_run_t *table_run_of(const exp_run_t *runs, size_t nruns, size_t ri,
+                                     qlearn_policy_kind_t policy) {
+  for (size_t i = 0; i < nruns; ++i)
+    if (runs[i].rock == ri && runs[i].policy == policy && runs[i].kind == RUN_TABLE)
+      return &runs[i];
+  return NULL;
+}
 
+/* One cell pair of Table I: row k of a run (k < 3: CoM component and |error|; 3: trials). */
+static void table_cell(FILE *f, const exp_rock_t *rk, const exp_run_t *r, int k) {
+  if (!r) {
+    fprintf(f, " | |");
+  } else if (k == 3) {
+    fprintf(f, " %zu (", r->trials);
+    for (size_t i = 0; i < r->nsearch; ++i) fprintf(f, "%s%u", i ? "+" : "", r->search_trials[i]);
+    fprintf(f, " + %zu) | %s |", r->stable_trials,
+            r->status == ESTIMATE_OK ? "" : estimate_status_str(r->status));
+  } else {
+    md_mm(f, r->found[k] ? r->com_m[k] - rk->bbox_center_m[k] : NAN, 2);
+    md_mm(f, r->found[k] ? fabs(r->error_m[k]) : NAN, 3);
+  }
+}
+
+/* Table I: per object the true CoM and, per policy, the learned one, its |error| and trials. */
+static void table_noiseless(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
+                            const exp_run_t *runs, size_t nruns) {
+  const char *backend = o->lcm_url ? "LCM (YuMi placement, comlearn-sim)" : "direct (in-process)";
   fprintf(f, "## Table I: noiseless, %s\n\n", backend);
   fprintf(f, "Every policy starts where the paper starts: at the bounding-box center (state 0). "
              "CoM in mm relative to the bounding-box center (the paper's reference); learned value, "
@@ -418,28 +461,16 @@ static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, s
       } else {
         fprintf(f, "| %s | trials | |", rk->stem);
       }
-      for (int p = 0; p < o->npolicies; ++p) {
-        const exp_run_t *r = NULL;
-        for (size_t i = 0; i < nruns && !r; ++i)
-          if (runs[i].rock == ri && runs[i].policy == o->policy[p] && runs[i].kind == RUN_TABLE)
-            r = &runs[i];
-        if (!r) {
-          fprintf(f, " | |");
-        } else if (k == 3) {
-          fprintf(f, " %zu (", r->trials);
-          for (size_t i = 0; i < r->nsearch; ++i)
-            fprintf(f, "%s%u", i ? "+" : "", r->search_trials[i]);
-          fprintf(f, " + %zu) | %s |", r->stable_trials,
-                  r->status == ESTIMATE_OK ? "" : estimate_status_str(r->status));
-        } else {
-          md_mm(f, r->found[k] ? r->com_m[k] - rk->bbox_center_m[k] : NAN, 2);
-          md_mm(f, r->found[k] ? fabs(r->error_m[k]) : NAN, 3);
-        }
-      }
+      for (int p = 0; p < o->npolicies; ++p)
+        table_cell(f, rk, table_run_of(runs, nruns, ri, o->policy[p]), k);
       fprintf(f, "\n");
     }
   }
+}
 
+/* The noiseless summary: per start, density class and policy; the paper's row last. */
+static void table_summary(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks,
+                          const exp_run_t *runs, size_t nruns, double *scratch) {
   fprintf(f, "\n### Summary, noiseless\n\n");
   fprintf(f, "| policy | start | objects | mean \\|err\\| (mm) | max \\|err\\| (mm) | found | "
              "coverage | trials per object (mean) | wall per object (s) |\n"
@@ -464,14 +495,17 @@ static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, s
              "not given |\n",
           PAPER_ROCKS, PAPER_ERR_MEAN_MM, PAPER_ERR_MAX_MM, PAPER_ERR_MIN_MM,
           PAPER_COMPONENTS - PAPER_NA, PAPER_COMPONENTS, PAPER_NA);
-  fprintf(f, "\nThe paper's numbers are its summary as DESIGN.md states it (per-cell values are not "
-             "given there). `uniform-density`: objects whose true CoM is within 1 um of the "
+  fprintf(f, "\nThe paper's numbers are its summary as docs/design.md states it (\"What is being "
+             "reproduced\"; per-cell values are not given there). `uniform-density`: objects whose true CoM is within 1 um of the "
              "mesh's uniform-density CoM, like the paper's even rocks. `mesh prior`: the same "
              "runs started at the mesh's uniform-density CoM, which is the truth for an even "
              "object (so a walk from there needs few trials): information the paper does not "
              "use. Coverage: found components whose |error| is within the reported bound.\n");
+}
 
-  if (o->seeds <= 0) return;
+/* The noisy runs (o->seeds > 0): per policy over objects x seeds, and the targets. */
+static void table_noisy(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks,
+                        const exp_run_t *runs, size_t nruns, double *scratch) {
   fprintf(f, "\n## With noise: placement %.3g mm, pose %.3g mm (std. dev.), seeds 1..%d, in-process\n\n",
           1e3 * o->placement_noise_m, 1e3 * o->pose_noise_m, o->seeds);
   fprintf(f, "Over objects x seeds per policy. |err| statistics over the found components; "
@@ -498,8 +532,20 @@ static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, s
             mean_of(st.trials_sum, st.runs), sd_of(st.trials_sum, st.trials_sq, st.runs),
             st.failed);
   }
-  fprintf(f, "\nTargets (DESIGN.md): 95 %% of errors <= 1 mm; the reported 95 %% intervals contain "
-             "the truth >= 95 %% of the time.\n");
+  fprintf(f, "\nTargets (docs/design.md, \"Targets and where they stand\"): 95 %% of errors "
+             "<= 1 mm; the reported 95 %% intervals contain the truth >= 90 %% of the time "
+             "(second wave: >= 95 %%).\n");
+}
+
+static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
+                        const exp_run_t *runs, size_t nruns, double *scratch, double wall_s) {
+  fprintf(f, "# comlearn experiments\n\n");
+  fprintf(f, "%zu objects, policies:", nrocks);
+  for (int p = 0; p < o->npolicies; ++p) fprintf(f, "%s %s", p ? "," : "", estimate_policy_name(o->policy[p]));
+  fprintf(f, "; resolution %.3g mm; %.1f s wall.\n\n", 1e3 * o->resolution_m, wall_s);
+  table_noiseless(f, o, rocks, nrocks, runs, nruns);
+  table_summary(f, o, rocks, runs, nruns, scratch);
+  if (o->seeds > 0) table_noisy(f, o, rocks, runs, nruns, scratch);
 }
 
 /* ---- JSON --------------------------------------------------------------------------------------- */
@@ -533,8 +579,8 @@ static void js_stats(FILE *f, const exp_stats_t *st) {
   fputc('}', f);
 }
 
-static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
-                       const exp_run_t *runs, size_t nruns, double *scratch, double wall_s) {
+/* "settings", "wall_s" and "paper", from the opening brace. */
+static void json_head(FILE *f, const exp_opts_t *o, double wall_s) {
   fprintf(f, "{\"settings\": {\"policies\": [");
   for (int p = 0; p < o->npolicies; ++p) {
     if (p) fputs(", ", f);
@@ -553,9 +599,14 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
   else fputs("null", f);
   fprintf(f, "}, \"wall_s\": %.3f, \"paper\": {\"rocks\": %d, \"components\": %d, \"not_found\": %d, "
              "\"min_abs_error_m\": %.4g, \"max_abs_error_m\": %.4g, \"mean_abs_error_m\": %.4g, "
-             "\"source\": \"McGovern, Mao & Xiao, IROS 2019, Table I (summary in DESIGN.md)\"}",
+             "\"source\": \"McGovern, Mao & Xiao, IROS 2019, Table I (summary in docs/design.md, "
+             "What is being reproduced)\"}",
           wall_s, PAPER_ROCKS, PAPER_COMPONENTS, PAPER_NA, 1e-3 * PAPER_ERR_MIN_MM,
           1e-3 * PAPER_ERR_MAX_MM, 1e-3 * PAPER_ERR_MEAN_MM);
+}
+
+/* ", \"objects\": [...]". */
+static void json_objects(FILE *f, const exp_rock_t *rocks, size_t nrocks) {
   fputs(", \"objects\": [", f);
   for (size_t i = 0; i < nrocks; ++i) {
     const exp_rock_t *r = &rocks[i];
@@ -572,7 +623,13 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
     js_vec(f, "truth_m", r->have_truth ? r->truth_m : none);
     fprintf(f, ", \"uniform_density\": %s}", r->uniform_density ? "true" : "false");
   }
-  fputs("], \"summary\": [", f);
+  fputc(']', f);
+}
+
+/* ", \"summary\": [...]": the stats of every kind and policy that ran. */
+static void json_summary(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks,
+                         const exp_run_t *runs, size_t nruns, double *scratch) {
+  fputs(", \"summary\": [", f);
   int first = 1;
   for (int kind = RUN_TABLE; kind <= RUN_NOISY; ++kind)
     for (int p = 0; p < o->npolicies; ++p) {
@@ -586,74 +643,95 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
       fputc('}', f);
       first = 0;
     }
-  fputs("], \"runs\": [", f);
+  fputc(']', f);
+}
+
+static const char *outcome_name(int oc) {
+  return oc == BALANCE_STAYS ? "stays" : oc == BALANCE_TIPS ? "tips"
+                                       : oc == BALANCE_SLIDES ? "slides"
+                                       : oc == BALANCE_INVALID ? "invalid" : "failed";
+}
+
+/* The run's "trace" object: one entry per recorded trial in each array. */
+static void json_trace(FILE *f, const exp_run_t *r) {
+  fputs("{\"kind\": [", f);
+  for (size_t t = 0; t < r->nsteps; ++t)
+    fprintf(f, "%s%s", t ? ", " : "",
+            r->steps[t].kind == ESTIMATE_TRIAL_STABLE ? "\"stable\"" : "\"edge\"");
+  fputs("], \"component\": [", f);
+  for (size_t t = 0; t < r->nsteps; ++t) fprintf(f, "%s%d", t ? ", " : "", r->steps[t].component);
+  fputs("], \"outcome\": [", f);
+  for (size_t t = 0; t < r->nsteps; ++t)
+    fprintf(f, "%s\"%s\"", t ? ", " : "", outcome_name(r->steps[t].outcome));
+  fputs("], \"com_before_m\": [", f);
+  for (size_t t = 0; t < r->nsteps; ++t) {
+    if (t) fputs(", ", f);
+    cli_json_array(f, r->steps[t].com_before_m, 3);
+  }
+  fputs("], \"target_link_m\": [", f);
+  for (size_t t = 0; t < r->nsteps; ++t) {
+    if (t) fputs(", ", f);
+    cli_json_array(f, r->steps[t].target_link_m, 3);
+  }
+  fputs("], \"halfwidth_before_m\": [", f);
+  for (size_t t = 0; t < r->nsteps; ++t) {
+    if (t) fputs(", ", f);
+    cli_json_array(f, r->steps[t].halfwidth_before_m, 3);
+  }
+  fputs("]}", f);
+}
+
+/* One run's object, its trace included. */
+static void json_run(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, const exp_run_t *r) {
+  fputs("{\"object\": ", f);
+  cli_json_string(f, rocks[r->rock].stem, 0);
+  fprintf(f, ", \"policy\": \"%s\", \"noisy\": %s, \"start\": \"%s\", \"seed\": ",
+          estimate_policy_name(r->policy), r->noisy ? "true" : "false",
+          r->kind == RUN_PRIOR ? "uniform" : "bbox");
+  if (r->noisy) fprintf(f, "%llu", (unsigned long long)r->seed);
+  else fputs("null", f);
+  fputs(", \"placement_noise_m\": ", f);
+  cli_json_number(f, r->noisy ? o->placement_noise_m : 0.0);
+  fputs(", \"pose_noise_m\": ", f);
+  cli_json_number(f, r->noisy ? o->pose_noise_m : 0.0);
+  fputs(", \"backend\": ", f);
+  cli_json_string(f, r->backend, 0);
+  fputs(", \"resolution_m\": ", f);
+  cli_json_number(f, r->resolution_m);
+  fputs(", \"noise_sigma_m\": ", f);
+  cli_json_number(f, r->noise_sigma_m);
+  fputs(", \"status\": ", f);
+  cli_json_string(f, estimate_status_str(r->status), 0);
+  fputs(", \"note\": ", f);
+  cli_json_string(f, r->note, 0);
+  fprintf(f, ", \"trials\": %zu, \"stable_trials\": %zu, \"flagged_trials\": %zu, "
+             "\"search_trials\": [",
+          r->trials, r->stable_trials, r->flagged_trials);
+  for (size_t t = 0; t < r->nsearch; ++t) fprintf(f, "%s%u", t ? ", " : "", r->search_trials[t]);
+  fputs("], ", f);
+  js_vec(f, "com_m", r->com_m);
+  fputs(", ", f);
+  js_vec(f, "halfwidth_m", r->halfwidth_m);
+  fprintf(f, ", \"found\": [%s, %s, %s], ", r->found[0] ? "true" : "false",
+          r->found[1] ? "true" : "false", r->found[2] ? "true" : "false");
+  const double none[3] = {NAN, NAN, NAN};
+  js_vec(f, "truth_m", rocks[r->rock].have_truth ? rocks[r->rock].truth_m : none);
+  fputs(", ", f);
+  js_vec(f, "error_m", r->error_m);
+  fprintf(f, ", \"wall_s\": %.6f, \"trace\": ", r->wall_s);
+  json_trace(f, r);
+  fputc('}', f);
+}
+
+static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
+                       const exp_run_t *runs, size_t nruns, double *scratch, double wall_s) {
+  json_head(f, o, wall_s);
+  json_objects(f, rocks, nrocks);
+  json_summary(f, o, rocks, runs, nruns, scratch);
+  fputs(", \"runs\": [", f);
   for (size_t i = 0; i < nruns; ++i) {
-    const exp_run_t *r = &runs[i];
-    fprintf(f, "%s\n{\"object\": ", i ? "," : "");
-    cli_json_string(f, rocks[r->rock].stem, 0);
-    fprintf(f, ", \"policy\": \"%s\", \"noisy\": %s, \"start\": \"%s\", \"seed\": ",
-            estimate_policy_name(r->policy), r->noisy ? "true" : "false",
-            r->kind == RUN_PRIOR ? "uniform" : "bbox");
-    if (r->noisy) fprintf(f, "%llu", (unsigned long long)r->seed);
-    else fputs("null", f);
-    fputs(", \"placement_noise_m\": ", f);
-    cli_json_number(f, r->noisy ? o->placement_noise_m : 0.0);
-    fputs(", \"pose_noise_m\": ", f);
-    cli_json_number(f, r->noisy ? o->pose_noise_m : 0.0);
-    fputs(", \"backend\": ", f);
-    cli_json_string(f, r->backend, 0);
-    fputs(", \"resolution_m\": ", f);
-    cli_json_number(f, r->resolution_m);
-    fputs(", \"noise_sigma_m\": ", f);
-    cli_json_number(f, r->noise_sigma_m);
-    fputs(", \"status\": ", f);
-    cli_json_string(f, estimate_status_str(r->status), 0);
-    fputs(", \"note\": ", f);
-    cli_json_string(f, r->note, 0);
-    fprintf(f, ", \"trials\": %zu, \"stable_trials\": %zu, \"flagged_trials\": %zu, "
-               "\"search_trials\": [",
-            r->trials, r->stable_trials, r->flagged_trials);
-    for (size_t t = 0; t < r->nsearch; ++t) fprintf(f, "%s%u", t ? ", " : "", r->search_trials[t]);
-    fputs("], ", f);
-    js_vec(f, "com_m", r->com_m);
-    fputs(", ", f);
-    js_vec(f, "halfwidth_m", r->halfwidth_m);
-    fprintf(f, ", \"found\": [%s, %s, %s], ", r->found[0] ? "true" : "false",
-            r->found[1] ? "true" : "false", r->found[2] ? "true" : "false");
-    const double none[3] = {NAN, NAN, NAN};
-    js_vec(f, "truth_m", rocks[r->rock].have_truth ? rocks[r->rock].truth_m : none);
-    fputs(", ", f);
-    js_vec(f, "error_m", r->error_m);
-    fprintf(f, ", \"wall_s\": %.6f, \"trace\": {\"kind\": [", r->wall_s);
-    for (size_t t = 0; t < r->nsteps; ++t)
-      fprintf(f, "%s%s", t ? ", " : "",
-              r->steps[t].kind == ESTIMATE_TRIAL_STABLE ? "\"stable\"" : "\"edge\"");
-    fputs("], \"component\": [", f);
-    for (size_t t = 0; t < r->nsteps; ++t) fprintf(f, "%s%d", t ? ", " : "", r->steps[t].component);
-    fputs("], \"outcome\": [", f);
-    for (size_t t = 0; t < r->nsteps; ++t) {
-      int oc = r->steps[t].outcome;
-      fprintf(f, "%s\"%s\"", t ? ", " : "",
-              oc == BALANCE_STAYS ? "stays" : oc == BALANCE_TIPS ? "tips"
-                                            : oc == BALANCE_SLIDES ? "slides"
-                                            : oc == BALANCE_INVALID ? "invalid" : "failed");
-    }
-    fputs("], \"com_before_m\": [", f);
-    for (size_t t = 0; t < r->nsteps; ++t) {
-      if (t) fputs(", ", f);
-      cli_json_array(f, r->steps[t].com_before_m, 3);
-    }
-    fputs("], \"target_link_m\": [", f);
-    for (size_t t = 0; t < r->nsteps; ++t) {
-      if (t) fputs(", ", f);
-      cli_json_array(f, r->steps[t].target_link_m, 3);
-    }
-    fputs("], \"halfwidth_before_m\": [", f);
-    for (size_t t = 0; t < r->nsteps; ++t) {
-      if (t) fputs(", ", f);
-      cli_json_array(f, r->steps[t].halfwidth_before_m, 3);
-    }
-    fputs("]}}", f);
+    fputs(i ? ",\n" : "\n", f);
+    json_run(f, o, rocks, &runs[i]);
   }
   fputs("\n]}\n", f);
 }
@@ -668,10 +746,7 @@ static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *r
   size_t ns = 0;
   int rc = 0;
   for (int p = 0; p < o->npolicies && rc == 0; ++p) {
-    const exp_run_t *r = NULL;
-    for (size_t i = 0; i < nruns && !r; ++i)
-      if (runs[i].rock == ri && runs[i].policy == o->policy[p] && runs[i].kind == RUN_TABLE)
-            r = &runs[i];
+    const exp_run_t *r = table_run_of(runs, nruns, ri, o->policy[p]);
     if (!r) continue;
     size_t n = r->nsteps + 1;
     for (int k = 0; k < 3; ++k) {

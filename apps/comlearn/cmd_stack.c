@@ -474,11 +474,11 @@ static int plan_at_slope(const stack_object_t *in, size_t n, const stack_args_t 
 }
 
 /* Plan on contacts at most a->tilt_deg steep; rehearse the plan in simulation on the beliefs; if
- * it falls there, plan again 4 degrees flatter. When there is no plan at a->tilt_deg at all, try
- * steeper contacts instead (4 degrees at a time, up to 12 more). The first plan found is kept in
- * case none stands in rehearsal. *st: the kept plan's status (on failure plan holds the first
- * attempt, for its msg); *plan_s: planning wall time without the rehearsals. Returns an exit
- * status (EXIT_FAILURE: out of memory). */
+ * it falls there, plan again 4 degrees flatter (the first slope may be below 4 degrees, no retry
+ * is). When there is no plan at a->tilt_deg at all, try steeper contacts instead (4 degrees at a
+ * time, up to 12 more). The first plan found is kept in case none stands in rehearsal. *st: the
+ * kept plan's status (on failure plan holds the first attempt, for its msg); *plan_s: planning
+ * wall time without the rehearsals. Returns an exit status (EXIT_FAILURE: out of memory). */
 static int plan_rehearsed(const stack_object_t *in, size_t n, const stack_args_t *a,
                           stack_plan_t *plan, rehearsal_t *reh, stack_status_t *st,
                           double *plan_s) {
@@ -496,7 +496,8 @@ static int plan_rehearsed(const stack_object_t *in, size_t n, const stack_args_t
   }
   const double t0 = cli_time_now_s();
   const double steepest = fmin(45.0, a->tilt_deg + 12.0);
-  for (double tilt = a->tilt_deg; rc == 0 && tilt >= 4.0 - 1e-9 && tilt <= steepest + 1e-9;
+  const double flattest = fmin(4.0, a->tilt_deg); /* the first slope is always tried */
+  for (double tilt = a->tilt_deg; rc == 0 && tilt >= flattest - 1e-9 && tilt <= steepest + 1e-9;
        tilt += ss.step_deg)
     if (plan_at_slope(in, n, a, tilt, &pc, &rsc, &ss, plan, reh)) break;
   *plan_s = cli_time_now_s() - t0 - reh->seconds;
@@ -512,12 +513,13 @@ static int plan_rehearsed(const stack_object_t *in, size_t n, const stack_args_t
 /* No plan: say why (and with --json, a JSON object saying so). Returns the exit status. */
 static int report_no_plan(const stack_args_t *a, stack_status_t st, const stack_plan_t *plan,
                           double learn_s, double plan_s) {
-  LOG_E("plan: %s: %s", stack_status_str(st), plan->msg);
+  const char *why = plan->msg[0] ? plan->msg : stack_status_str(st);
+  LOG_E("plan: %s: %s", stack_status_str(st), why);
   if (a->json) {
     printf("{\"stands\": false, \"planned\": false, \"seconds_standing\": 0, \"com_source\": "
            "\"%s\", \"error\": ",
            stack_com_source_str(a->src));
-    cli_json_string(stdout, plan->msg, 0);
+    cli_json_string(stdout, why, 0);
     printf(", \"learn_seconds\": %.6f, \"plan_seconds\": %.6f}\n", learn_s, plan_s);
   }
   return st == STACK_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
@@ -587,7 +589,7 @@ int cmd_stack(int argc, char **argv) {
   stack_plan_t *plan = NULL;
   stack_sim_result_t *sim = NULL;
   if (rc == 0) {
-    plan = malloc(sizeof *plan);
+    plan = calloc(1, sizeof *plan); /* zeroed: an empty msg unless the planner says why */
     sim = malloc(sizeof *sim);
     if (!plan || !sim) {
       LOG_E("out of memory");

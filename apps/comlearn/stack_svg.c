@@ -110,85 +110,113 @@ static void cross_marker(FILE *f, double x, double y, const char *label) {
           y - 6.0, label);
 }
 
-/* Everything after the checks; returns 0 or -1 (errno set by the failing call or ENOMEM). */
-static int render(FILE *f, const model_mesh_t *const *meshes, const model_pose_t *poses,
-                  const double (*com_link_m)[3], size_t count, const char *title,
-                  double (*rot)[3][3]) {
+/* The objects in the world: vertices, the visible faces far to near, bounds, shades used. */
+typedef struct {
+  double (*world)[3]; /* every object's vertices in the world, object i from first[i] */
+  face_t *faces;      /* the visible faces, nf of them */
+  size_t *first;
+  size_t nf;
+  double lo[2], hi[2]; /* x, z; the z range includes B's top */
+  unsigned char used[PALETTE][SHADE_LEVELS];
+} scene_t;
+
+static void scene_free(scene_t *s) {
+  free(s->world);
+  free(s->faces);
+  free(s->first);
+}
+
+/* Triangle t of object i as a face when it faces the viewer (at -y), shaded; 0 when culled. */
+static int face_of(const double *a, const double *b, const double *c, size_t i, size_t t,
+                   face_t *out) {
+  static const double kLight[3] = {-0.45341, -0.65493, 0.60455}; /* unit, toward the light */
+  double e1[3], e2[3], n[3];
+  for (int k = 0; k < 3; ++k) {
+    e1[k] = b[k] - a[k];
+    e2[k] = c[k] - a[k];
+  }
+  n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(n[1] < 0.0) || !(len > 0.0)) return 0; /* facing away (the viewer is at -y) */
+  double lambert = (n[0] * kLight[0] + n[1] * kLight[1] + n[2] * kLight[2]) / len;
+  if (lambert < 0.0) lambert = 0.0;
+  out->depth_m = (a[1] + b[1] + c[1]) / 3.0;
+  out->object = (uint32_t)i;
+  out->level = (uint32_t)(lambert * (SHADE_LEVELS - 1) + 0.5);
+  out->triangle = t;
+  return 1;
+}
+
+/* World vertices, visible faces (sorted far to near), bounds. Returns 0 or -1 (ENOMEM; s is
+ * freed). */
+static int scene_build(const model_mesh_t *const *meshes, const model_pose_t *poses, size_t count,
+                       double (*rot)[3][3], scene_t *s) {
   size_t total_v = 0, total_t = 0;
   for (size_t i = 0; i < count; ++i) {
     total_v += meshes[i]->vertex_count;
     total_t += meshes[i]->triangle_count;
   }
-  double(*world)[3] = malloc((total_v ? total_v : 1) * sizeof *world);
-  face_t *faces = malloc((total_t ? total_t : 1) * sizeof *faces);
-  size_t *first = malloc(count * sizeof *first);
-  if (world == NULL || faces == NULL || first == NULL) {
-    free(world);
-    free(faces);
-    free(first);
+  s->world = malloc((total_v ? total_v : 1) * sizeof *s->world);
+  s->faces = malloc((total_t ? total_t : 1) * sizeof *s->faces);
+  s->first = malloc(count * sizeof *s->first);
+  if (s->world == NULL || s->faces == NULL || s->first == NULL) {
+    scene_free(s);
     errno = ENOMEM;
     return -1;
   }
-
-  /* World vertices, visible faces, bounds. */
-  double lo[2] = {HUGE_VAL, 0.0}, hi[2] = {-HUGE_VAL, 0.0}; /* x, z; z range includes B's top */
-  size_t nf = 0, base = 0;
-  static const double kLight[3] = {-0.45341, -0.65493, 0.60455}; /* unit, toward the light */
-  unsigned char used[PALETTE][SHADE_LEVELS];
-  memset(used, 0, sizeof used);
+  s->lo[0] = HUGE_VAL;
+  s->hi[0] = -HUGE_VAL;
+  s->lo[1] = s->hi[1] = 0.0;
+  s->nf = 0;
+  memset(s->used, 0, sizeof s->used);
+  size_t base = 0;
   for (size_t i = 0; i < count; ++i) {
     const model_mesh_t *m = meshes[i];
-    first[i] = base;
+    s->first[i] = base;
     for (size_t v = 0; v < m->vertex_count; ++v) {
-      double *w = world[base + v];
+      double *w = s->world[base + v];
       to_world((const double(*)[3])rot[i], poses[i].position_m, m->vertices_m[v], w);
-      if (w[0] < lo[0]) lo[0] = w[0];
-      if (w[0] > hi[0]) hi[0] = w[0];
-      if (w[2] < lo[1]) lo[1] = w[2];
-      if (w[2] > hi[1]) hi[1] = w[2];
+      if (w[0] < s->lo[0]) s->lo[0] = w[0];
+      if (w[0] > s->hi[0]) s->hi[0] = w[0];
+      if (w[2] < s->lo[1]) s->lo[1] = w[2];
+      if (w[2] > s->hi[1]) s->hi[1] = w[2];
     }
     for (size_t t = 0; t < m->triangle_count; ++t) {
-      const double *a = world[base + m->triangles[t][0]], *b = world[base + m->triangles[t][1]],
-                   *c = world[base + m->triangles[t][2]];
-      double e1[3], e2[3], n[3];
-      for (int k = 0; k < 3; ++k) {
-        e1[k] = b[k] - a[k];
-        e2[k] = c[k] - a[k];
-      }
-      n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-      n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-      n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-      const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-      if (!(n[1] < 0.0) || !(len > 0.0)) continue; /* facing away (the viewer is at -y) */
-      double lambert = (n[0] * kLight[0] + n[1] * kLight[1] + n[2] * kLight[2]) / len;
-      if (lambert < 0.0) lambert = 0.0;
-      const uint32_t level = (uint32_t)(lambert * (SHADE_LEVELS - 1) + 0.5);
-      faces[nf].depth_m = (a[1] + b[1] + c[1]) / 3.0;
-      faces[nf].object = (uint32_t)i;
-      faces[nf].level = level;
-      faces[nf].triangle = t;
-      used[i % PALETTE][level] = 1;
-      ++nf;
+      const uint32_t *tri = m->triangles[t];
+      face_t *fc = &s->faces[s->nf];
+      if (!face_of(s->world[base + tri[0]], s->world[base + tri[1]], s->world[base + tri[2]], i,
+                   t, fc))
+        continue;
+      s->used[i % PALETTE][fc->level] = 1;
+      ++s->nf;
     }
     base += m->vertex_count;
   }
-  qsort(faces, nf, sizeof *faces, cmp_face);
+  qsort(s->faces, s->nf, sizeof *s->faces, cmp_face);
+  return 0;
+}
 
-  /* Frame: fit the objects (and B's top) into the width; z = 0 at a fixed distance above the
-   * bottom band. */
-  double span_x = hi[0] - lo[0], span_z = hi[1] - lo[1];
+/* Frame: fit the objects (and B's top) into the width; z = 0 at a fixed distance above the
+ * bottom band. *height_px: the picture's height. */
+static void frame_fit(const scene_t *s, frame_t *fr, double *height_px) {
+  double span_x = s->hi[0] - s->lo[0], span_z = s->hi[1] - s->lo[1];
   if (!(span_x >= kMinSpanX_m)) span_x = kMinSpanX_m;
   if (!(span_z > 0.01)) span_z = 0.01;
-  frame_t fr;
-  fr.scale_px_m = (kWidth_px - 2.0 * kMargin_px) / span_x;
-  if (fr.scale_px_m * span_z > kMaxDrawH_px) fr.scale_px_m = kMaxDrawH_px / span_z;
-  fr.x0_m = 0.5 * (lo[0] + hi[0]);
-  fr.z0_m = lo[1];
-  fr.ox_px = 0.5 * kWidth_px;
-  const double draw_h = fr.scale_px_m * (hi[1] - lo[1]);
-  fr.oy_px = kTitle_px + kMargin_px * 0.5 + draw_h;
-  const double height = fr.oy_px + kBelow_px + 20.0;
+  fr->scale_px_m = (kWidth_px - 2.0 * kMargin_px) / span_x;
+  if (fr->scale_px_m * span_z > kMaxDrawH_px) fr->scale_px_m = kMaxDrawH_px / span_z;
+  fr->x0_m = 0.5 * (s->lo[0] + s->hi[0]);
+  fr->z0_m = s->lo[1];
+  fr->ox_px = 0.5 * kWidth_px;
+  const double draw_h = fr->scale_px_m * (s->hi[1] - s->lo[1]);
+  fr->oy_px = kTitle_px + kMargin_px * 0.5 + draw_h;
+  *height_px = fr->oy_px + kBelow_px + 20.0;
+}
 
+/* The XML and svg headers, one CSS class per (tint, shade) used, background and title. */
+static void svg_head(FILE *f, double height, const unsigned char used[PALETTE][SHADE_LEVELS],
+                     const char *title) {
   fprintf(f, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
   fprintf(f,
           "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
@@ -216,30 +244,71 @@ static int render(FILE *f, const model_mesh_t *const *meshes, const model_pose_t
     xml_text(f, title);
     fprintf(f, "</text>\n");
   }
-  /* B's top: a wide box below z = 0 (B is 300 mm across; the view shows its middle). */
-  const double top_px = px_y(&fr, 0.0);
+}
+
+/* B's top: a wide box below z = 0 (B is 300 mm across; the view shows its middle). */
+static void svg_support(FILE *f, double top_px) {
   fprintf(f,
           "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"#c29a6b\" "
           "stroke=\"#6b4f2e\" stroke-width=\"1\"/>\n",
           8.0, top_px, kWidth_px - 16.0, 30.0);
   fprintf(f, "<text x=\"14\" y=\"%.1f\" font-size=\"11\" fill=\"#3b2a16\">B (top at z = 0)</text>\n",
           top_px + 19.0);
+}
 
+/* The visible faces, far to near. */
+static void svg_faces(FILE *f, const model_mesh_t *const *meshes, const scene_t *s,
+                      const frame_t *fr) {
   fprintf(f, "<g stroke-width=\"0.5\" stroke-linejoin=\"round\">\n");
-  for (size_t i = 0; i < nf; ++i) {
-    const face_t *fc = &faces[i];
+  for (size_t i = 0; i < s->nf; ++i) {
+    const face_t *fc = &s->faces[i];
     const model_mesh_t *m = meshes[fc->object];
     const uint32_t *tri = m->triangles[fc->triangle];
     fprintf(f, "<polygon class=\"o%us%u\" points=\"", (unsigned)(fc->object % PALETTE),
             (unsigned)fc->level);
     for (int j = 0; j < 3; ++j) {
-      const double *w = world[first[fc->object] + tri[j]];
-      fprintf(f, "%s%.1f,%.1f", j ? " " : "", px_x(&fr, w[0]), px_y(&fr, w[2]));
+      const double *w = s->world[s->first[fc->object] + tri[j]];
+      fprintf(f, "%s%.1f,%.1f", j ? " " : "", px_x(fr, w[0]), px_y(fr, w[2]));
     }
     fprintf(f, "\"/>\n");
   }
   fprintf(f, "</g>\n");
+}
 
+/* The scale bar, 10, 20 or 50 mm, whichever is 60-200 px long (or the nearest), and with CoMs
+ * the legend of their crosses. */
+static void svg_scale_bar(FILE *f, const frame_t *fr, double top_px, int with_coms) {
+  double bar_mm = 10.0;
+  if (fr->scale_px_m * 0.010 < 60.0) bar_mm = 20.0;
+  if (fr->scale_px_m * 0.020 < 60.0) bar_mm = 50.0;
+  const double bar_px = fr->scale_px_m * bar_mm * 1e-3;
+  const double by = top_px + 52.0, bx = kWidth_px - kMargin_px - bar_px;
+  fprintf(f,
+          "<path d=\"M%.1f %.1fV%.1fH%.1fV%.1f\" stroke=\"#111\" stroke-width=\"2\" "
+          "fill=\"none\"/>\n",
+          bx, by - 5.0, by, bx + bar_px, by - 5.0);
+  fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\" text-anchor=\"middle\">%.0f mm</text>\n",
+          bx + 0.5 * bar_px, by + 15.0, bar_mm);
+  if (with_coms) {
+    cross_marker(f, kMargin_px, by - 2.0, "");
+    fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\">believed CoM of object i (input "
+               "index)</text>\n", kMargin_px + 14.0, by + 2.0);
+  }
+}
+
+/* Everything after the checks; returns 0 or -1 (errno set by the failing call or ENOMEM). */
+static int render(FILE *f, const model_mesh_t *const *meshes, const model_pose_t *poses,
+                  const double (*com_link_m)[3], size_t count, const char *title,
+                  double (*rot)[3][3]) {
+  scene_t s;
+  if (scene_build(meshes, poses, count, rot, &s) != 0) return -1;
+  frame_t fr;
+  double height;
+  frame_fit(&s, &fr, &height);
+  svg_head(f, height, (const unsigned char(*)[SHADE_LEVELS])s.used, title);
+  const double top_px = px_y(&fr, 0.0);
+  svg_support(f, top_px);
+  svg_faces(f, meshes, &s, &fr);
   if (com_link_m != NULL) {
     for (size_t i = 0; i < count; ++i) {
       double w[3];
@@ -249,28 +318,9 @@ static int render(FILE *f, const model_mesh_t *const *meshes, const model_pose_t
       cross_marker(f, px_x(&fr, w[0]), px_y(&fr, w[2]), label);
     }
   }
-
-  /* Scale bar: 10, 20 or 50 mm, whichever is 60-200 px long (or the nearest). */
-  double bar_mm = 10.0;
-  if (fr.scale_px_m * 0.010 < 60.0) bar_mm = 20.0;
-  if (fr.scale_px_m * 0.020 < 60.0) bar_mm = 50.0;
-  const double bar_px = fr.scale_px_m * bar_mm * 1e-3;
-  const double by = top_px + 52.0, bx = kWidth_px - kMargin_px - bar_px;
-  fprintf(f,
-          "<path d=\"M%.1f %.1fV%.1fH%.1fV%.1f\" stroke=\"#111\" stroke-width=\"2\" "
-          "fill=\"none\"/>\n",
-          bx, by - 5.0, by, bx + bar_px, by - 5.0);
-  fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\" text-anchor=\"middle\">%.0f mm</text>\n",
-          bx + 0.5 * bar_px, by + 15.0, bar_mm);
-  if (com_link_m != NULL) {
-    cross_marker(f, kMargin_px, by - 2.0, "");
-    fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\">believed CoM of object i (input "
-               "index)</text>\n", kMargin_px + 14.0, by + 2.0);
-  }
+  svg_scale_bar(f, &fr, top_px, com_link_m != NULL);
   fprintf(f, "</svg>\n");
-  free(world);
-  free(faces);
-  free(first);
+  scene_free(&s);
   return 0;
 }
 
