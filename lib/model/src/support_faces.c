@@ -14,10 +14,69 @@ typedef struct {
   size_t index;
 } facet_t;
 
+/* Largest first; ties by normal, then by index: a total order, so the faces do not depend on
+ * qsort. */
 static int cmp_facet(const void *pa, const void *pb) {
   const facet_t *a = pa, *b = pb;
   if (a->area != b->area) return a->area > b->area ? -1 : 1;
+  for (int k = 0; k < 3; ++k)
+    if (a->n[k] != b->n[k]) return a->n[k] < b->n[k] ? -1 : 1;
   return a->index < b->index ? -1 : (a->index > b->index);
+}
+
+model_status_t model_hull_faces(const model_mesh_t *hull, double merge_cos, double plane_tol_m,
+                                model_hull_face_t *faces, int *facet_face, size_t *count) {
+  if (hull == NULL || faces == NULL || facet_face == NULL || count == NULL ||
+      hull->vertices_m == NULL || hull->triangles == NULL || !isfinite(merge_cos) ||
+      !(plane_tol_m >= 0.0) || !isfinite(plane_tol_m))
+    return MODEL_E_ARG;
+  *count = 0;
+  const size_t nf = hull->triangle_count;
+  facet_t *fac = malloc((nf > 0 ? nf : 1) * sizeof *fac);
+  if (fac == NULL) return MODEL_E_NOMEM;
+  for (size_t t = 0; t < nf; ++t) {
+    const double *a = hull->vertices_m[hull->triangles[t][0]];
+    const double *b = hull->vertices_m[hull->triangles[t][1]];
+    const double *d = hull->vertices_m[hull->triangles[t][2]];
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    cl_vec3_cross(e1, e2, fac[t].n);
+    const double len = sqrt(cl_vec3_dot(fac[t].n, fac[t].n));
+    fac[t].area = 0.5 * len;
+    fac[t].index = t;
+    for (int k = 0; k < 3; ++k) fac[t].n[k] = len > 0.0 ? fac[t].n[k] / len : 0.0;
+    facet_face[t] = -1;
+  }
+  qsort(fac, nf, sizeof *fac, cmp_facet);
+  size_t found = 0;
+  for (size_t s = 0; s < nf; ++s) {
+    if (facet_face[fac[s].index] >= 0 || !(fac[s].area > 0.0)) continue;
+    /* Merge every facet coplanar with the seed (on a convex hull they are one convex face). */
+    const double *n0 = fac[s].n;
+    const double h0 = cl_vec3_dot(n0, hull->vertices_m[hull->triangles[fac[s].index][0]]);
+    double nsum[3] = {0.0, 0.0, 0.0}, area = 0.0;
+    for (size_t t = s; t < nf; ++t) {
+      if (facet_face[fac[t].index] >= 0 || cl_vec3_dot(fac[t].n, n0) < merge_cos) continue;
+      int in = 1;
+      for (int k = 0; k < 3; ++k) {
+        if (fabs(cl_vec3_dot(n0, hull->vertices_m[hull->triangles[fac[t].index][k]]) - h0) >
+            plane_tol_m)
+          in = 0;
+      }
+      if (!in) continue;
+      facet_face[fac[t].index] = (int)found;
+      area += fac[t].area;
+      for (int k = 0; k < 3; ++k) nsum[k] += fac[t].area * fac[t].n[k];
+    }
+    const double nl = sqrt(cl_vec3_dot(nsum, nsum));
+    model_hull_face_t *f = &faces[found++];
+    for (int k = 0; k < 3; ++k) f->normal[k] = nsum[k] / nl;
+    f->area_m2 = area;
+    f->seed = fac[s].index;
+  }
+  free(fac);
+  *count = found;
+  return MODEL_OK;
 }
 
 static int cmp_face(const void *pa, const void *pb) {
@@ -95,65 +154,34 @@ model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_
   model_mesh_t hull = {0};
   if (model_mesh_hull(mesh_link, &hull, NULL) != MODEL_OK) return MODEL_E_HULL;
   const size_t nf = hull.triangle_count, nv = mesh_link->vertex_count;
-  facet_t *fac = malloc(nf * sizeof *fac);
-  unsigned char *taken = calloc(nf, 1);
+  model_hull_face_t *hf = malloc((nf > 0 ? nf : 1) * sizeof *hf);
+  int *facet_face = malloc((nf > 0 ? nf : 1) * sizeof *facet_face);
   unsigned char *used = calloc(nv, 1);
   double(*xy)[2] = malloc(nv * sizeof *xy);
   double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
   double(*poly)[2] = malloc((nv + 1) * sizeof *poly);
-  model_face_t *tmp = malloc(nf * sizeof *tmp);
-  if (fac == NULL || taken == NULL || used == NULL || xy == NULL || pts == NULL || poly == NULL ||
-      tmp == NULL) {
+  model_face_t *tmp = malloc((nf > 0 ? nf : 1) * sizeof *tmp);
+  size_t nhf = 0, found = 0;
+  if (hf == NULL || facet_face == NULL || used == NULL || xy == NULL || pts == NULL ||
+      poly == NULL || tmp == NULL) {
     st = MODEL_E_NOMEM;
     goto done;
   }
-  for (size_t t = 0; t < nf; ++t) {
-    const double *a = hull.vertices_m[hull.triangles[t][0]];
-    const double *b = hull.vertices_m[hull.triangles[t][1]];
-    const double *d = hull.vertices_m[hull.triangles[t][2]];
-    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-    cl_vec3_cross(e1, e2, fac[t].n);
-    const double len = sqrt(cl_vec3_dot(fac[t].n, fac[t].n));
-    fac[t].area = 0.5 * len;
-    fac[t].index = t;
-    for (int k = 0; k < 3; ++k) fac[t].n[k] = len > 0.0 ? fac[t].n[k] / len : 0.0;
+  st = model_hull_faces(&hull, cos(1e-3), c.plane_tol_m, hf, facet_face, &nhf);
+  for (size_t i = 0; st == MODEL_OK && i < nhf; ++i) {
+    if (hf[i].area_m2 < c.min_face_area_m2) continue;
+    st = face_analyse(mesh_link, hf[i].normal, com_guess_link_m, &c, xy, pts, poly, used,
+                      &tmp[found]);
+    if (st == MODEL_OK && tmp[found].area_m2 >= c.min_face_area_m2) ++found;
   }
-  qsort(fac, nf, sizeof *fac, cmp_facet);
-  const double cos_tol = cos(1e-3);
-  size_t found = 0;
-  for (size_t s = 0; s < nf; ++s) {
-    if (taken[s] || !(fac[s].area > 0.0)) continue;
-    /* Merge every facet coplanar with the seed (on a convex hull they are one convex face). */
-    const double *n0 = fac[s].n;
-    const double h0 = cl_vec3_dot(n0, hull.vertices_m[hull.triangles[fac[s].index][0]]);
-    double nsum[3] = {0.0, 0.0, 0.0}, area = 0.0;
-    for (size_t t = s; t < nf; ++t) {
-      if (taken[t] || cl_vec3_dot(fac[t].n, n0) < cos_tol) continue;
-      int in = 1;
-      for (int k = 0; k < 3; ++k) {
-        if (fabs(cl_vec3_dot(n0, hull.vertices_m[hull.triangles[fac[t].index][k]]) - h0) > c.plane_tol_m)
-          in = 0;
-      }
-      if (!in) continue;
-      taken[t] = 1;
-      area += fac[t].area;
-      for (int k = 0; k < 3; ++k) nsum[k] += fac[t].area * fac[t].n[k];
-    }
-    if (area < c.min_face_area_m2) continue;
-    const double nl = sqrt(cl_vec3_dot(nsum, nsum));
-    const double n[3] = {nsum[0] / nl, nsum[1] / nl, nsum[2] / nl};
-    st = face_analyse(mesh_link, n, com_guess_link_m, &c, xy, pts, poly, used, &tmp[found]);
-    if (st != MODEL_OK) goto done;
-    if (tmp[found].area_m2 >= c.min_face_area_m2) ++found;
-  }
+  if (st != MODEL_OK) goto done;
   qsort(tmp, found, sizeof *tmp, cmp_face);
   if (capacity > 0 && found > 0) memcpy(faces, tmp, (found < capacity ? found : capacity) * sizeof *tmp);
   *count = found;
 done:
   model_mesh_free(&hull);
-  free(fac);
-  free(taken);
+  free(hf);
+  free(facet_face);
   free(used);
   free(xy);
   free(pts);

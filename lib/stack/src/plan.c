@@ -251,22 +251,24 @@ static int face_cmp(const void *a, const void *b) {
   return 0;
 }
 
-typedef struct {
-  double n[3], d, area;
-  int group;
-} tri_t;
-
-static int tri_area_cmp(const void *a, const void *b) {
-  const tri_t *ta = a, *tb = b;
-  if (ta->area != tb->area) return ta->area > tb->area ? -1 : 1;
-  for (int k = 0; k < 3; ++k)
-    if (ta->n[k] != tb->n[k]) return ta->n[k] < tb->n[k] ? -1 : 1;
-  return 0;
+/* Face f of the hull, from lib/model's merge (model_hull_faces): its plane's offset at the
+ * outermost vertex of its facets and the in-plane basis. */
+static void face_of(const model_mesh_t *hull, const model_hull_face_t *hf, const int *facet_face,
+                    int index, face_t *f) {
+  memset(f, 0, sizeof *f);
+  memcpy(f->n, hf->normal, sizeof f->n);
+  f->d = -HUGE_VAL;
+  for (size_t s = 0; s < hull->triangle_count; ++s)
+    if (facet_face[s] == index)
+      for (int k = 0; k < 3; ++k) {
+        const double dd = dot3(f->n, hull->vertices_m[hull->triangles[s][k]]);
+        if (dd > f->d) f->d = dd;
+      }
+  model_plane_basis(f->n, f->u, f->v);
 }
 
-/* Area, unit outward normal and plane offset of every hull triangle (tri), and the same planes
- * for the clearance checks (planes[t] = (n, d)). */
-static void hull_triangles(const model_mesh_t *hull, tri_t *tri, double (*planes)[4]) {
+/* Every hull facet's plane (n, d), for the clearance checks. */
+static void hull_planes(const model_mesh_t *hull, double (*planes)[4]) {
   for (size_t t = 0; t < hull->triangle_count; ++t) {
     const double *a = hull->vertices_m[hull->triangles[t][0]];
     const double *b = hull->vertices_m[hull->triangles[t][1]];
@@ -276,54 +278,10 @@ static void hull_triangles(const model_mesh_t *hull, tri_t *tri, double (*planes
     double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                    e1[0] * e2[1] - e1[1] * e2[0]};
     const double len = sqrt(dot3(n, n));
-    tri[t].area = 0.5 * len;
     for (int k = 0; k < 3 && len > 0.0; ++k) n[k] /= len;
-    memcpy(tri[t].n, n, sizeof n);
-    tri[t].d = dot3(n, a);
-    tri[t].group = -1;
     for (int k = 0; k < 3; ++k) planes[t][k] = n[k];
-    planes[t][3] = tri[t].d;
+    planes[t][3] = dot3(n, a);
   }
-}
-
-/* Sort tri by area, largest first, with each triangle's vertex indices alongside in tv; every
- * group reset to -1 (no face yet). */
-static void tris_sort_by_area(const model_mesh_t *hull, tri_t *tri, uint32_t (*tv)[3]) {
-  const size_t nt = hull->triangle_count;
-  for (size_t t = 0; t < nt; ++t) tri[t].group = (int)t;
-  qsort(tri, nt, sizeof *tri, tri_area_cmp);
-  for (size_t t = 0; t < nt; ++t) memcpy(tv[t], hull->triangles[tri[t].group], sizeof tv[t]);
-  for (size_t t = 0; t < nt; ++t) tri[t].group = -1;
-}
-
-/* The face seeded by triangle t (the largest not yet in a face): every later triangle within
- * 2e-4 rad of its normal whose vertices lie within 1 um of its plane joins group t. *f: the
- * area-weighted normal, the offset of the outermost vertex and the in-plane basis. */
-static void face_merge(const model_mesh_t *hull, tri_t *tri, const uint32_t (*tv)[3], size_t t,
-                       face_t *f) {
-  const size_t nt = hull->triangle_count;
-  const int g = (int)t;
-  double nsum[3] = {0, 0, 0};
-  for (size_t s = t; s < nt; ++s) {
-    if (tri[s].group >= 0 || dot3(tri[s].n, tri[t].n) < kMergeCos) continue;
-    int on = 1;
-    for (int k = 0; k < 3 && on; ++k)
-      on = fabs(dot3(tri[t].n, hull->vertices_m[tv[s][k]]) - tri[t].d) <= kPlaneTol;
-    if (!on) continue;
-    tri[s].group = g;
-    for (int k = 0; k < 3; ++k) nsum[k] += tri[s].area * tri[s].n[k];
-  }
-  memset(f, 0, sizeof *f);
-  const double len = sqrt(dot3(nsum, nsum));
-  for (int k = 0; k < 3; ++k) f->n[k] = nsum[k] / len;
-  f->d = -HUGE_VAL;
-  for (size_t s = t; s < nt; ++s)
-    if (tri[s].group == g)
-      for (int k = 0; k < 3; ++k) {
-        const double dd = dot3(f->n, hull->vertices_m[tv[s][k]]);
-        if (dd > f->d) f->d = dd;
-      }
-  model_plane_basis(f->n, f->u, f->v);
 }
 
 /* The mesh vertices within 1 um of f's plane: link frame into pts3, (u.x, v.x) into pts2.
@@ -395,25 +353,28 @@ static stack_status_t faces_build(obj_t *o, char *msg, size_t msg_size, size_t i
     return STACK_E_GEOMETRY;
   }
   const size_t nt = hull.triangle_count;
-  tri_t *tri = calloc(nt, sizeof *tri);
-  uint32_t (*tv)[3] = malloc(nt * sizeof *tv);
+  model_hull_face_t *hf = malloc(nt * sizeof *hf);
+  int *facet_face = malloc(nt * sizeof *facet_face);
   o->hull_planes = malloc(nt * sizeof *o->hull_planes);
   o->face = calloc(nt, sizeof *o->face);
   double(*buf3)[3] = malloc(mesh->vertex_count * sizeof *buf3);
   double(*buf2)[2] = malloc((mesh->vertex_count + 1) * sizeof *buf2);
   stack_status_t st = STACK_OK;
-  if (!tri || !tv || !o->hull_planes || !o->face || !buf3 || !buf2) {
+  size_t nhf = 0;
+  if (!hf || !facet_face || !o->hull_planes || !o->face || !buf3 || !buf2) {
     st = STACK_E_NOMEM;
     goto done;
   }
-  hull_triangles(&hull, tri, o->hull_planes);
+  hull_planes(&hull, o->hull_planes);
   o->nplanes = nt;
-  tris_sort_by_area(&hull, tri, tv);
+  if (model_hull_faces(&hull, kMergeCos, kPlaneTol, hf, facet_face, &nhf) != MODEL_OK) {
+    st = STACK_E_NOMEM;
+    goto done;
+  }
   size_t nface = 0;
-  for (size_t t = 0; t < nt && st == STACK_OK; ++t) {
-    if (tri[t].group >= 0 || tri[t].area <= 0.0) continue;
+  for (size_t i = 0; i < nhf && st == STACK_OK; ++i) {
     face_t f;
-    face_merge(&hull, tri, (const uint32_t(*)[3])tv, t, &f);
+    face_of(&hull, &hf[i], facet_face, (int)i, &f);
     const size_t np = face_points(mesh, &f, buf3, buf2);
     if (np < 3) continue;
     const int kept = face_outline(&f, np, (const double(*)[3])buf3, (const double(*)[2])buf2);
@@ -429,8 +390,8 @@ static stack_status_t faces_build(obj_t *o, char *msg, size_t msg_size, size_t i
     st = STACK_E_GEOMETRY;
   }
 done:
-  free(tri);
-  free(tv);
+  free(hf);
+  free(facet_face);
   free(buf3);
   free(buf2);
   model_mesh_free(&hull);

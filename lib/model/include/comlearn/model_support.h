@@ -274,6 +274,24 @@ typedef struct {
   int candidate;                /* com_margin_m >= min_com_margin_m: a stable-pose candidate */
 } model_face_t;
 
+/* A face of a convex hull: its coplanar facets merged. */
+typedef struct {
+  double normal[3];   /* area-weighted mean of its facets' outward unit normals */
+  double area_m2;     /* the sum of its facets' areas */
+  size_t seed;        /* the hull triangle it grew from (its largest) */
+} model_hull_face_t;
+
+/* Merge the facets of `hull` (a convex hull, model_mesh_hull) into faces. Seeds are taken largest
+ * facet first (ties by normal, then index); a facet joins the seed's face when its normal's dot
+ * product with the seed's is at least merge_cos and its three vertices lie within plane_tol_m of
+ * the seed's plane. Facets of zero area seed nothing. Writes the faces in seed order to faces
+ * (room for hull->triangle_count), each facet's face (or -1) to facet_face (room for
+ * hull->triangle_count), their number to *count. MODEL_E_ARG, MODEL_E_NOMEM (allocates temporary
+ * memory). The one merge of the project: model_faces_find (1e-3 rad) and lib/stack's planner
+ * (2e-4 rad) use it. */
+model_status_t model_hull_faces(const model_mesh_t *hull, double merge_cos, double plane_tol_m,
+                                model_hull_face_t *faces, int *facet_face, size_t *count);
+
 /* The faces of mesh_link's convex hull with area >= min_face_area_m2, largest first (ties by
  * normal), each analysed for the CoM guess com_guess_link_m (link frame; the estimator's guess,
  * see the top of this file). A hull facet joins a face when its normal is within 1e-3 rad of the
