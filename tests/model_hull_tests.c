@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "comlearn/math3d.h"
+#include "comlearn/model_support.h"
 #include "model_suites.h"
 #include "model_test_util.h"
 
@@ -334,6 +335,53 @@ START_TEST(test_polygon_square) {
 }
 END_TEST
 
+/* model_hull_faces: a 3 x 2 x 1 box's hull is six faces of two facets each, with the box's
+ * normals and areas, the largest first; a tilted facet joins only within the merge angle. */
+START_TEST(test_hull_faces_box) {
+  model_mesh_t box = {0}, hull = {0};
+  const double lo[3] = {-1.5, -1.0, -0.5}, hi[3] = {1.5, 1.0, 0.5};
+  ck_assert_int_eq(model_mesh_box(lo, hi, &box), MODEL_OK);
+  ck_assert_int_eq(model_mesh_hull(&box, &hull, NULL), MODEL_OK);
+  model_hull_face_t f[12];
+  int of[12];
+  size_t n = 0;
+  ck_assert_int_eq(model_hull_faces(&hull, cos(1e-3), 1e-9, f, of, &n), MODEL_OK);
+  ck_assert_uint_eq(n, 6);
+  const double area[6] = {6.0, 6.0, 3.0, 3.0, 2.0, 2.0}; /* z, y, x faces: 3x2, 3x1, 2x1 */
+  int per_face[6] = {0};
+  for (size_t i = 0; i < 12; ++i) {
+    ck_assert_int_ge(of[i], 0);
+    ck_assert_int_lt(of[i], 6);
+    ++per_face[of[i]];
+  }
+  for (size_t i = 0; i < 6; ++i) {
+    ck_assert_int_eq(per_face[i], 2);
+    ck_assert_double_eq_tol(f[i].area_m2, area[i], 1e-12);
+    ck_assert_double_eq_tol(cl_vec3_norm(f[i].normal), 1.0, 1e-12);
+    /* an axis normal: one component +-1 */
+    const int axis = i < 2 ? 2 : i < 4 ? 1 : 0;
+    ck_assert_double_eq_tol(fabs(f[i].normal[axis]), 1.0, 1e-12);
+    ck_assert_int_ge(of[f[i].seed], 0);
+    ck_assert_uint_eq((size_t)of[f[i].seed], i);
+  }
+  ck_assert_double_eq_tol(f[0].normal[2] + f[1].normal[2], 0.0, 1e-12); /* +z and -z */
+  /* Lift one top corner by 1e-4: its two top facets now differ by ~1e-4 rad. Merged at 1e-3 rad
+   * with a plane tolerance above the lift, split at 1e-5 rad. */
+  for (size_t v = 0; v < hull.vertex_count; ++v)
+    if (hull.vertices_m[v][0] > 0 && hull.vertices_m[v][1] > 0 && hull.vertices_m[v][2] > 0)
+      hull.vertices_m[v][2] += 1e-4;
+  ck_assert_int_eq(model_hull_faces(&hull, cos(1e-3), 2e-4, f, of, &n), MODEL_OK);
+  ck_assert_uint_eq(n, 6);
+  ck_assert_int_eq(model_hull_faces(&hull, cos(1e-5), 2e-4, f, of, &n), MODEL_OK);
+  ck_assert_uint_ge(n, 7);
+  ck_assert_int_eq(model_hull_faces(NULL, 0.9, 1e-6, f, of, &n), MODEL_E_ARG);
+  ck_assert_int_eq(model_hull_faces(&hull, NAN, 1e-6, f, of, &n), MODEL_E_ARG);
+  ck_assert_int_eq(model_hull_faces(&hull, 0.9, -1.0, f, of, &n), MODEL_E_ARG);
+  model_mesh_free(&hull);
+  model_mesh_free(&box);
+}
+END_TEST
+
 Suite *model_hull_suite(void) {
   Suite *s = suite_create("model_hull");
   TCase *tc = tcase_create("hull");
@@ -345,6 +393,7 @@ Suite *model_hull_suite(void) {
   tcase_add_test(tc, test_hull_sphere_mesh);
   tcase_add_test(tc, test_hull_degenerate_input);
   tcase_add_test(tc, test_aabb_and_center);
+  tcase_add_test(tc, test_hull_faces_box);
   suite_add_tcase(s, tc);
   return s;
 }
