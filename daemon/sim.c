@@ -27,12 +27,16 @@ static void clear_error(sim_t *s) {
 
 /* ---- small pose helpers ------------------------------------------------------------------ */
 
-/* model_pose_t has cl_pose_t's layout but is its own type until lib/model adopts
- * comlearn/math3d.h; then these two become placement_pose_to_cl_pose and (unchecked) the
- * cl_quat_to_rot below. */
+/* model_pose_t has cl_pose_t's layout but is its own type (lib/model does not use
+ * comlearn/math3d.h): the quaternion comes from lib/placement's converter, through a cl_pose_t.
+ * The way back stays unchecked (cl_quat_to_rot of the quaternion as it is):
+ * placement_pose_from_cl_pose would normalise it again, changing the last bits of poses that
+ * lib/balance already normalised. */
 static void pose_to_balance(const placement_pose_t *p, model_pose_t *b) {
-  memcpy(b->position_m, p->pos_m, sizeof b->position_m);
-  cl_quat_from_rot(p->rot, b->orientation_wxyz);
+  cl_pose_t c;
+  placement_pose_to_cl_pose(p, &c);
+  memcpy(b->position_m, c.position_m, sizeof b->position_m);
+  memcpy(b->orientation_wxyz, c.orientation_wxyz, sizeof b->orientation_wxyz);
 }
 
 static void pose_from_balance(const model_pose_t *b, placement_pose_t *p) {

@@ -650,11 +650,51 @@ START_TEST(point_support_rock_tips_with_com_inside) {
 }
 END_TEST
 
+/* The one slide rule (balance_trial_slid), at its two thresholds: horizontal distance > slide_m
+ * (strict, vertical motion ignored, any direction) and rotation < tip_angle_rad / 4 (strict). */
+START_TEST(slide_rule_thresholds) {
+  balance_config_t cfg;
+  balance_config_default(&cfg);
+  ck_assert_double_eq(cfg.slide_m, 0.005);
+  const double from[3] = {0.1, -0.2, 0.3};
+  const double d = cfg.slide_m, rmax = 0.25 * cfg.tip_angle_rad; /* 0.0875 rad */
+  double to[3] = {from[0] + d * (1.0 + 1e-9), from[1], from[2]};
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.0), 1);
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, rmax * (1.0 - 1e-12)), 1);
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, rmax), 0);  /* not < */
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.3), 0);   /* turned: a tip */
+  to[0] = from[0] + d * (1.0 - 1e-9);
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.0), 0);   /* not far enough */
+  /* the horizontal distance, in any direction: 3-4-5 along -x, -y, just over 5 mm */
+  to[0] = from[0] - 0.6 * d * (1.0 + 1e-9);
+  to[1] = from[1] - 0.8 * d * (1.0 + 1e-9);
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.0), 1);
+  /* a fall (1 m straight down) is no slide */
+  const double down[3] = {from[0], from[1], from[2] - 1.0};
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, down, 0.0), 0);
+  /* the thresholds are cfg's */
+  cfg.slide_m = 0.01;
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.0), 0);
+  cfg.slide_m = 0.001;
+  cfg.tip_angle_rad = 0.01;
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.002), 1);
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.003), 0);
+  /* NULL and NaN: never a slide */
+  ck_assert_int_eq(balance_trial_slid(NULL, from, to, 0.0), 0);
+  ck_assert_int_eq(balance_trial_slid(&cfg, NULL, to, 0.0), 0);
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, NULL, 0.0), 0);
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, NAN), 0);
+  to[1] = NAN;
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.0), 0);
+}
+END_TEST
+
 Suite *balance_trial_suite(void) {
   Suite *s = suite_create("balance_trial");
   TCase *tc = tcase_create("trial");
   tcase_set_timeout(tc, 300);
   tcase_add_test(tc, status_strings_and_config);
+  tcase_add_test(tc, slide_rule_thresholds);
   tcase_add_test(tc, stays_in_the_middle_tips_beyond_the_edge);
   tcase_add_test(tc, release_touches_within_one_micrometre);
   tcase_add_test(tc, deterministic);

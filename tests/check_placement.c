@@ -6,6 +6,7 @@
 int main(void) {
   SRunner *runner = srunner_create(placement_kin_suite());
   srunner_add_suite(runner, placement_plan_suite());
+  srunner_add_suite(runner, placement_grasp_suite());
   srunner_run_all(runner, CK_NORMAL);
   int failed = srunner_ntests_failed(runner);
   srunner_free(runner);

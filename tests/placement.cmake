@@ -1,6 +1,7 @@
 # lib/placement: one Check runner (kinematics and plans), and check_urdf on the YuMi model.
 comlearn_add_check(check_placement
   SOURCES check_placement.c placement_kin_tests.c placement_plan_tests.c
+          placement_grasp_tests.c
   LIBS comlearn_placement
   TIMEOUT 300)
 

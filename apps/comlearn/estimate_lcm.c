@@ -27,6 +27,7 @@
 #include "comlearn/comlearn_sim_control_t.h"
 #include "comlearn/comlearn_yumi_command_t.h"
 #include "comlearn/comlearn_yumi_status_t.h"
+#include "comlearn/math3d.h"
 #include "comlearn/msg.h"
 #include "comlearn/placement.h"
 #include "comlearn/placement_plan.h"
@@ -38,12 +39,6 @@
 
 enum { ID_MAX = 128, PATH_MAX_LEN = 4096 };
 
-/* Grasp (docs/estimate.md): tcp z straight down over the centre of the object's footprint,
- * GRASP_DEPTH_M below its top, but the finger tips (21.7 mm beyond the tcp) at least
- * GRASP_TIP_CLEAR_M above B's top. */
-#define GRASP_DEPTH_M 0.010
-#define GRASP_TIP_CLEAR_M 0.004
-#define FINGER_TIP_M 0.0217
 /* Expiry margin on the controller's clock beyond the expected motion time. */
 #define EXPIRE_MARGIN_US 5000000
 
@@ -98,22 +93,6 @@ static void logf_(estimate_lcm_t *l, const char *fmt, ...) {
   l->cfg.log(l->cfg.log_ctx, buf);
 }
 
-static void quat_mul(const double a[4], const double b[4], double out[4]) {
-  const double r[4] = {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3],
-                       a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
-                       a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1],
-                       a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
-  memcpy(out, r, sizeof r);
-}
-
-static void quat_conj(const double a[4], double out[4]) {
-  out[0] = a[0];
-  out[1] = -a[1];
-  out[2] = -a[2];
-  out[3] = -a[3];
-}
-
-
 static int rot_is_identity(const double r[3][3]) {
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j)
@@ -134,8 +113,8 @@ static void world_to_block(const estimate_lcm_t *l, const double p_w[3], const d
     memcpy(out->orientation_wxyz, q_w, 4 * sizeof(double));
   } else {
     double c[4];
-    quat_conj(l->bib_wxyz, c);
-    quat_mul(c, q_w, out->orientation_wxyz);
+    cl_quat_conj(l->bib_wxyz, c);
+    cl_quat_mul(c, q_w, out->orientation_wxyz);
   }
 }
 
@@ -146,13 +125,7 @@ static void block_to_world(const estimate_lcm_t *l, const model_pose_t *in, doub
     p_w[i] = b->pos_m[i] + b->rot[i][0] * in->position_m[0] + b->rot[i][1] * in->position_m[1] +
              b->rot[i][2] * in->position_m[2];
   if (rot_is_identity(b->rot)) memcpy(q_w, in->orientation_wxyz, 4 * sizeof(double));
-  else quat_mul(l->bib_wxyz, in->orientation_wxyz, q_w);
-}
-
-static double quat_angle(const double a[4], const double b[4]) {
-  double d = fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]);
-  if (d > 1.0) d = 1.0;
-  return 2.0 * acos(d);
+  else cl_quat_mul(l->bib_wxyz, in->orientation_wxyz, q_w);
 }
 
 /* ---- LCM handlers and waits ---------------------------------------------------------------- */
@@ -327,105 +300,23 @@ static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t 
 
 /* ---- one trial ----------------------------------------------------------------------------- */
 
-typedef struct {
-  int arm;
-  double g_pos[3], g_wxyz[4], width;
-  placement_plan_t plan;
-} trial_plan_t;
-
-/* Top-down grasp for the release pose and a plan from the measured joints. Tries yaws of the
- * fingers 0, 90, -90, 180 degrees with the right arm, then the left. 0 ok, -1 (err). */
-static int plan_trial(estimate_lcm_t *l, const model_pose_t *rel, trial_plan_t *tp, char *err,
+/* The grasp (lib/placement's top-down grasp, docs/estimate.md) for the release pose and a plan
+ * from the measured joints: right arm, finger yaws 0, 90, -90, 180 degrees, then the left arm.
+ * 0 ok, -1 (err). */
+static int plan_trial(estimate_lcm_t *l, const model_pose_t *rel, placement_grasp_t *g, char *err,
                       size_t err_size) {
-  placement_pose_t obj_in_block;
-  placement_status_t ps = placement_pose_from_wxyz(rel->position_m, rel->orientation_wxyz,
-                                                   &obj_in_block);
-  if (ps != PLACEMENT_OK) {
-    snprintf(err, err_size, "release pose: %s", placement_status_str(ps));
-    return -1;
-  }
-  /* the object's box in B's frame at the release pose */
-  const model_mesh_t *m = l->cfg.mesh_link;
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (size_t v = 0; v < m->vertex_count; ++v) {
-    const double *p = m->vertices_m[v];
-    for (int i = 0; i < 3; ++i) {
-      const double x = obj_in_block.rot[i][0] * p[0] + obj_in_block.rot[i][1] * p[1] +
-                       obj_in_block.rot[i][2] * p[2] + obj_in_block.pos_m[i];
-      if (x < lo[i]) lo[i] = x;
-      if (x > hi[i]) hi[i] = x;
-    }
-  }
-  double tcp_p[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), hi[2] - GRASP_DEPTH_M};
-  if (tcp_p[2] < FINGER_TIP_M + GRASP_TIP_CLEAR_M) tcp_p[2] = FINGER_TIP_M + GRASP_TIP_CLEAR_M;
-  static const double yaws_deg[] = {0.0, 90.0, -90.0, 180.0};
-  static const int arms[] = {PLACEMENT_ARM_RIGHT, PLACEMENT_ARM_LEFT};
-  placement_status_t last = PLACEMENT_OK;
+  placement_grasp_request_t req;
+  memset(&req, 0, sizeof req);
+  req.mesh_link = l->cfg.mesh_link;
+  req.object_in_block = *rel;
+  memcpy(req.q_start_rad, l->st.q_measured_rad, sizeof req.q_start_rad);
+  const placement_grasp_config_t gcfg = PLACEMENT_GRASP_CONFIG_INIT;
   placement_error_t pe = {{0}};
-  for (size_t a = 0; a < 2; ++a) {
-    for (size_t y = 0; y < sizeof yaws_deg / sizeof yaws_deg[0]; ++y) {
-      const double h = 0.5 * yaws_deg[y] * M_PI / 180.0;
-      /* tcp in block: Rz(yaw) Rx(pi) (tcp z down, fingers closing along (cos yaw, sin yaw, 0)) */
-      const double qz[4] = {cos(h), 0, 0, sin(h)}, qx[4] = {0, 1, 0, 0};
-      double q_tcp[4], q_tcp_c[4], q_g[4];
-      quat_mul(qz, qx, q_tcp);
-      quat_conj(q_tcp, q_tcp_c);
-      quat_mul(q_tcp_c, rel->orientation_wxyz, q_g);
-      const double n = sqrt(q_g[0] * q_g[0] + q_g[1] * q_g[1] + q_g[2] * q_g[2] + q_g[3] * q_g[3]);
-      for (int i = 0; i < 4; ++i) q_g[i] /= n;
-      placement_pose_t tcp_in_block;
-      if (placement_pose_from_wxyz(tcp_p, q_tcp, &tcp_in_block) != PLACEMENT_OK) continue;
-      /* link origin in the tcp frame: R_tcp^T (p_obj - p_tcp) */
-      double d[3], g_pos[3];
-      for (int i = 0; i < 3; ++i) d[i] = obj_in_block.pos_m[i] - tcp_p[i];
-      for (int i = 0; i < 3; ++i)
-        g_pos[i] = tcp_in_block.rot[0][i] * d[0] + tcp_in_block.rot[1][i] * d[1] +
-                   tcp_in_block.rot[2][i] * d[2];
-      /* finger opening: the object's extent along the closing axis, within the gripper */
-      const double cy = cos(2 * h), sy = sin(2 * h);
-      double width = fabs(cy) * (hi[0] - lo[0]) + fabs(sy) * (hi[1] - lo[1]);
-      const double wmax = l->plan_cfg.gripper_max_width_m - l->plan_cfg.release_opening_m;
-      if (width > wmax) width = wmax;
-      if (width < 0.005) width = 0.005;
-      placement_plan_request_t req;
-      memset(&req, 0, sizeof req);
-      req.mesh_link = m;
-      if (placement_pose_from_wxyz(g_pos, q_g, &req.object_in_tcp) != PLACEMENT_OK) continue;
-      req.object_in_block = obj_in_block;
-      req.grip_width_m = width;
-      memcpy(req.q_start_rad, l->st.q_measured_rad[arms[a]], sizeof req.q_start_rad);
-      last = placement_plan_build(&l->arm[arms[a]], &l->plan_cfg, &req, &tp->plan, &pe);
-      if (last == PLACEMENT_OK) {
-        tp->arm = arms[a];
-        tp->width = width;
-        /* The grasp actually sent: the link frame in the tcp frame that the PLACE joints put
-         * exactly at the requested pose, G = FK(q_place)^-1 * request (world). IK meets the pose
-         * within 1e-9 m / rad only; with G the controller's FK(q_place) * G lands on the request
-         * to rounding (~1e-16), so the released pose equals the request as in --direct (the
-         * policy observes the achieved x, and a 1e-10 m miss can flip its stopping test). G
-         * differs from the nominal grasp by the IK error (< 1e-8): the same hold. */
-        placement_pose_t tcp_place, want_w, tcp_inv, g;
-        if (placement_fk(&l->arm[arms[a]], tp->plan.waypoints[PLACEMENT_WAYPOINT_PLACE].q_rad,
-                         &tcp_place) != PLACEMENT_OK) {
-          snprintf(err, err_size, "FK of the place joints failed");
-          return -1;
-        }
-        placement_pose_mul(&l->plan_cfg.block_in_base, &obj_in_block, &want_w);
-        placement_pose_inverse(&tcp_place, &tcp_inv);
-        placement_pose_mul(&tcp_inv, &want_w, &g);
-        double qg2[4];
-        model_rot_to_quat((const double(*)[3])g.rot, qg2);
-        const double n2 = sqrt(qg2[0] * qg2[0] + qg2[1] * qg2[1] + qg2[2] * qg2[2] + qg2[3] * qg2[3]);
-        for (int i = 0; i < 4; ++i) qg2[i] /= n2;
-        memcpy(tp->g_pos, g.pos_m, sizeof tp->g_pos);
-        memcpy(tp->g_wxyz, qg2, sizeof qg2);
-        return 0;
-      }
-    }
-  }
+  const placement_status_t ps = placement_grasp_plan(l->arm, &l->plan_cfg, &gcfg, &req, g, &pe);
+  if (ps == PLACEMENT_OK) return 0;
   snprintf(err, err_size, "no placement plan for the release pose (%.4f, %.4f, %.4f): %s %s",
            rel->position_m[0], rel->position_m[1], rel->position_m[2],
-           placement_status_str(last), pe.msg);
+           placement_status_str(ps), pe.msg);
   return -1;
 }
 
@@ -469,7 +360,7 @@ static void publish_trial(estimate_lcm_t *l, const estimate_trial_request_t *req
     dd += e * e;
   }
   t.displacement_m = sqrt(dd);
-  t.rotation_rad = quat_angle(rep->released.orientation_wxyz, rep->settled.orientation_wxyz);
+  t.rotation_rad = cl_quat_angle(rep->released.orientation_wxyz, rep->settled.orientation_wxyz);
   /* Estimator-side fields, from the request (estimate.h): component (-1 for a rest check),
    * direction, target point, the planned pose's regime, the running estimate before the trial. */
   t.component = (int8_t)req->component;
@@ -496,16 +387,17 @@ static void publish_trial(estimate_lcm_t *l, const estimate_trial_request_t *req
 /* One attempt of a trial. 0 ok (reply filled), 1 retryable failure, -1 fatal (err filled). */
 static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
                          estimate_trial_reply_t *reply, char *err, size_t err_size) {
-  trial_plan_t tp;
+  placement_grasp_t tp;
   if (plan_trial(l, &req->release, &tp, err, err_size) != 0) return -1;
   /* 1. the object into the gripper */
-  int r = sim_control(l, l->loaded ? SC(ACTION_RESET) : SC(ACTION_LOAD), tp.arm, tp.g_pos,
-                      tp.g_wxyz, tp.width, err, err_size);
+  int r = sim_control(l, l->loaded ? SC(ACTION_RESET) : SC(ACTION_LOAD), (int)tp.side,
+                      tp.object_in_tcp.position_m, tp.object_in_tcp.orientation_wxyz,
+                      tp.grip_width_m, err, err_size);
   if (r == OS(SIM_CONTROL_ERR_UNKNOWN_ID)) { /* the simulator restarted: load again */
     logf_(l, "the simulator does not know %s (restarted?); loading it again", l->object_id);
     l->loaded = 0;
-    r = sim_control(l, SC(ACTION_LOAD), tp.arm, tp.g_pos, tp.g_wxyz, tp.width, err,
-                    err_size);
+    r = sim_control(l, SC(ACTION_LOAD), (int)tp.side, tp.object_in_tcp.position_m,
+                    tp.object_in_tcp.orientation_wxyz, tp.grip_width_m, err, err_size);
   }
   if (r < 0) return 1;
   if (r != OS(SIM_CONTROL_APPLIED)) {
@@ -521,7 +413,7 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
    * before; the arm did not move in between (a reset does not move it). */
   /* 2-3. pre-place, place, release */
   for (int k = 0; k <= PLACEMENT_WAYPOINT_RELEASE; ++k) {
-    if (send_waypoint(l, tp.arm, &tp.plan.waypoints[k], err, err_size) != 0) return 1;
+    if (send_waypoint(l, (int)tp.side, &tp.plan.waypoints[k], err, err_size) != 0) return 1;
     if (k == PLACEMENT_WAYPOINT_PLACE) {
       /* the released pose: the held object as perceived at PLACE, before the fingers open */
       const int64_t t = l->st.utime;
@@ -565,20 +457,18 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
   world_to_block(l, l->os.position_measured_m, l->os.orientation_measured_wxyz, &reply->settled);
   if (l->os.at_rest && l->os.on_base) reply->outcome = ESTIMATE_STAYS;
   else if (!l->os.on_base) {
-    /* off B: tipped, unless it clearly slid (lib/balance's test, on the link origin since the
-     * CoM is unknown: moved > slide_m horizontally while rotating < tip_angle_rad / 4). A tip is
-     * often called early, after little motion. */
-    const double dx = reply->settled.position_m[0] - reply->released.position_m[0];
-    const double dy = reply->settled.position_m[1] - reply->released.position_m[1];
-    const double rot = quat_angle(reply->released.orientation_wxyz,
-                                  reply->settled.orientation_wxyz);
-    reply->outcome = sqrt(dx * dx + dy * dy) > bc.slide_m && rot < 0.25 * bc.tip_angle_rad
+    /* off B: tipped, unless it clearly slid (lib/balance's slide rule, on the link origin
+     * since the CoM is unknown). A tip is often called early, after little motion. */
+    const double rot = cl_quat_angle(reply->released.orientation_wxyz,
+                                     reply->settled.orientation_wxyz);
+    reply->outcome = balance_trial_slid(&bc, reply->released.position_m,
+                                        reply->settled.position_m, rot)
                          ? ESTIMATE_SLIDES
                          : ESTIMATE_TIPS;
   } else
     reply->outcome = ESTIMATE_INVALID;
   /* 5. retreat (the object is no longer held) */
-  if (send_waypoint(l, tp.arm, &tp.plan.waypoints[PLACEMENT_WAYPOINT_RETREAT], err, err_size) != 0)
+  if (send_waypoint(l, (int)tp.side, &tp.plan.waypoints[PLACEMENT_WAYPOINT_RETREAT], err, err_size) != 0)
     return 1;
   return 0;
 }

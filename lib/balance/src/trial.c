@@ -26,6 +26,13 @@ static void gauss2(uint64_t *s, double out[2]) {
 
 static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
+int balance_trial_slid(const balance_config_t *cfg, const double from_m[3], const double to_m[3],
+                       double rotation_rad) {
+  if (!cfg || !from_m || !to_m) return 0;
+  return hypot(to_m[0] - from_m[0], to_m[1] - from_m[1]) > cfg->slide_m &&
+         rotation_rad < 0.25 * cfg->tip_angle_rad;
+}
+
 balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
                                    const model_pose_t *release, const balance_noise_t *noise,
                                    balance_trial_result_t *out) {
@@ -75,7 +82,6 @@ balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
     balance_object_com_get(obj, com);
     balance_object_velocity_get(obj, v, om);
     const double rot = balance_quat_angle(rel.orientation_wxyz, now.orientation_wxyz);
-    const double slide = hypot(com[0] - com0[0], com[1] - com0[1]);
     const double wn = norm3(om), vn = norm3(v);
     const int beyond = fabs(com[0]) > hx || fabs(com[1]) > hy;
     /* Clearly tipped: turned far, fallen below the top, or gone beyond the edge. */
@@ -84,7 +90,7 @@ balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
       outcome = BALANCE_TIPS;
       break;
     }
-    if (slide > cfg->slide_m && rot < 0.25 * cfg->tip_angle_rad) {
+    if (balance_trial_slid(cfg, com0, com, rot)) {
       outcome = BALANCE_SLIDES;
       break;
     }

@@ -196,6 +196,17 @@ balance_status_t balance_trial_run(balance_world_t *world, balance_object_t *obj
                                    const model_pose_t *release, const balance_noise_t *noise,
                                    balance_trial_result_t *out);
 
+/* The slide rule (balance_config_t's "clearly slid"): 1 when a point of the object moved from
+ * from_m to to_m (world) by more than cfg->slide_m horizontally (hypot of the x and y change)
+ * while the object turned by rotation_rad < 0.25 * cfg->tip_angle_rad (the angle between the two
+ * orientations, e.g. the accurate 2 atan2 of comlearn/math3d.h's cl_quat_angle); 0 otherwise,
+ * for NULL, and for a NaN anywhere (every comparison is false). balance_trial_run applies it to
+ * the CoM every step (SLIDES); a caller that only sees the object (no CoM: comlearn's LCM
+ * backend) applies it to the link origin to tell SLIDES from TIPS for an object that left B.
+ * Pure, thread-safe, no allocation; cfg is read only (not checked beyond NULL). */
+int balance_trial_slid(const balance_config_t *cfg, const double from_m[3], const double to_m[3],
+                       double rotation_rad);
+
 #ifdef __cplusplus
 }
 #endif

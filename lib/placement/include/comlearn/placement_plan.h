@@ -33,6 +33,7 @@
 #include <stddef.h>
 
 #include "comlearn/model.h"
+#include "comlearn/model_support.h"
 #include "comlearn/placement.h"
 
 #ifdef __cplusplus
@@ -189,6 +190,80 @@ placement_status_t placement_plan_build(const placement_arm_t *arm,
                                         const placement_plan_config_t *cfg,
                                         const placement_plan_request_t *req,
                                         placement_plan_t *out, placement_error_t *err);
+
+/* ---- top-down grasps: which arm, which finger yaw, and the plan (placement_grasp_plan) ---- */
+
+/* How placement_grasp_plan holds the object. Fill with placement_grasp_config_default() or
+ * PLACEMENT_GRASP_CONFIG_INIT and change what you need. */
+typedef struct {
+  double depth_m;        /* the tcp this far below the top of the object's box (block z);
+                            default 0.010, [0, 0.5] */
+  double tip_length_m;   /* the finger tips this far beyond the tcp along tcp z; default 0.0217
+                            (the figure comlearn's LCM backend always used; cfg.gripper's
+                            finger_z_hi_m is 0.02168) [0, 0.5] */
+  double tip_clear_m;    /* the tips at least this far above B's top: the tcp never lower than
+                            tip_length_m + tip_clear_m (block z); default 0.004, [0, 0.5] */
+  double min_width_m;    /* narrowest opening while holding; default 0.005, [0, 0.2] */
+} placement_grasp_config_t;
+
+#define PLACEMENT_GRASP_CONFIG_INIT \
+  { .depth_m = 0.010, .tip_length_m = 0.0217, .tip_clear_m = 0.004, .min_width_m = 0.005 }
+
+/* Fill cfg with PLACEMENT_GRASP_CONFIG_INIT. */
+void placement_grasp_config_default(placement_grasp_config_t *cfg);
+
+/* What to place, and the arms' joints now. */
+typedef struct {
+  const model_mesh_t *mesh_link;            /* the object's mesh, link frame (borrowed) */
+  model_pose_t object_in_block;             /* the release pose: the link frame in B's frame
+                                               (position, unit quaternion w, x, y, z), touching
+                                               B as lib/model's model_pose_over_edge makes it */
+  double q_start_rad[2][PLACEMENT_JOINTS];  /* each arm's joints now, indexed by
+                                               placement_side_t (LEFT 0, RIGHT 1) */
+} placement_grasp_request_t;
+
+/* A grasp and the plan that places with it. */
+typedef struct {
+  placement_side_t side;           /* the arm that holds the object */
+  double yaw_rad;                  /* finger yaw about block z: the fingers close along
+                                      (cos yaw, sin yaw, 0) of B's frame */
+  double grip_width_m;             /* opening while holding */
+  placement_pose_t tcp_in_block;   /* the nominal tcp pose at the release pose: straight down
+                                      (tcp z = -block z), tcp x along the closing direction */
+  placement_pose_t object_in_tcp_nominal; /* the grasp planned with: tcp_in_block^-1 * release */
+  cl_pose_t object_in_tcp;         /* the grasp to hand the gripper (or a simulator):
+                                      G = FK(q_place)^-1 * block_in_base * release, which differs
+                                      from the nominal grasp by the IK error only (< 1e-8) and
+                                      makes FK(q_place) * G equal the release pose (in yumi_body)
+                                      to rounding (~1e-16 m) instead of IK's 1e-9 m; w >= 0 */
+  placement_plan_t plan;           /* placement_plan_build's plan for side with this grasp */
+  unsigned attempts;               /* (arm, yaw) pairs tried, 1..8 */
+} placement_grasp_t;
+
+/* Choose a top-down grasp for the release pose req->object_in_block and plan the placement with
+ * it. The tcp points straight down (block -z) over the centre of the object's footprint (the
+ * block-frame axis-aligned box of the mesh at the release pose), gcfg->depth_m below the box's
+ * top but never lower than gcfg->tip_length_m + gcfg->tip_clear_m above B's top. The fingers
+ * close along the yawed block x; the opening is the box's extent along that direction,
+ * clamped to [min_width_m, gripper_max_width_m - release_opening_m]. Tried in this order until
+ * placement_plan_build succeeds: the right arm with finger yaws 0, 90, -90, 180 degrees, then the
+ * left arm with the same yaws. arms[side] is the arm of that side (placement_arm_load_yumi),
+ * started from req->q_start_rad[side].
+ * Returns PLACEMENT_OK with *out filled, or:
+ *   PLACEMENT_E_ARG        NULL arms / cfg / gcfg / req / out / mesh, an empty mesh, gcfg out of
+ *                          range, bad cfg (placement_plan_config_check)
+ *   PLACEMENT_E_NONFINITE, PLACEMENT_E_ROTATION  the release pose or a vertex (as
+ *                          placement_pose_from_wxyz)
+ *   any status of placement_plan_build  no (arm, yaw) planned: the last attempt's status (err
+ *                          holds the last message placement_plan_build wrote), e.g.
+ *                          PLACEMENT_E_OUT_OF_REACH when the pose is beyond both arms
+ * *out is written only on PLACEMENT_OK. err may be NULL. No allocation; up to 8
+ * placement_plan_build calls. Thread safety: touches only its arguments. */
+placement_status_t placement_grasp_plan(const placement_arm_t arms[2],
+                                        const placement_plan_config_t *cfg,
+                                        const placement_grasp_config_t *gcfg,
+                                        const placement_grasp_request_t *req,
+                                        placement_grasp_t *out, placement_error_t *err);
 
 /* A static English name of a waypoint kind ("preplace", "place", "release", "retreat"). */
 const char *placement_waypoint_kind_str(placement_waypoint_kind_t kind);
