@@ -143,8 +143,6 @@ struct balance_world {
 
 /* ---- geometry helpers (world.c); pure ---- */
 
-/* Angle of the rotation between two unit quaternions, in [0, pi]: comlearn/math3d.h's. */
-#define balance_quat_angle cl_quat_angle
 
 /* Validate a pose: finite (BALANCE_E_NONFINITE), |position| components <= BALANCE_MAX_POSITION_M
  * and |quaternion| within BALANCE_QUAT_NORM_TOL of 1 (BALANCE_E_POSE). *out gets the pose with the

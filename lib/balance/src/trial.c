@@ -3,28 +3,7 @@
 #include <string.h>
 
 #include "balance_internal.h"
-
-/* splitmix64: a seeded, portable stream for the noise hooks. */
-static uint64_t splitmix64(uint64_t *s) {
-  uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-static double uniform01(uint64_t *s) {
-  return ((double)(splitmix64(s) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-}
-
-/* Two independent standard normal numbers (Box-Muller). */
-static void gauss2(uint64_t *s, double out[2]) {
-  const double u = uniform01(s), v = uniform01(s);
-  const double r = sqrt(-2.0 * log(u));
-  out[0] = r * cos(6.283185307179586 * v);
-  out[1] = r * sin(6.283185307179586 * v);
-}
-
-static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+#include "comlearn/math3d.h"
 
 int balance_trial_slid(const balance_config_t *cfg, const double from_m[3], const double to_m[3],
                        double rotation_rad) {
@@ -51,7 +30,7 @@ balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
       return BALANCE_E_ARG;
     rng = noise->seed;
     double g[2];
-    gauss2(&rng, g);
+    cl_rng_normal2(&rng, g);
     rel.position_m[0] += noise->placement_noise_m * g[0];
     rel.position_m[1] += noise->placement_noise_m * g[1];
     pose_noise = noise->pose_noise_m;
@@ -81,8 +60,8 @@ balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
     double com[3], v[3], om[3];
     balance_object_com_get(obj, com);
     balance_object_velocity_get(obj, v, om);
-    const double rot = balance_quat_angle(rel.orientation_wxyz, now.orientation_wxyz);
-    const double wn = norm3(om), vn = norm3(v);
+    const double rot = cl_quat_angle(rel.orientation_wxyz, now.orientation_wxyz);
+    const double wn = cl_vec3_norm(om), vn = cl_vec3_norm(v);
     const int beyond = fabs(com[0]) > hx || fabs(com[1]) > hy;
     /* Clearly tipped: turned far, fallen below the top, or gone beyond the edge. */
     if (rot > cfg->tip_angle_rad || com[2] < 0.0 || fabs(com[0]) > hx + obj->radius_m ||
@@ -121,16 +100,16 @@ balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
   balance_object_pose_get(obj, &out->settled);
   if (pose_noise > 0.0) {
     double g[2];
-    gauss2(&rng, g);
+    cl_rng_normal2(&rng, g);
     out->settled.position_m[0] += pose_noise * g[0];
     out->settled.position_m[1] += pose_noise * g[1];
-    gauss2(&rng, g);
+    cl_rng_normal2(&rng, g);
     out->settled.position_m[2] += pose_noise * g[0];
   }
   double d[3];
   for (int i = 0; i < 3; i++) d[i] = out->settled.position_m[i] - rel.position_m[i];
-  out->displacement_m = norm3(d);
-  out->rotation_rad = balance_quat_angle(rel.orientation_wxyz, out->settled.orientation_wxyz);
+  out->displacement_m = cl_vec3_norm(d);
+  out->rotation_rad = cl_quat_angle(rel.orientation_wxyz, out->settled.orientation_wxyz);
   out->sim_time_s = (double)steps * cfg->dt_s;
   out->steps = steps;
   balance_object_remove(obj);
