@@ -63,7 +63,7 @@ static void usage(FILE *f) {
           "  -h, --help                this help\n"
           "\n"
           "Exit codes: 0 stopped by a signal, 1 runtime failure, 2 bad usage.\n",
-          MSG_LCM_URL_DEFAULT, COMLEARN_YUMI_URDF);
+          COMLEARN_MSG_LCM_URL_DEFAULT, COMLEARN_YUMI_URDF);
 }
 
 static int parse_double(const char *s, double lo, double hi, double *out) {
@@ -149,7 +149,7 @@ typedef struct {
   sim_t sim;
   double drop_rate;
   uint64_t drop_rng;
-  msg_stats_t stats;
+  comlearn_msg_stats_t stats;
   char ch_command[256], ch_control[256], ch_status[256], ch_object[256];
   int publish_now;
   uint64_t dropped_in, dropped_out;
@@ -160,7 +160,7 @@ static int drop(daemon_t *d) {
   return cl_rng_uniform(&d->drop_rng) < d->drop_rate;
 }
 
-/* Raw handlers: the drop dice first (a dropped message never arrived), then msg_decode's schema
+/* Raw handlers: the drop dice first (a dropped message never arrived), then comlearn_msg_decode's schema
  * check, which counts every buffer that does not decode. */
 /* One incoming buffer: 1 when it arrived (not dropped) and decoded into msg, else 0 (counted). */
 static int receive(daemon_t *d, const lcm_recv_buf_t *rbuf, const char *channel,
@@ -169,11 +169,11 @@ static int receive(daemon_t *d, const lcm_recv_buf_t *rbuf, const char *channel,
     d->dropped_in++;
     return 0;
   }
-  msg_status_t st = msg_decode(type, rbuf->data, rbuf->data_size, msg, &d->stats);
-  if (st != MSG_OK) {
-    sim_undecodable(&d->sim, channel, msg_status_str(st));
+  comlearn_msg_status_t st = comlearn_msg_decode(type, rbuf->data, rbuf->data_size, msg, &d->stats);
+  if (st != COMLEARN_MSG_OK) {
+    sim_undecodable(&d->sim, channel, comlearn_msg_status_str(st));
     LOG_D("undecodable buffer on %s (%u bytes): %s", channel, rbuf->data_size,
-          msg_status_str(st));
+          comlearn_msg_status_str(st));
     return 0;
   }
   sim_received(&d->sim);
@@ -290,7 +290,7 @@ static int run(daemon_t *d, int realtime) {
 
 int main(int argc, char **argv) {
   cli_log_init("comlearn-sim");
-  options_t o = {.lcm_url = MSG_LCM_URL_DEFAULT, .seed = 1, .prefix = "",
+  options_t o = {.lcm_url = COMLEARN_MSG_LCM_URL_DEFAULT, .seed = 1, .prefix = "",
                  .yumi_urdf = COMLEARN_YUMI_URDF};
   int prc = parse_options(argc, argv, &o);
   if (prc < 0) return 0;
@@ -306,10 +306,10 @@ int main(int argc, char **argv) {
   static daemon_t d;
   d.drop_rate = o.drop_rate;
   d.drop_rng = o.seed ^ 0xD5A61266F0C9392Cull;
-  snprintf(d.ch_command, sizeof d.ch_command, "%s%s", o.prefix, MSG_CHANNEL_YUMI_COMMAND);
-  snprintf(d.ch_control, sizeof d.ch_control, "%s%s", o.prefix, MSG_CHANNEL_SIM_CONTROL);
-  snprintf(d.ch_status, sizeof d.ch_status, "%s%s", o.prefix, MSG_CHANNEL_YUMI_STATUS);
-  snprintf(d.ch_object, sizeof d.ch_object, "%s%s", o.prefix, MSG_CHANNEL_OBJECT_STATE);
+  snprintf(d.ch_command, sizeof d.ch_command, "%s%s", o.prefix, COMLEARN_MSG_CHANNEL_YUMI_COMMAND);
+  snprintf(d.ch_control, sizeof d.ch_control, "%s%s", o.prefix, COMLEARN_MSG_CHANNEL_SIM_CONTROL);
+  snprintf(d.ch_status, sizeof d.ch_status, "%s%s", o.prefix, COMLEARN_MSG_CHANNEL_YUMI_STATUS);
+  snprintf(d.ch_object, sizeof d.ch_object, "%s%s", o.prefix, COMLEARN_MSG_CHANNEL_OBJECT_STATE);
 
   sim_config_t cfg = {.yumi_urdf = o.yumi_urdf, .seed = o.seed,
                       .placement_noise_m = o.placement_noise_mm * 1e-3,

@@ -116,7 +116,7 @@ int32_t sim_command(sim_t *sim, const comlearn_yumi_command_t *cmd);
 /* Process a SIM_CONTROL message; returns its SIM_CONTROL_* result (also in OBJECT_STATE). */
 int32_t sim_control(sim_t *sim, const comlearn_sim_control_t *sc);
 
-/* Count an undecodable buffer on `channel` (reason: msg_status_str text). */
+/* Count an undecodable buffer on `channel` (reason: comlearn_msg_status_str text). */
 void sim_undecodable(sim_t *sim, const char *channel, const char *reason);
 /* Count a decoded message. */
 void sim_received(sim_t *sim);

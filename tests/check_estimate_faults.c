@@ -339,7 +339,7 @@ static void *garbler_main(void *arg) {
   for (int i = 8; i + 8 <= os_len; ++i)
     if (memcmp(os_buf + i, "\0\0\0\004box", 8) == 0) id_len_at = i;
   unsigned seed = 11;
-  const char *const ch[2] = {MSG_CHANNEL_YUMI_STATUS, MSG_CHANNEL_OBJECT_STATE};
+  const char *const ch[2] = {COMLEARN_MSG_CHANNEL_YUMI_STATUS, COMLEARN_MSG_CHANNEL_OBJECT_STATE};
   while (!atomic_load(&stop_threads)) {
     for (int c = 0; c < 2; ++c) {
       const unsigned char *own = c == 0 ? st_buf : os_buf;

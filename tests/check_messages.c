@@ -272,17 +272,17 @@ typedef struct {
 } type_case_t;
 
 static const type_case_t cases[] = {
-    {"yumi_command_t", MSG_CHANNEL_YUMI_COMMAND, comlearn_yumi_command_t_get_type_info,
+    {"yumi_command_t", COMLEARN_MSG_CHANNEL_YUMI_COMMAND, comlearn_yumi_command_t_get_type_info,
      fill_yumi_command, spot_yumi_command, pub_yumi_command},
-    {"yumi_status_t", MSG_CHANNEL_YUMI_STATUS, comlearn_yumi_status_t_get_type_info,
+    {"yumi_status_t", COMLEARN_MSG_CHANNEL_YUMI_STATUS, comlearn_yumi_status_t_get_type_info,
      fill_yumi_status, spot_yumi_status, pub_yumi_status},
-    {"object_state_t", MSG_CHANNEL_OBJECT_STATE, comlearn_object_state_t_get_type_info,
+    {"object_state_t", COMLEARN_MSG_CHANNEL_OBJECT_STATE, comlearn_object_state_t_get_type_info,
      fill_object_state, spot_object_state, pub_object_state},
-    {"sim_control_t", MSG_CHANNEL_SIM_CONTROL, comlearn_sim_control_t_get_type_info,
+    {"sim_control_t", COMLEARN_MSG_CHANNEL_SIM_CONTROL, comlearn_sim_control_t_get_type_info,
      fill_sim_control, spot_sim_control, pub_sim_control},
-    {"com_trial_t", MSG_CHANNEL_COM_TRIAL, comlearn_com_trial_t_get_type_info, fill_com_trial,
+    {"com_trial_t", COMLEARN_MSG_CHANNEL_COM_TRIAL, comlearn_com_trial_t_get_type_info, fill_com_trial,
      spot_com_trial, pub_com_trial},
-    {"com_estimate_t", MSG_CHANNEL_COM_ESTIMATE, comlearn_com_estimate_t_get_type_info,
+    {"com_estimate_t", COMLEARN_MSG_CHANNEL_COM_ESTIMATE, comlearn_com_estimate_t_get_type_info,
      fill_com_estimate, spot_com_estimate, pub_com_estimate},
 };
 enum { NCASES = (int)(sizeof cases / sizeof cases[0]) };
@@ -462,17 +462,17 @@ START_TEST(test_roundtrip_msg_decode) {
   c->fill(&sent);
   size_t len;
   unsigned char *buf = encode_alloc(t, &sent, &len);
-  ck_assert_int_eq(msg_check(t, buf, len), MSG_OK);
-  msg_stats_t st = {0};
+  ck_assert_int_eq(comlearn_msg_check(t, buf, len), COMLEARN_MSG_OK);
+  comlearn_msg_stats_t st = {0};
   memset(&got, 0xa5, sizeof got);
-  ck_assert_int_eq(msg_decode(t, buf, len, &got, &st), MSG_OK);
+  ck_assert_int_eq(comlearn_msg_decode(t, buf, len, &got, &st), COMLEARN_MSG_OK);
   char where[128] = "";
   ck_assert_msg(msg_diff(t, &sent, &got, where, sizeof where) == 0, "%s: %s differs", c->name,
                 where);
   c->spot(&got);
   ck_assert_uint_eq(st.received, 1);
   ck_assert_uint_eq(st.decoded, 1);
-  ck_assert_uint_eq(msg_stats_rejected(&st), 0);
+  ck_assert_uint_eq(comlearn_msg_stats_rejected(&st), 0);
   /* Re-encoding the decoded message gives the same bytes. */
   size_t len2;
   unsigned char *buf2 = encode_alloc(t, &got, &len2);
@@ -484,7 +484,7 @@ START_TEST(test_roundtrip_msg_decode) {
 }
 END_TEST
 
-/* The generated decoder alone agrees with msg_decode on good input. */
+/* The generated decoder alone agrees with comlearn_msg_decode on good input. */
 START_TEST(test_roundtrip_generated_decode) {
   const type_case_t *c = &cases[_i];
   const lcm_type_info_t *t = c->info();
@@ -514,7 +514,7 @@ START_TEST(test_compare_sees_every_field) {
   c->fill(&sent);
   size_t len;
   unsigned char *buf = encode_alloc(t, &sent, &len);
-  ck_assert_int_eq(msg_decode(t, buf, len, &got, NULL), MSG_OK);
+  ck_assert_int_eq(comlearn_msg_decode(t, buf, len, &got, NULL), COMLEARN_MSG_OK);
   char where[128];
   for (int i = 0; i < t->num_fields(); i++) {
     lcm_field_t f;
@@ -548,7 +548,7 @@ START_TEST(test_nonfinite_transported) {
   const lcm_type_info_t *t = comlearn_yumi_command_t_get_type_info();
   size_t len;
   unsigned char *buf = encode_alloc(t, &cmd, &len);
-  ck_assert_int_eq(msg_decode(t, buf, len, &got, NULL), MSG_OK);
+  ck_assert_int_eq(comlearn_msg_decode(t, buf, len, &got, NULL), COMLEARN_MSG_OK);
   ck_assert(isnan(got.q_commanded_rad[0][3]));
   ck_assert(isinf(got.gripper_width_commanded_m[1]) && got.gripper_width_commanded_m[1] < 0);
   ck_assert(got.q_commanded_rad[0][4] == val(4));
@@ -570,10 +570,10 @@ START_TEST(test_reject_fingerprint) {
     unsigned char *buf = encode_alloc(cases[a].info(), &sent, &len);
     for (int b = 0; b < NCASES; b++) {
       if (a == b) continue;
-      msg_stats_t st = {0};
+      comlearn_msg_stats_t st = {0};
       any_msg_t got;
       memset(&got, 0x5a, sizeof got);
-      ck_assert_int_eq(msg_decode(cases[b].info(), buf, len, &got, &st), MSG_E_FINGERPRINT);
+      ck_assert_int_eq(comlearn_msg_decode(cases[b].info(), buf, len, &got, &st), COMLEARN_MSG_E_FINGERPRINT);
       ck_assert_uint_eq(st.received, 1);
       ck_assert_uint_eq(st.rejected_fingerprint, 1);
       ck_assert_uint_eq(st.decoded + st.rejected_truncated + st.rejected_malformed + st.failed, 0);
@@ -586,10 +586,10 @@ START_TEST(test_reject_fingerprint) {
     /* One flipped bit anywhere in the fingerprint. */
     for (size_t bit = 0; bit < 64; bit++) {
       buf[bit / 8] ^= (unsigned char)(1u << (bit % 8));
-      ck_assert_int_eq(msg_check(cases[a].info(), buf, len), MSG_E_FINGERPRINT);
+      ck_assert_int_eq(comlearn_msg_check(cases[a].info(), buf, len), COMLEARN_MSG_E_FINGERPRINT);
       buf[bit / 8] ^= (unsigned char)(1u << (bit % 8));
     }
-    ck_assert_int_eq(msg_check(cases[a].info(), buf, len), MSG_OK);
+    ck_assert_int_eq(comlearn_msg_check(cases[a].info(), buf, len), COMLEARN_MSG_OK);
     free(buf);
   }
 }
@@ -603,20 +603,20 @@ START_TEST(test_reject_truncated) {
   c->fill(&sent);
   size_t len;
   unsigned char *buf = encode_alloc(t, &sent, &len);
-  msg_stats_t st = {0};
+  comlearn_msg_stats_t st = {0};
   for (size_t n = 0; n < len; n++) {
     /* An exact-size heap copy, so the sanitizer sees any read past its end. */
     unsigned char *cut = malloc(n > 0 ? n : 1);
     ck_assert_ptr_nonnull(cut);
     memcpy(cut, buf, n);
     any_msg_t got;
-    ck_assert_msg(msg_decode(t, cut, n, &got, &st) == MSG_E_TRUNCATED, "%s cut to %zu of %zu",
+    ck_assert_msg(comlearn_msg_decode(t, cut, n, &got, &st) == COMLEARN_MSG_E_TRUNCATED, "%s cut to %zu of %zu",
                   c->name, n, len);
     free(cut);
   }
   ck_assert_uint_eq(st.received, len);
   ck_assert_uint_eq(st.rejected_truncated, len);
-  ck_assert_uint_eq(msg_stats_rejected(&st), len);
+  ck_assert_uint_eq(comlearn_msg_stats_rejected(&st), len);
   ck_assert_uint_eq(st.decoded, 0);
   free(buf);
 }
@@ -643,20 +643,20 @@ START_TEST(test_reject_malformed_strings) {
   uint32_t good = (uint32_t)strlen(sent.object_id) + 1;
   struct {
     uint32_t length;
-    msg_status_t want;
+    comlearn_msg_status_t want;
   } bad[] = {
-      {0u, MSG_E_MALFORMED},          /* LCM always counts the NUL */
-      {0xffffffffu, MSG_E_MALFORMED}, /* -1 */
-      {0x80000000u, MSG_E_MALFORMED}, /* INT32_MIN */
-      {0x7fffffffu, MSG_E_TRUNCATED}, /* longer than the buffer */
-      {good - 1, MSG_E_MALFORMED},    /* last byte is not the NUL */
-      {good + 4, MSG_E_MALFORMED},    /* ends on the next length's low byte, 0x0a, not a NUL */
+      {0u, COMLEARN_MSG_E_MALFORMED},          /* LCM always counts the NUL */
+      {0xffffffffu, COMLEARN_MSG_E_MALFORMED}, /* -1 */
+      {0x80000000u, COMLEARN_MSG_E_MALFORMED}, /* INT32_MIN */
+      {0x7fffffffu, COMLEARN_MSG_E_TRUNCATED}, /* longer than the buffer */
+      {good - 1, COMLEARN_MSG_E_MALFORMED},    /* last byte is not the NUL */
+      {good + 4, COMLEARN_MSG_E_MALFORMED},    /* ends on the next length's low byte, 0x0a, not a NUL */
   };
-  msg_stats_t st = {0};
+  comlearn_msg_stats_t st = {0};
   for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
     put_be32(buf + off, bad[k].length);
     comlearn_com_estimate_t got;
-    ck_assert_msg(msg_decode(t, buf, len, &got, &st) == bad[k].want, "length 0x%08" PRIx32,
+    ck_assert_msg(comlearn_msg_decode(t, buf, len, &got, &st) == bad[k].want, "length 0x%08" PRIx32,
                   bad[k].length);
     comlearn_com_estimate_t_decode_cleanup(&got);
   }
@@ -666,16 +666,16 @@ START_TEST(test_reject_malformed_strings) {
   /* Restored, it decodes again. */
   put_be32(buf + off, good);
   comlearn_com_estimate_t got;
-  ck_assert_int_eq(msg_decode(t, buf, len, &got, &st), MSG_OK);
+  ck_assert_int_eq(comlearn_msg_decode(t, buf, len, &got, &st), COMLEARN_MSG_OK);
   ck_assert_str_eq(got.object_id, "rock_2_uneven");
   comlearn_com_estimate_t_decode_cleanup(&got);
   /* The NUL replaced by a letter; a NUL inside the string (C would cut it, Java would not). */
   buf[off + 4 + good - 1] = 'x';
-  ck_assert_int_eq(msg_check(t, buf, len), MSG_E_MALFORMED);
+  ck_assert_int_eq(comlearn_msg_check(t, buf, len), COMLEARN_MSG_E_MALFORMED);
   buf[off + 4 + good - 1] = '\0';
-  ck_assert_int_eq(msg_check(t, buf, len), MSG_OK);
+  ck_assert_int_eq(comlearn_msg_check(t, buf, len), COMLEARN_MSG_OK);
   buf[off + 4 + 4] = '\0';
-  ck_assert_int_eq(msg_check(t, buf, len), MSG_E_MALFORMED);
+  ck_assert_int_eq(comlearn_msg_check(t, buf, len), COMLEARN_MSG_E_MALFORMED);
   free(buf);
 }
 END_TEST
@@ -691,20 +691,20 @@ START_TEST(test_reject_trailing_bytes) {
   unsigned char *longer = calloc(len + 3, 1);
   ck_assert_ptr_nonnull(longer);
   memcpy(longer, buf, len);
-  msg_stats_t st = {0};
+  comlearn_msg_stats_t st = {0};
   any_msg_t got;
   for (size_t extra = 1; extra <= 3; extra++) {
-    ck_assert_int_eq(msg_check(t, longer, len + extra), MSG_E_MALFORMED);
-    ck_assert_int_eq(msg_decode(t, longer, len + extra, &got, &st), MSG_E_MALFORMED);
+    ck_assert_int_eq(comlearn_msg_check(t, longer, len + extra), COMLEARN_MSG_E_MALFORMED);
+    ck_assert_int_eq(comlearn_msg_decode(t, longer, len + extra, &got, &st), COMLEARN_MSG_E_MALFORMED);
   }
-  ck_assert_int_eq(msg_check(t, longer, len), MSG_OK);
+  ck_assert_int_eq(comlearn_msg_check(t, longer, len), COMLEARN_MSG_OK);
   ck_assert_uint_eq(st.rejected_malformed, 3);
   free(longer);
   free(buf);
 }
 END_TEST
 
-static void check_stats_balance(const msg_stats_t *st) {
+static void check_stats_balance(const comlearn_msg_stats_t *st) {
   ck_assert_uint_eq(st->received, st->decoded + st->rejected_fingerprint +
                                       st->rejected_truncated + st->rejected_malformed +
                                       st->failed);
@@ -723,21 +723,21 @@ START_TEST(test_reject_garbage) {
   size_t good_len;
   unsigned char *good = encode_alloc(t, &sent, &good_len);
 
-  msg_stats_t st = {0};
+  comlearn_msg_stats_t st = {0};
   const int rounds = 3000;
   for (int r = 0; r < rounds; r++) {
     size_t n = (size_t)(cl_rng_next(&seed) % 700);
     unsigned char *b = malloc(n > 0 ? n : 1);
     ck_assert_ptr_nonnull(b);
     for (size_t k = 0; k < n; k++) b[k] = (unsigned char)cl_rng_next(&seed);
-    ck_assert_int_ne(msg_decode(t, b, n, &got, &st), MSG_OK);
+    ck_assert_int_ne(comlearn_msg_decode(t, b, n, &got, &st), COMLEARN_MSG_OK);
     free(b);
   }
   ck_assert_uint_eq(st.received, (uint64_t)rounds);
-  ck_assert_uint_eq(msg_stats_rejected(&st), (uint64_t)rounds);
+  ck_assert_uint_eq(comlearn_msg_stats_rejected(&st), (uint64_t)rounds);
   ck_assert_uint_gt(st.rejected_fingerprint, (uint64_t)rounds * 9 / 10);
 
-  msg_stats_t st2 = {0};
+  comlearn_msg_stats_t st2 = {0};
   for (int r = 0; r < rounds; r++) {
     /* Behind the right fingerprint; lengths near the real one. */
     size_t n = good_len - 40 + (size_t)(cl_rng_next(&seed) % 80);
@@ -745,14 +745,14 @@ START_TEST(test_reject_garbage) {
     ck_assert_ptr_nonnull(b);
     memcpy(b, good, 8);
     for (size_t k = 8; k < n; k++) b[k] = (unsigned char)cl_rng_next(&seed);
-    if (msg_decode(t, b, n, &got, &st2) == MSG_OK) t->decode_cleanup(&got);
+    if (comlearn_msg_decode(t, b, n, &got, &st2) == COMLEARN_MSG_OK) t->decode_cleanup(&got);
     free(b);
   }
   check_stats_balance(&st2);
   ck_assert_uint_eq(st2.rejected_fingerprint, 0);
   ck_assert_uint_eq(st2.failed, 0);
 
-  msg_stats_t st3 = {0};
+  comlearn_msg_stats_t st3 = {0};
   for (int r = 0; r < rounds; r++) {
     unsigned char *b = malloc(good_len);
     ck_assert_ptr_nonnull(b);
@@ -762,8 +762,8 @@ START_TEST(test_reject_garbage) {
       size_t at = 8 + (size_t)(cl_rng_next(&seed) % (good_len - 8));
       b[at] ^= (unsigned char)(1 + cl_rng_next(&seed) % 255);
     }
-    msg_status_t s = msg_decode(t, b, good_len, &got, &st3);
-    if (s == MSG_OK) {
+    comlearn_msg_status_t s = comlearn_msg_decode(t, b, good_len, &got, &st3);
+    if (s == COMLEARN_MSG_OK) {
       /* Whatever was decoded is a proper message: strings terminated, re-encodes to the bytes. */
       size_t l2;
       unsigned char *again = encode_alloc(t, &got, &l2);
@@ -783,41 +783,41 @@ END_TEST
 START_TEST(test_args_and_status_str) {
   const lcm_type_info_t *t = comlearn_yumi_command_t_get_type_info();
   comlearn_yumi_command_t got;
-  msg_stats_t st = {0};
+  comlearn_msg_stats_t st = {0};
   unsigned char b[16] = {0};
-  ck_assert_int_eq(msg_decode(NULL, b, sizeof b, &got, &st), MSG_E_ARG);
-  ck_assert_int_eq(msg_decode(t, b, sizeof b, NULL, &st), MSG_E_ARG);
-  ck_assert_int_eq(msg_decode(t, NULL, 5, &got, &st), MSG_E_ARG);
-  ck_assert_int_eq(msg_decode(t, NULL, 0, &got, &st), MSG_E_TRUNCATED);
+  ck_assert_int_eq(comlearn_msg_decode(NULL, b, sizeof b, &got, &st), COMLEARN_MSG_E_ARG);
+  ck_assert_int_eq(comlearn_msg_decode(t, b, sizeof b, NULL, &st), COMLEARN_MSG_E_ARG);
+  ck_assert_int_eq(comlearn_msg_decode(t, NULL, 5, &got, &st), COMLEARN_MSG_E_ARG);
+  ck_assert_int_eq(comlearn_msg_decode(t, NULL, 0, &got, &st), COMLEARN_MSG_E_TRUNCATED);
   ck_assert_uint_eq(st.received, 4);
   ck_assert_uint_eq(st.failed, 3);
   ck_assert_uint_eq(st.rejected_truncated, 1);
-  ck_assert_int_eq(msg_check(NULL, b, sizeof b), MSG_E_ARG);
-  ck_assert_uint_eq(msg_stats_rejected(NULL), 0);
+  ck_assert_int_eq(comlearn_msg_check(NULL, b, sizeof b), COMLEARN_MSG_E_ARG);
+  ck_assert_uint_eq(comlearn_msg_stats_rejected(NULL), 0);
 
-  msg_subscription_t *sub = (msg_subscription_t *)&st; /* must be overwritten with NULL */
-  msg_sub_config_t cfg = {0};
-  ck_assert_int_eq(msg_subscribe(NULL, "X", &cfg, &sub), MSG_E_ARG);
+  comlearn_msg_subscription_t *sub = (comlearn_msg_subscription_t *)&st; /* must be overwritten with NULL */
+  comlearn_msg_sub_config_t cfg = {0};
+  ck_assert_int_eq(comlearn_msg_subscribe(NULL, "X", &cfg, &sub), COMLEARN_MSG_E_ARG);
   ck_assert_ptr_null(sub);
   lcm_t *lcm = lcm_create("memq://");
   ck_assert_ptr_nonnull(lcm);
-  ck_assert_int_eq(msg_subscribe(lcm, "X", &cfg, &sub), MSG_E_ARG); /* no type, no handler */
-  ck_assert_int_eq(msg_subscribe(lcm, "", &cfg, &sub), MSG_E_ARG);
-  ck_assert_int_eq(msg_subscribe(lcm, "X", NULL, &sub), MSG_E_ARG);
-  ck_assert_int_eq(msg_unsubscribe(lcm, NULL), MSG_OK);
-  ck_assert_int_eq(msg_subscription_set_queue_capacity(NULL, 1), MSG_E_ARG);
+  ck_assert_int_eq(comlearn_msg_subscribe(lcm, "X", &cfg, &sub), COMLEARN_MSG_E_ARG); /* no type, no handler */
+  ck_assert_int_eq(comlearn_msg_subscribe(lcm, "", &cfg, &sub), COMLEARN_MSG_E_ARG);
+  ck_assert_int_eq(comlearn_msg_subscribe(lcm, "X", NULL, &sub), COMLEARN_MSG_E_ARG);
+  ck_assert_int_eq(comlearn_msg_unsubscribe(lcm, NULL), COMLEARN_MSG_OK);
+  ck_assert_int_eq(comlearn_msg_subscription_set_queue_capacity(NULL, 1), COMLEARN_MSG_E_ARG);
   lcm_destroy(lcm);
 
-  const msg_status_t all[] = {MSG_OK, MSG_E_ARG, MSG_E_TRUNCATED, MSG_E_FINGERPRINT,
-                              MSG_E_MALFORMED, MSG_E_NOMEM, MSG_E_LCM, MSG_E_UNSUPPORTED};
-  const char *unknown = msg_status_str((msg_status_t)-99);
+  const comlearn_msg_status_t all[] = {COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG, COMLEARN_MSG_E_TRUNCATED, COMLEARN_MSG_E_FINGERPRINT,
+                              COMLEARN_MSG_E_MALFORMED, COMLEARN_MSG_E_NOMEM, COMLEARN_MSG_E_LCM, COMLEARN_MSG_E_UNSUPPORTED};
+  const char *unknown = comlearn_msg_status_str((comlearn_msg_status_t)-99);
   ck_assert_str_eq(unknown, "unknown status");
   for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
-    ck_assert_ptr_nonnull(msg_status_str(all[i]));
-    ck_assert_str_ne(msg_status_str(all[i]), unknown);
-    for (size_t k = 0; k < i; k++) ck_assert_str_ne(msg_status_str(all[i]), msg_status_str(all[k]));
+    ck_assert_ptr_nonnull(comlearn_msg_status_str(all[i]));
+    ck_assert_str_ne(comlearn_msg_status_str(all[i]), unknown);
+    for (size_t k = 0; k < i; k++) ck_assert_str_ne(comlearn_msg_status_str(all[i]), comlearn_msg_status_str(all[k]));
   }
-  ck_assert_str_eq(msg_status_str(MSG_OK), "success");
+  ck_assert_str_eq(comlearn_msg_status_str(COMLEARN_MSG_OK), "success");
 }
 END_TEST
 
@@ -840,10 +840,10 @@ END_TEST
 
 /* The contract of docs/messages.md that code relies on. */
 START_TEST(test_constants) {
-  ck_assert_str_eq(MSG_LCM_URL_DEFAULT, "udpm://239.255.76.67:7667?ttl=0");
-  const char *names[] = {MSG_CHANNEL_YUMI_COMMAND, MSG_CHANNEL_YUMI_STATUS,
-                         MSG_CHANNEL_OBJECT_STATE, MSG_CHANNEL_SIM_CONTROL,
-                         MSG_CHANNEL_COM_TRIAL,    MSG_CHANNEL_COM_ESTIMATE};
+  ck_assert_str_eq(COMLEARN_MSG_LCM_URL_DEFAULT, "udpm://239.255.76.67:7667?ttl=0");
+  const char *names[] = {COMLEARN_MSG_CHANNEL_YUMI_COMMAND, COMLEARN_MSG_CHANNEL_YUMI_STATUS,
+                         COMLEARN_MSG_CHANNEL_OBJECT_STATE, COMLEARN_MSG_CHANNEL_SIM_CONTROL,
+                         COMLEARN_MSG_CHANNEL_COM_TRIAL,    COMLEARN_MSG_CHANNEL_COM_ESTIMATE};
   const char *want[] = {"YUMI_COMMAND", "YUMI_STATUS", "OBJECT_STATE",
                         "SIM_CONTROL",  "COM_TRIAL",   "COM_ESTIMATE"};
   for (int i = 0; i < 6; i++) ck_assert_str_eq(names[i], want[i]);
@@ -874,7 +874,7 @@ typedef struct {
   int64_t recv_utime;
   char where[128];
   char channel[32];
-  msg_status_t last_reject;
+  comlearn_msg_status_t last_reject;
   int rejects;
 } sink_t;
 
@@ -888,7 +888,7 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, const vo
   else s->c->spot(msg);
 }
 
-static void on_reject(const lcm_recv_buf_t *rbuf, const char *channel, msg_status_t reason,
+static void on_reject(const lcm_recv_buf_t *rbuf, const char *channel, comlearn_msg_status_t reason,
                       void *user) {
   (void)rbuf;
   (void)channel;
@@ -914,8 +914,8 @@ START_TEST(test_memq_publish_handle) {
   ck_assert_ptr_nonnull(lcm);
   any_msg_t sent[NCASES];
   sink_t sinks[NCASES];
-  msg_stats_t stats[NCASES];
-  msg_subscription_t *subs[NCASES];
+  comlearn_msg_stats_t stats[NCASES];
+  comlearn_msg_subscription_t *subs[NCASES];
   memset(sinks, 0, sizeof sinks);
   memset(stats, 0, sizeof stats);
   for (int i = 0; i < NCASES; i++) {
@@ -923,12 +923,12 @@ START_TEST(test_memq_publish_handle) {
     cases[i].fill(&sent[i]);
     sinks[i].c = &cases[i];
     sinks[i].sent = &sent[i];
-    msg_sub_config_t cfg = {.type = cases[i].info(), .on_message = on_message,
+    comlearn_msg_sub_config_t cfg = {.type = cases[i].info(), .on_message = on_message,
                             .on_reject = on_reject, .user = &sinks[i], .stats = &stats[i]};
-    ck_assert_int_eq(msg_subscribe(lcm, cases[i].channel, &cfg, &subs[i]), MSG_OK);
+    ck_assert_int_eq(comlearn_msg_subscribe(lcm, cases[i].channel, &cfg, &subs[i]), COMLEARN_MSG_OK);
     ck_assert_ptr_nonnull(subs[i]);
   }
-  ck_assert_int_eq(msg_subscription_set_queue_capacity(subs[0], 5), MSG_OK);
+  ck_assert_int_eq(comlearn_msg_subscription_set_queue_capacity(subs[0], 5), COMLEARN_MSG_OK);
   /* Publish in reverse order, twice, with the generated typed publish functions. */
   for (int round = 0; round < 2; round++)
     for (int i = NCASES - 1; i >= 0; i--)
@@ -944,7 +944,7 @@ START_TEST(test_memq_publish_handle) {
     ck_assert_uint_eq(stats[i].received, 2);
     ck_assert_uint_eq(stats[i].decoded, 2);
   }
-  for (int i = 0; i < NCASES; i++) ck_assert_int_eq(msg_unsubscribe(lcm, subs[i]), MSG_OK);
+  for (int i = 0; i < NCASES; i++) ck_assert_int_eq(comlearn_msg_unsubscribe(lcm, subs[i]), COMLEARN_MSG_OK);
   lcm_destroy(lcm);
 }
 END_TEST
@@ -956,17 +956,17 @@ START_TEST(test_memq_rejects) {
   ck_assert_ptr_nonnull(lcm);
   any_msg_t sent[NCASES];
   sink_t sinks[NCASES];
-  msg_stats_t shared = {0}; /* one counter set for all subscriptions, as a daemon keeps it */
-  msg_subscription_t *subs[NCASES];
+  comlearn_msg_stats_t shared = {0}; /* one counter set for all subscriptions, as a daemon keeps it */
+  comlearn_msg_subscription_t *subs[NCASES];
   memset(sinks, 0, sizeof sinks);
   for (int i = 0; i < NCASES; i++) {
     memset(&sent[i], 0, sizeof sent[i]);
     cases[i].fill(&sent[i]);
     sinks[i].c = &cases[i];
     sinks[i].sent = &sent[i];
-    msg_sub_config_t cfg = {.type = cases[i].info(), .on_message = on_message,
+    comlearn_msg_sub_config_t cfg = {.type = cases[i].info(), .on_message = on_message,
                             .on_reject = on_reject, .user = &sinks[i], .stats = &shared};
-    ck_assert_int_eq(msg_subscribe(lcm, cases[i].channel, &cfg, &subs[i]), MSG_OK);
+    ck_assert_int_eq(comlearn_msg_subscribe(lcm, cases[i].channel, &cfg, &subs[i]), COMLEARN_MSG_OK);
   }
   uint64_t seed = 12345;
   for (int i = 0; i < NCASES; i++) {
@@ -995,8 +995,8 @@ START_TEST(test_memq_rejects) {
   ck_assert_uint_eq(shared.decoded, NCASES);
   ck_assert_uint_eq(shared.rejected_fingerprint, 2 * NCASES); /* wrong type and junk */
   ck_assert_uint_eq(shared.rejected_truncated, 3 * NCASES);   /* half, 3 bytes, empty */
-  ck_assert_uint_eq(msg_stats_rejected(&shared), 5 * NCASES);
-  for (int i = 0; i < NCASES; i++) ck_assert_int_eq(msg_unsubscribe(lcm, subs[i]), MSG_OK);
+  ck_assert_uint_eq(comlearn_msg_stats_rejected(&shared), 5 * NCASES);
+  for (int i = 0; i < NCASES; i++) ck_assert_int_eq(comlearn_msg_unsubscribe(lcm, subs[i]), COMLEARN_MSG_OK);
   lcm_destroy(lcm);
 }
 END_TEST

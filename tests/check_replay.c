@@ -308,16 +308,16 @@ static int recompute_from_log(const char *log_path, const char *urdf, size_t liv
   comlearn_com_estimate_t final_e;
   memset(&final_e, 0, sizeof final_e);
   int have_final = 0;
-  msg_stats_t stats = {0};
+  comlearn_msg_stats_t stats = {0};
   lcm_eventlog_t *log = lcm_eventlog_create(log_path, "r");
   ck_assert_ptr_nonnull(log);
   for (lcm_eventlog_event_t *ev; (ev = lcm_eventlog_read_next_event(log)) != NULL;
        lcm_eventlog_free_event(ev)) {
-    if (strcmp(ev->channel, MSG_CHANNEL_COM_TRIAL) == 0) {
+    if (strcmp(ev->channel, COMLEARN_MSG_CHANNEL_COM_TRIAL) == 0) {
       comlearn_com_trial_t t;
-      ck_assert_int_eq(msg_decode(comlearn_com_trial_t_get_type_info(), ev->data,
+      ck_assert_int_eq(comlearn_msg_decode(comlearn_com_trial_t_get_type_info(), ev->data,
                                   (size_t)ev->datalen, &t, &stats),
-                       MSG_OK);
+                       COMLEARN_MSG_OK);
       ck_assert_uint_lt(lb->n, MAX_TRIALS);
       ck_assert_int_eq(t.trial_index, (int)lb->n); /* none lost, none twice */
       lb->kind[lb->n] = t.kind;
@@ -330,11 +330,11 @@ static int recompute_from_log(const char *log_path, const char *urdf, size_t liv
       world_to_block(&pc.block_in_base, t.settled_position_m, t.settled_orientation_wxyz,
                      &r->settled);
       comlearn_com_trial_t_decode_cleanup(&t);
-    } else if (strcmp(ev->channel, MSG_CHANNEL_COM_ESTIMATE) == 0) {
+    } else if (strcmp(ev->channel, COMLEARN_MSG_CHANNEL_COM_ESTIMATE) == 0) {
       comlearn_com_estimate_t e;
-      ck_assert_int_eq(msg_decode(comlearn_com_estimate_t_get_type_info(), ev->data,
+      ck_assert_int_eq(comlearn_msg_decode(comlearn_com_estimate_t_get_type_info(), ev->data,
                                   (size_t)ev->datalen, &e, &stats),
-                       MSG_OK);
+                       COMLEARN_MSG_OK);
       if (e.done) {
         final_e = e;
         final_e.object_id = final_e.policy = NULL;
@@ -346,7 +346,7 @@ static int recompute_from_log(const char *log_path, const char *urdf, size_t liv
   lcm_eventlog_destroy(log);
   ck_assert_msg(have_final, "no final COM_ESTIMATE in the log");
   ck_assert_uint_eq(lb->n, live_trials);
-  ck_assert_uint_eq(msg_stats_rejected(&stats), 0);
+  ck_assert_uint_eq(comlearn_msg_stats_rejected(&stats), 0);
 
   model_object_t obj = {0};
   model_error_t merr = {{0}};

@@ -44,8 +44,8 @@ typedef struct {
   pid_t pid;
   lcm_t *lcm;
   char url[128];
-  msg_subscription_t *sub_st, *sub_os;
-  msg_stats_t stats;
+  comlearn_msg_subscription_t *sub_st, *sub_os;
+  comlearn_msg_stats_t stats;
   comlearn_yumi_status_t st;
   char st_text[512];
   int64_t n_st;
@@ -156,13 +156,13 @@ static void spawn(fx_t *f, const char *const *extra) {
                 "`ip route add 224.0.0.0/4 dev lo` as root (scripts/setup.sh does it)",
                 f->url);
   self_check_udpm(f->lcm, f->url);
-  msg_sub_config_t c1 = {.type = comlearn_yumi_status_t_get_type_info(),
+  comlearn_msg_sub_config_t c1 = {.type = comlearn_yumi_status_t_get_type_info(),
                          .on_message = on_status, .user = f, .stats = &f->stats};
-  msg_sub_config_t c2 = {.type = comlearn_object_state_t_get_type_info(),
+  comlearn_msg_sub_config_t c2 = {.type = comlearn_object_state_t_get_type_info(),
                          .on_message = on_object, .user = f, .stats = &f->stats};
-  ck_assert_int_eq(msg_subscribe(f->lcm, MSG_CHANNEL_YUMI_STATUS, &c1, &f->sub_st), MSG_OK);
-  ck_assert_int_eq(msg_subscribe(f->lcm, MSG_CHANNEL_OBJECT_STATE, &c2, &f->sub_os), MSG_OK);
-  msg_subscription_set_queue_capacity(f->sub_st, 0);
+  ck_assert_int_eq(comlearn_msg_subscribe(f->lcm, COMLEARN_MSG_CHANNEL_YUMI_STATUS, &c1, &f->sub_st), COMLEARN_MSG_OK);
+  ck_assert_int_eq(comlearn_msg_subscribe(f->lcm, COMLEARN_MSG_CHANNEL_OBJECT_STATE, &c2, &f->sub_os), COMLEARN_MSG_OK);
+  comlearn_msg_subscription_set_queue_capacity(f->sub_st, 0);
   const char *argv[32] = {COMLEARN_SIM_EXE, "--lcm-url", f->url, "-q"};
   int n = 4;
   for (int i = 0; extra && extra[i] && n < 30; i++) argv[n++] = extra[i];
@@ -202,8 +202,8 @@ static void finish(fx_t *f) {
     ck_abort_msg("comlearn-sim did not exit within 1 s of SIGTERM");
   }
   ck_assert_msg(WIFEXITED(ws) && WEXITSTATUS(ws) == 0, "comlearn-sim exit status %d", ws);
-  msg_unsubscribe(f->lcm, f->sub_st);
-  msg_unsubscribe(f->lcm, f->sub_os);
+  comlearn_msg_unsubscribe(f->lcm, f->sub_st);
+  comlearn_msg_unsubscribe(f->lcm, f->sub_os);
   lcm_destroy(f->lcm);
   free(f->hist);
 }
@@ -244,7 +244,7 @@ static void send_cmd(fx_t *f, int64_t seq, int8_t mode, const double q[2][7], co
   c.velocity_scale = scale;
   memcpy(c.q_commanded_rad, q, sizeof c.q_commanded_rad);
   memcpy(c.gripper_width_commanded_m, w, sizeof c.gripper_width_commanded_m);
-  ck_assert_int_eq(comlearn_yumi_command_t_publish(f->lcm, MSG_CHANNEL_YUMI_COMMAND, &c), 0);
+  ck_assert_int_eq(comlearn_yumi_command_t_publish(f->lcm, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, &c), 0);
 }
 
 /* Send and wait until the daemon's status reflects it (messages_received grew to `count`). */
@@ -287,7 +287,7 @@ START_TEST(help_and_bad_options) {
   ck_assert_int_eq(run_exit(help, out, sizeof out), 0);
   const char *opts[] = {"--lcm-url", "--realtime", "--seed", "--placement-noise-mm",
                         "--pose-noise-mm", "--drop-rate", "--channel-prefix", "--yumi-urdf",
-                        "--help", MSG_LCM_URL_DEFAULT};
+                        "--help", COMLEARN_MSG_LCM_URL_DEFAULT};
   for (size_t i = 0; i < sizeof opts / sizeof opts[0]; i++)
     ck_assert_msg(strstr(out, opts[i]) != NULL, "--help does not mention %s", opts[i]);
   /* every option line carries its default */
@@ -323,8 +323,8 @@ START_TEST(signals_exit_zero) {
     ck_assert_msg(ws != -1, "no exit within 1 s of signal %d", sigs[i]);
     ck_assert(WIFEXITED(ws) && WEXITSTATUS(ws) == 0);
     ck_assert(now_s() - t0 < 1.0);
-    msg_unsubscribe(f.lcm, f.sub_st);
-    msg_unsubscribe(f.lcm, f.sub_os);
+    comlearn_msg_unsubscribe(f.lcm, f.sub_st);
+    comlearn_msg_unsubscribe(f.lcm, f.sub_os);
     lcm_destroy(f.lcm);
   }
 }
@@ -518,7 +518,7 @@ START_TEST(invalid_commands_refused) {
     sc.action = cases[i].action;
     sc.urdf_path = (char *)cases[i].path;
     sc.link_in_tool_wxyz[0] = cases[i].qw;
-    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
     ck_assert(wait_for(&f, sc_acked, &sc.seq, 5.0));
     ck_assert_msg(f.os.sim_control_result == cases[i].want, "case %zu: result %d, want %d", i,
                   f.os.sim_control_result, cases[i].want);
@@ -526,7 +526,7 @@ START_TEST(invalid_commands_refused) {
   }
   /* a repeated seq: ERR_SEQ; the acknowledgement keeps the last processed seq */
   const int64_t rejected = f.st.messages_rejected;
-  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
   const double end = now_s() + 5.0;
   while (now_s() < end && f.os.sim_control_result != OS(SIM_CONTROL_ERR_SEQ))
     lcm_handle_timeout(f.lcm, 20);
@@ -555,19 +555,19 @@ START_TEST(garbage_counted) {
   c.expire_utime = INT64_MAX;
   int len = comlearn_yumi_command_t_encode(buf, 0, sizeof buf, &c);
   ck_assert_int_gt(len, 20);
-  publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf, (size_t)len - 5); /* truncated */
+  publish_raw(&f, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, buf, (size_t)len - 5); /* truncated */
   memcpy(buf2, buf, (size_t)len);
   buf2[len] = 0x42;
-  publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf2, (size_t)len + 1); /* trailing byte */
+  publish_raw(&f, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, buf2, (size_t)len + 1); /* trailing byte */
   comlearn_yumi_status_t st;
   memset(&st, 0, sizeof st);
   st.error_text = (char *)"";
   int slen = comlearn_yumi_status_t_encode(buf2, 0, sizeof buf2, &st);
-  publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf2, (size_t)slen); /* wrong fingerprint */
+  publish_raw(&f, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, buf2, (size_t)slen); /* wrong fingerprint */
   uint64_t rng = 7;
   for (int i = 0; i < 300; i++) buf2[i] = (unsigned char)(cl_rng_next(&rng) & 0xff);
-  publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf2, 300); /* garbage */
-  publish_raw(&f, MSG_CHANNEL_YUMI_COMMAND, buf2, 3);   /* shorter than a fingerprint */
+  publish_raw(&f, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, buf2, 300); /* garbage */
+  publish_raw(&f, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, buf2, 3);   /* shorter than a fingerprint */
   sent += 5;
   /* SIM_CONTROL */
   comlearn_sim_control_t sc;
@@ -577,17 +577,17 @@ START_TEST(garbage_counted) {
   sc.urdf_path = (char *)"/tmp/x.urdf";
   len = comlearn_sim_control_t_encode(buf, 0, sizeof buf, &sc);
   ck_assert_int_gt(len, 30);
-  publish_raw(&f, MSG_CHANNEL_SIM_CONTROL, buf, (size_t)len - 1); /* truncated */
+  publish_raw(&f, COMLEARN_MSG_CHANNEL_SIM_CONTROL, buf, (size_t)len - 1); /* truncated */
   memcpy(buf2, buf, (size_t)len);
   /* object_id's length after fingerprint, utime, seq, action: -1 (crashes lcm-gen's decoder) */
   memset(buf2 + 25, 0xff, 4);
-  publish_raw(&f, MSG_CHANNEL_SIM_CONTROL, buf2, (size_t)len);
+  publish_raw(&f, COMLEARN_MSG_CHANNEL_SIM_CONTROL, buf2, (size_t)len);
   memcpy(buf2, buf, (size_t)len);
   buf2[25 + 4 + 3] = 'X'; /* object_id "box\0" -> "boxX": NUL missing */
-  publish_raw(&f, MSG_CHANNEL_SIM_CONTROL, buf2, (size_t)len);
-  publish_raw(&f, MSG_CHANNEL_SIM_CONTROL, buf2 + 8, 40); /* garbage */
+  publish_raw(&f, COMLEARN_MSG_CHANNEL_SIM_CONTROL, buf2, (size_t)len);
+  publish_raw(&f, COMLEARN_MSG_CHANNEL_SIM_CONTROL, buf2 + 8, 40); /* garbage */
   slen = comlearn_yumi_status_t_encode(buf2, 0, sizeof buf2, &st);
-  publish_raw(&f, MSG_CHANNEL_SIM_CONTROL, buf2, (size_t)slen); /* wrong fingerprint */
+  publish_raw(&f, COMLEARN_MSG_CHANNEL_SIM_CONTROL, buf2, (size_t)slen); /* wrong fingerprint */
   sent += 5;
   ck_assert_msg(wait_for(&f, undecodable_at_least, &sent, 5.0),
                 "messages_undecodable %lld, sent %lld bad buffers",
@@ -650,7 +650,7 @@ static int place_trial(fx_t *f, const char *urdf, int first, int64_t *sc_seq, in
   sc.link_in_tool_position_m[2] = 0.010;
   sc.link_in_tool_wxyz[1] = 1.0;
   sc.gripper_width_m = 0.04;
-  ck_assert_int_eq(comlearn_sim_control_t_publish(f->lcm, MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+  ck_assert_int_eq(comlearn_sim_control_t_publish(f->lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
   ck_assert(wait_for(f, sc_acked, sc_seq, 5.0));
   ck_assert_int_eq(f->os.sim_control_result, OS(SIM_CONTROL_APPLIED));
   ck_assert(f->os.tracked);
@@ -738,7 +738,7 @@ START_TEST(place_box_over_edge) {
   sc.arm = SCA(ARM_RIGHT);
   sc.link_in_tool_wxyz[0] = 1.0;
   sc.gripper_width_m = 0.02;
-  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
   ck_assert(wait_for(&f, sc_acked, &sc_seq, 5.0));
   double q[2][7], w[2];
   memcpy(q, f.st.q_measured_rad, sizeof q);
@@ -797,7 +797,7 @@ START_TEST(implausible_load_refused) {
     sc.link_in_tool_position_m[2] = 0.010;
     sc.link_in_tool_wxyz[1] = 1.0;
     sc.gripper_width_m = 0.04;
-    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
     ck_assert(wait_for(&f, sc_acked, &sc_seq, 5.0));
     ck_assert_int_eq(f.os.sim_control_result, OS(SIM_CONTROL_ERR_LOAD));
     ck_assert_msg(wait_for(&f, status_says_load_refused, cases[i].why[0], 2.0),

@@ -1,6 +1,6 @@
 /*
  * cmd_watch.c - `comlearn watch`: subscribes COM_TRIAL and COM_ESTIMATE (counted decoding,
- * msg_subscribe) and prints a live table of the trials and the running / final estimate, or one
+ * comlearn_msg_subscribe) and prints a live table of the trials and the running / final estimate, or one
  * JSON object per record (--json). It reads only LCM traffic, so it works the same on a running
  * `comlearn estimate` and on an lcm-logplayer replay of a recorded one (docs/replay.md).
  */
@@ -46,7 +46,7 @@ static void usage(FILE *out) {
           "printed.\n"
           "\n"
           "options:\n"
-          "  --lcm-url URL      LCM URL to listen on (default: " MSG_LCM_URL_DEFAULT ")\n"
+          "  --lcm-url URL      LCM URL to listen on (default: " COMLEARN_MSG_LCM_URL_DEFAULT ")\n"
           "  --once             exit 0 after the first final estimate (COM_ESTIMATE with\n"
           "                     done = true) (default: off: until SIGINT / SIGTERM)\n"
           "  --timeout-s T      stop after T seconds of wall time, 0 = never; with --once a\n"
@@ -230,11 +230,11 @@ static void on_estimate(const lcm_recv_buf_t *rbuf, const char *channel, const v
   if (e->done) w->done_seen = 1;
 }
 
-static void on_reject(const lcm_recv_buf_t *rbuf, const char *channel, msg_status_t reason,
+static void on_reject(const lcm_recv_buf_t *rbuf, const char *channel, comlearn_msg_status_t reason,
                       void *user) {
   (void)user;
   LOG_D("%s: undecodable buffer of %u bytes (%s)", channel, rbuf->data_size,
-        msg_status_str(reason));
+        comlearn_msg_status_str(reason));
 }
 
 /* Options into *url, *timeout_s and w (defaults as usage() says). Returns -1 to go on, else the
@@ -285,27 +285,27 @@ static int parse_args(int argc, char **argv, const char **url, double *timeout_s
 
 /* COM_TRIAL and COM_ESTIMATE into w, rejects counted in stats, no record dropped. Returns 0, or
  * EXIT_FAILURE (logged; nothing left subscribed). */
-static int watch_subscribe(lcm_t *lcm, const char *url, watch_t *w, msg_stats_t *stats,
-                           msg_subscription_t **ts, msg_subscription_t **es) {
-  msg_sub_config_t tc = {.type = comlearn_com_trial_t_get_type_info(),
+static int watch_subscribe(lcm_t *lcm, const char *url, watch_t *w, comlearn_msg_stats_t *stats,
+                           comlearn_msg_subscription_t **ts, comlearn_msg_subscription_t **es) {
+  comlearn_msg_sub_config_t tc = {.type = comlearn_com_trial_t_get_type_info(),
                          .on_message = on_trial, .on_reject = on_reject, .user = w,
                          .stats = stats};
-  msg_sub_config_t ec = {.type = comlearn_com_estimate_t_get_type_info(),
+  comlearn_msg_sub_config_t ec = {.type = comlearn_com_estimate_t_get_type_info(),
                          .on_message = on_estimate, .on_reject = on_reject, .user = w,
                          .stats = stats};
   *ts = NULL;
   *es = NULL;
-  msg_status_t s1 = msg_subscribe(lcm, MSG_CHANNEL_COM_TRIAL, &tc, ts);
-  msg_status_t s2 = s1 == MSG_OK ? msg_subscribe(lcm, MSG_CHANNEL_COM_ESTIMATE, &ec, es) : s1;
-  if (s1 != MSG_OK || s2 != MSG_OK) {
-    LOG_E("subscribing on %s: %s", url, msg_status_str(s1 != MSG_OK ? s1 : s2));
-    msg_unsubscribe(lcm, *ts);
-    msg_unsubscribe(lcm, *es);
+  comlearn_msg_status_t s1 = comlearn_msg_subscribe(lcm, COMLEARN_MSG_CHANNEL_COM_TRIAL, &tc, ts);
+  comlearn_msg_status_t s2 = s1 == COMLEARN_MSG_OK ? comlearn_msg_subscribe(lcm, COMLEARN_MSG_CHANNEL_COM_ESTIMATE, &ec, es) : s1;
+  if (s1 != COMLEARN_MSG_OK || s2 != COMLEARN_MSG_OK) {
+    LOG_E("subscribing on %s: %s", url, comlearn_msg_status_str(s1 != COMLEARN_MSG_OK ? s1 : s2));
+    comlearn_msg_unsubscribe(lcm, *ts);
+    comlearn_msg_unsubscribe(lcm, *es);
     return EXIT_FAILURE;
   }
   /* a replay may be fast: never drop a record because the terminal is slow */
-  msg_subscription_set_queue_capacity(*ts, 0);
-  msg_subscription_set_queue_capacity(*es, 0);
+  comlearn_msg_subscription_set_queue_capacity(*ts, 0);
+  comlearn_msg_subscription_set_queue_capacity(*es, 0);
   return 0;
 }
 
@@ -323,7 +323,7 @@ static int watch_loop(lcm_t *lcm, const char *url, double timeout_s, watch_t *w)
   sigaction(SIGTERM, &sa, &old_term);
 
   /* Tests and scripts wait for this line before they start publishing. */
-  LOG_I("listening on %s for %s and %s", url, MSG_CHANNEL_COM_TRIAL, MSG_CHANNEL_COM_ESTIMATE);
+  LOG_I("listening on %s for %s and %s", url, COMLEARN_MSG_CHANNEL_COM_TRIAL, COMLEARN_MSG_CHANNEL_COM_ESTIMATE);
   const double t0 = cli_time_now_s();
   int rc = EXIT_SUCCESS;
   while (!g_stop && !(w->once && w->done_seen)) {
@@ -350,7 +350,7 @@ static int watch_loop(lcm_t *lcm, const char *url, double timeout_s, watch_t *w)
 }
 
 int cmd_watch(int argc, char **argv) {
-  const char *url = MSG_LCM_URL_DEFAULT;
+  const char *url = COMLEARN_MSG_LCM_URL_DEFAULT;
   double timeout_s = 0.0;
   watch_t w;
   memset(&w, 0, sizeof w);
@@ -363,17 +363,17 @@ int cmd_watch(int argc, char **argv) {
           "lo` as root)", url);
     return EXIT_FAILURE;
   }
-  msg_stats_t stats = {0};
-  msg_subscription_t *ts, *es;
+  comlearn_msg_stats_t stats = {0};
+  comlearn_msg_subscription_t *ts, *es;
   if (watch_subscribe(lcm, url, &w, &stats, &ts, &es) != 0) {
     lcm_destroy(lcm);
     return EXIT_FAILURE;
   }
   const int rc = watch_loop(lcm, url, timeout_s, &w);
   LOG_I("%" PRIu64 " trials, %" PRIu64 " estimates, %" PRIu64 " undecodable buffers", w.trials,
-        w.estimates, msg_stats_rejected(&stats));
-  msg_unsubscribe(lcm, ts);
-  msg_unsubscribe(lcm, es);
+        w.estimates, comlearn_msg_stats_rejected(&stats));
+  comlearn_msg_unsubscribe(lcm, ts);
+  comlearn_msg_unsubscribe(lcm, es);
   lcm_destroy(lcm);
   return rc;
 }

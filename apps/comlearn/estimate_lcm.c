@@ -49,8 +49,8 @@ struct estimate_lcm {
   char object_id[ID_MAX];
   char policy[32];
   lcm_t *lcm;
-  msg_subscription_t *sub_st, *sub_os;
-  msg_stats_t stats;
+  comlearn_msg_subscription_t *sub_st, *sub_os;
+  comlearn_msg_stats_t stats;
   placement_arm_t arm[2];
   placement_plan_config_t plan_cfg;
   double bib_wxyz[4]; /* block_in_base orientation as a quaternion */
@@ -226,8 +226,8 @@ static int sim_control(estimate_lcm_t *l, int8_t action, int arm, const double g
     if (l->n_os > 0 && l->os.sim_control_seq >= l->sc_seq) l->sc_seq = l->os.sim_control_seq;
     sc.seq = ++l->sc_seq;
     sc.utime = wall_us();
-    if (comlearn_sim_control_t_publish(l->lcm, MSG_CHANNEL_SIM_CONTROL, &sc) != 0) {
-      snprintf(err, err_size, "publish %s failed", MSG_CHANNEL_SIM_CONTROL);
+    if (comlearn_sim_control_t_publish(l->lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc) != 0) {
+      snprintf(err, err_size, "publish %s failed", COMLEARN_MSG_CHANNEL_SIM_CONTROL);
       return -1;
     }
     l->counters.controls_sent++;
@@ -241,7 +241,7 @@ static int sim_control(estimate_lcm_t *l, int8_t action, int arm, const double g
           (long long)sc.seq, l->cfg.ack_timeout_s);
   }
   snprintf(err, err_size, "SIM_CONTROL not acknowledged on %s after %d sends (is comlearn-sim "
-           "running on %s?)", MSG_CHANNEL_OBJECT_STATE, l->cfg.max_resends + 1, l->url);
+           "running on %s?)", COMLEARN_MSG_CHANNEL_OBJECT_STATE, l->cfg.max_resends + 1, l->url);
   return -1;
 }
 
@@ -266,8 +266,8 @@ static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t 
     c.expire_utime = l->st.utime + (int64_t)llround(wp->duration_s / scale * 1e6) + EXPIRE_MARGIN_US;
     c.mode = CMD(MODE_POSITION);
     c.velocity_scale = scale;
-    if (comlearn_yumi_command_t_publish(l->lcm, MSG_CHANNEL_YUMI_COMMAND, &c) != 0) {
-      snprintf(err, err_size, "publish %s failed", MSG_CHANNEL_YUMI_COMMAND);
+    if (comlearn_yumi_command_t_publish(l->lcm, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, &c) != 0) {
+      snprintf(err, err_size, "publish %s failed", COMLEARN_MSG_CHANNEL_YUMI_COMMAND);
       return -1;
     }
     l->counters.commands_sent++;
@@ -380,8 +380,8 @@ static void publish_trial(estimate_lcm_t *l, const estimate_trial_request_t *req
                    r[i][1] * req->target_link_m[1] + r[i][2] * req->target_link_m[2]);
     t.target_offset_m = p - d;
   }
-  if (comlearn_com_trial_t_publish(l->lcm, MSG_CHANNEL_COM_TRIAL, &t) != 0)
-    logf_(l, "publish %s failed", MSG_CHANNEL_COM_TRIAL);
+  if (comlearn_com_trial_t_publish(l->lcm, COMLEARN_MSG_CHANNEL_COM_TRIAL, &t) != 0)
+    logf_(l, "publish %s failed", COMLEARN_MSG_CHANNEL_COM_TRIAL);
 }
 
 /* One attempt of a trial. 0 ok (reply filled), 1 retryable failure, -1 fatal (err filled). */
@@ -445,7 +445,7 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
   const int64_t t_now = l->st.utime;
   if (wait_for(l, os_after, &t_now, l->cfg.ack_timeout_s) != 1 ||
       wait_for(l, outcome_ready, &oa, l->cfg.outcome_timeout_s) != 1) {
-    snprintf(err, err_size, "no trial outcome on %s within %.1f s", MSG_CHANNEL_OBJECT_STATE,
+    snprintf(err, err_size, "no trial outcome on %s within %.1f s", COMLEARN_MSG_CHANNEL_OBJECT_STATE,
              l->cfg.outcome_timeout_s);
     return 1;
   }
@@ -529,7 +529,7 @@ int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
     return 1;
   }
   l->cfg = *cfg;
-  snprintf(l->url, sizeof l->url, "%s", cfg->lcm_url ? cfg->lcm_url : MSG_LCM_URL_DEFAULT);
+  snprintf(l->url, sizeof l->url, "%s", cfg->lcm_url ? cfg->lcm_url : COMLEARN_MSG_LCM_URL_DEFAULT);
   char *abs = realpath(cfg->urdf_path, NULL);
   snprintf(l->urdf, sizeof l->urdf, "%s", abs ? abs : cfg->urdf_path);
   free(abs);
@@ -566,12 +566,12 @@ int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
     free(l);
     return 1;
   }
-  msg_sub_config_t c1 = {.type = comlearn_yumi_status_t_get_type_info(), .on_message = on_status,
+  comlearn_msg_sub_config_t c1 = {.type = comlearn_yumi_status_t_get_type_info(), .on_message = on_status,
                          .user = l, .stats = &l->stats};
-  msg_sub_config_t c2 = {.type = comlearn_object_state_t_get_type_info(),
+  comlearn_msg_sub_config_t c2 = {.type = comlearn_object_state_t_get_type_info(),
                          .on_message = on_object, .user = l, .stats = &l->stats};
-  if (msg_subscribe(l->lcm, MSG_CHANNEL_YUMI_STATUS, &c1, &l->sub_st) != MSG_OK ||
-      msg_subscribe(l->lcm, MSG_CHANNEL_OBJECT_STATE, &c2, &l->sub_os) != MSG_OK) {
+  if (comlearn_msg_subscribe(l->lcm, COMLEARN_MSG_CHANNEL_YUMI_STATUS, &c1, &l->sub_st) != COMLEARN_MSG_OK ||
+      comlearn_msg_subscribe(l->lcm, COMLEARN_MSG_CHANNEL_OBJECT_STATE, &c2, &l->sub_os) != COMLEARN_MSG_OK) {
     snprintf(err, err_size, "subscribing on %s failed", l->url);
     estimate_lcm_close(l);
     return 1;
@@ -612,21 +612,21 @@ int estimate_lcm_publish_estimate(estimate_lcm_t *l, const estimate_result_t *r,
   }
   e.trials = r->trial_count > INT32_MAX ? INT32_MAX : (int32_t)r->trial_count;
   e.done = (int8_t)(done != 0);
-  return comlearn_com_estimate_t_publish(l->lcm, MSG_CHANNEL_COM_ESTIMATE, &e) == 0 ? 0 : -1;
+  return comlearn_com_estimate_t_publish(l->lcm, COMLEARN_MSG_CHANNEL_COM_ESTIMATE, &e) == 0 ? 0 : -1;
 }
 
 void estimate_lcm_stats(const estimate_lcm_t *l, estimate_lcm_stats_t *out) {
   *out = l->counters;
   out->statuses = l->n_st;
   out->object_states = l->n_os;
-  out->undecodable = msg_stats_rejected(&l->stats);
+  out->undecodable = comlearn_msg_stats_rejected(&l->stats);
 }
 
 void estimate_lcm_close(estimate_lcm_t *l) {
   if (!l) return;
   if (l->lcm) {
-    msg_unsubscribe(l->lcm, l->sub_st);
-    msg_unsubscribe(l->lcm, l->sub_os);
+    comlearn_msg_unsubscribe(l->lcm, l->sub_st);
+    comlearn_msg_unsubscribe(l->lcm, l->sub_os);
     lcm_destroy(l->lcm);
   }
   free(l);

@@ -40,7 +40,7 @@
 typedef struct estimate_lcm estimate_lcm_t;
 
 typedef struct {
-  const char *lcm_url;          /* NULL: MSG_LCM_URL_DEFAULT */
+  const char *lcm_url;          /* NULL: COMLEARN_MSG_LCM_URL_DEFAULT */
   const char *urdf_path;        /* sent in ACTION_LOAD (made absolute when it exists here) */
   const char *object_id;        /* NULL: the URDF file name without ".urdf" */
   const model_mesh_t *mesh_link;/* the object's geometry, link frame (borrowed), for planning */

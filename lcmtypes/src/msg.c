@@ -30,21 +30,21 @@ static const union {
   unsigned char bytes[SCHEMA_SCRATCH_BYTES];
 } schema_scratch;
 
-const char *msg_status_str(msg_status_t status) {
+const char *comlearn_msg_status_str(comlearn_msg_status_t status) {
   switch (status) {
-  case MSG_OK: return "success";
-  case MSG_E_ARG: return "invalid argument";
-  case MSG_E_TRUNCATED: return "buffer truncated: it ends before the message does";
-  case MSG_E_FINGERPRINT: return "wrong fingerprint: the buffer holds another message type";
-  case MSG_E_MALFORMED: return "malformed buffer: bad string length or NUL, or trailing bytes";
-  case MSG_E_NOMEM: return "out of memory";
-  case MSG_E_LCM: return "LCM call failed";
-  case MSG_E_UNSUPPORTED: return "type not supported (nested type or variable-length array)";
+  case COMLEARN_MSG_OK: return "success";
+  case COMLEARN_MSG_E_ARG: return "invalid argument";
+  case COMLEARN_MSG_E_TRUNCATED: return "buffer truncated: it ends before the message does";
+  case COMLEARN_MSG_E_FINGERPRINT: return "wrong fingerprint: the buffer holds another message type";
+  case COMLEARN_MSG_E_MALFORMED: return "malformed buffer: bad string length or NUL, or trailing bytes";
+  case COMLEARN_MSG_E_NOMEM: return "out of memory";
+  case COMLEARN_MSG_E_LCM: return "LCM call failed";
+  case COMLEARN_MSG_E_UNSUPPORTED: return "type not supported (nested type or variable-length array)";
   }
   return "unknown status";
 }
 
-uint64_t msg_stats_rejected(const msg_stats_t *stats) {
+uint64_t comlearn_msg_stats_rejected(const comlearn_msg_stats_t *stats) {
   if (stats == NULL) return 0;
   return stats->rejected_fingerprint + stats->rejected_truncated + stats->rejected_malformed;
 }
@@ -78,70 +78,70 @@ static int element_bytes(lcm_field_type_t type) {
 
 /* Field i of the schema, with its element count (product of its fixed dimensions; SIZE_MAX when
  * the product overflows). */
-static msg_status_t schema_field(const lcm_type_info_t *type, const void *scratch, int i,
+static comlearn_msg_status_t schema_field(const lcm_type_info_t *type, const void *scratch, int i,
                                  lcm_field_t *f, size_t *count, int *elem_bytes) {
   memset(f, 0, sizeof *f);
-  if (type->get_field(scratch, i, f) != 0) return MSG_E_UNSUPPORTED;
+  if (type->get_field(scratch, i, f) != 0) return COMLEARN_MSG_E_UNSUPPORTED;
   *elem_bytes = element_bytes(f->type);
-  if (*elem_bytes < 0) return MSG_E_UNSUPPORTED;
-  if (f->num_dim < 0 || f->num_dim > LCM_TYPE_FIELD_MAX_DIM) return MSG_E_UNSUPPORTED;
+  if (*elem_bytes < 0) return COMLEARN_MSG_E_UNSUPPORTED;
+  if (f->num_dim < 0 || f->num_dim > LCM_TYPE_FIELD_MAX_DIM) return COMLEARN_MSG_E_UNSUPPORTED;
   size_t n = 1;
   for (int d = 0; d < f->num_dim; d++) {
-    if (f->dim_is_variable[d] || f->dim_size[d] < 0) return MSG_E_UNSUPPORTED;
+    if (f->dim_is_variable[d] || f->dim_size[d] < 0) return COMLEARN_MSG_E_UNSUPPORTED;
     size_t dim = (size_t)f->dim_size[d];
     n = (dim != 0 && n > SIZE_MAX / dim) ? SIZE_MAX : n * dim;
   }
   *count = n;
-  return MSG_OK;
+  return COMLEARN_MSG_OK;
 }
 
-static msg_status_t schema_supported(const lcm_type_info_t *type, const void *scratch) {
+static comlearn_msg_status_t schema_supported(const lcm_type_info_t *type, const void *scratch) {
   int nfields = type->num_fields();
-  if (nfields < 0) return MSG_E_UNSUPPORTED;
+  if (nfields < 0) return COMLEARN_MSG_E_UNSUPPORTED;
   for (int i = 0; i < nfields; i++) {
     lcm_field_t f;
     size_t count;
     int eb;
-    msg_status_t st = schema_field(type, scratch, i, &f, &count, &eb);
-    if (st != MSG_OK) return st;
+    comlearn_msg_status_t st = schema_field(type, scratch, i, &f, &count, &eb);
+    if (st != COMLEARN_MSG_OK) return st;
   }
-  return MSG_OK;
+  return COMLEARN_MSG_OK;
 }
 
 /* The walk itself: fingerprint, then every field in order, then nothing after the end. */
-static msg_status_t walk(const lcm_type_info_t *type, const void *scratch,
+static comlearn_msg_status_t walk(const lcm_type_info_t *type, const void *scratch,
                          const unsigned char *buf, size_t len) {
-  if (len < FINGERPRINT_BYTES) return MSG_E_TRUNCATED;
-  if (read_be64(buf) != (uint64_t)type->get_hash()) return MSG_E_FINGERPRINT;
+  if (len < FINGERPRINT_BYTES) return COMLEARN_MSG_E_TRUNCATED;
+  if (read_be64(buf) != (uint64_t)type->get_hash()) return COMLEARN_MSG_E_FINGERPRINT;
   size_t pos = FINGERPRINT_BYTES;
   int nfields = type->num_fields();
-  if (nfields < 0) return MSG_E_UNSUPPORTED;
+  if (nfields < 0) return COMLEARN_MSG_E_UNSUPPORTED;
   for (int i = 0; i < nfields; i++) {
     lcm_field_t f;
     size_t count;
     int eb;
-    msg_status_t st = schema_field(type, scratch, i, &f, &count, &eb);
-    if (st != MSG_OK) return st;
+    comlearn_msg_status_t st = schema_field(type, scratch, i, &f, &count, &eb);
+    if (st != COMLEARN_MSG_OK) return st;
     if (eb > 0) {
-      if (count > (len - pos) / (size_t)eb) return MSG_E_TRUNCATED;
+      if (count > (len - pos) / (size_t)eb) return COMLEARN_MSG_E_TRUNCATED;
       pos += count * (size_t)eb;
       continue;
     }
     /* Strings: int32 length including the NUL, then the bytes. LCM always writes >= 1. */
     for (size_t e = 0; e < count; e++) {
-      if (len - pos < STRING_LENGTH_BYTES) return MSG_E_TRUNCATED;
+      if (len - pos < STRING_LENGTH_BYTES) return COMLEARN_MSG_E_TRUNCATED;
       int32_t slen = (int32_t)read_be32(buf + pos);
       pos += STRING_LENGTH_BYTES;
-      if (slen < 1) return MSG_E_MALFORMED;
-      if ((size_t)slen > len - pos) return MSG_E_TRUNCATED;
+      if (slen < 1) return COMLEARN_MSG_E_MALFORMED;
+      if ((size_t)slen > len - pos) return COMLEARN_MSG_E_TRUNCATED;
       /* Exactly one NUL, at the end: the C side would silently cut a string at an inner NUL
        * that Java (lcm-spy) shows, and an encoder never writes one. */
       if (memchr(buf + pos, '\0', (size_t)slen) != buf + pos + (size_t)slen - 1)
-        return MSG_E_MALFORMED;
+        return COMLEARN_MSG_E_MALFORMED;
       pos += (size_t)slen;
     }
   }
-  return pos == len ? MSG_OK : MSG_E_MALFORMED;
+  return pos == len ? COMLEARN_MSG_OK : COMLEARN_MSG_E_MALFORMED;
 }
 
 /* A zeroed block of at least the type's struct size for get_field(); *owned is set when it was
@@ -155,68 +155,68 @@ static const void *scratch_for(const lcm_type_info_t *type, void **owned) {
   return *owned;
 }
 
-msg_status_t msg_check(const lcm_type_info_t *type, const void *buf, size_t len) {
-  if (type == NULL || (buf == NULL && len > 0) || len > (size_t)INT_MAX) return MSG_E_ARG;
+comlearn_msg_status_t comlearn_msg_check(const lcm_type_info_t *type, const void *buf, size_t len) {
+  if (type == NULL || (buf == NULL && len > 0) || len > (size_t)INT_MAX) return COMLEARN_MSG_E_ARG;
   void *owned;
   const void *scratch = scratch_for(type, &owned);
-  if (scratch == NULL) return MSG_E_NOMEM;
-  msg_status_t st = walk(type, scratch, (const unsigned char *)buf, len);
+  if (scratch == NULL) return COMLEARN_MSG_E_NOMEM;
+  comlearn_msg_status_t st = walk(type, scratch, (const unsigned char *)buf, len);
   free(owned);
   return st;
 }
 
-static void count(msg_stats_t *stats, msg_status_t st) {
+static void count(comlearn_msg_stats_t *stats, comlearn_msg_status_t st) {
   if (stats == NULL) return;
   stats->received++;
   switch (st) {
-  case MSG_OK: stats->decoded++; break;
-  case MSG_E_FINGERPRINT: stats->rejected_fingerprint++; break;
-  case MSG_E_TRUNCATED: stats->rejected_truncated++; break;
-  case MSG_E_MALFORMED: stats->rejected_malformed++; break;
-  case MSG_E_ARG:
-  case MSG_E_NOMEM:
-  case MSG_E_LCM:
-  case MSG_E_UNSUPPORTED: stats->failed++; break;
+  case COMLEARN_MSG_OK: stats->decoded++; break;
+  case COMLEARN_MSG_E_FINGERPRINT: stats->rejected_fingerprint++; break;
+  case COMLEARN_MSG_E_TRUNCATED: stats->rejected_truncated++; break;
+  case COMLEARN_MSG_E_MALFORMED: stats->rejected_malformed++; break;
+  case COMLEARN_MSG_E_ARG:
+  case COMLEARN_MSG_E_NOMEM:
+  case COMLEARN_MSG_E_LCM:
+  case COMLEARN_MSG_E_UNSUPPORTED: stats->failed++; break;
   }
 }
 
-msg_status_t msg_decode(const lcm_type_info_t *type, const void *buf, size_t len, void *msg,
-                        msg_stats_t *stats) {
+comlearn_msg_status_t comlearn_msg_decode(const lcm_type_info_t *type, const void *buf, size_t len, void *msg,
+                        comlearn_msg_stats_t *stats) {
   if (type == NULL || msg == NULL) {
-    count(stats, MSG_E_ARG);
-    return MSG_E_ARG;
+    count(stats, COMLEARN_MSG_E_ARG);
+    return COMLEARN_MSG_E_ARG;
   }
   int size = type->struct_size();
   if (size <= 0) {
-    count(stats, MSG_E_UNSUPPORTED);
-    return MSG_E_UNSUPPORTED;
+    count(stats, COMLEARN_MSG_E_UNSUPPORTED);
+    return COMLEARN_MSG_E_UNSUPPORTED;
   }
   memset(msg, 0, (size_t)size);
-  msg_status_t st = msg_check(type, buf, len);
-  if (st == MSG_OK) {
+  comlearn_msg_status_t st = comlearn_msg_check(type, buf, len);
+  if (st == COMLEARN_MSG_OK) {
     /* Cannot fail after the walk; if it ever does, release what it decoded. */
     int used = type->decode(buf, 0, (int)len, msg);
     if (used < 0 || (size_t)used != len) {
       type->decode_cleanup(msg);
       memset(msg, 0, (size_t)size);
-      st = MSG_E_MALFORMED;
+      st = COMLEARN_MSG_E_MALFORMED;
     }
   }
   count(stats, st);
   return st;
 }
 
-struct msg_subscription {
+struct comlearn_msg_subscription {
   lcm_subscription_t *lcm_sub;
-  msg_sub_config_t cfg;
+  comlearn_msg_sub_config_t cfg;
   void *msg; /* scratch message of cfg.type, zeroed between deliveries */
 };
 
 static void on_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
-  msg_subscription_t *sub = user;
-  msg_status_t st =
-      msg_decode(sub->cfg.type, rbuf->data, rbuf->data_size, sub->msg, sub->cfg.stats);
-  if (st == MSG_OK) {
+  comlearn_msg_subscription_t *sub = user;
+  comlearn_msg_status_t st =
+      comlearn_msg_decode(sub->cfg.type, rbuf->data, rbuf->data_size, sub->msg, sub->cfg.stats);
+  if (st == COMLEARN_MSG_OK) {
     sub->cfg.on_message(rbuf, channel, sub->msg, sub->cfg.user);
     sub->cfg.type->decode_cleanup(sub->msg);
   } else if (sub->cfg.on_reject != NULL) {
@@ -224,24 +224,24 @@ static void on_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) 
   }
 }
 
-msg_status_t msg_subscribe(lcm_t *lcm, const char *channel, const msg_sub_config_t *cfg,
-                           msg_subscription_t **out) {
+comlearn_msg_status_t comlearn_msg_subscribe(lcm_t *lcm, const char *channel, const comlearn_msg_sub_config_t *cfg,
+                           comlearn_msg_subscription_t **out) {
   if (out != NULL) *out = NULL;
   if (lcm == NULL || channel == NULL || channel[0] == '\0' || cfg == NULL || cfg->type == NULL ||
       cfg->on_message == NULL || out == NULL)
-    return MSG_E_ARG;
+    return COMLEARN_MSG_E_ARG;
   int size = cfg->type->struct_size();
-  if (size <= 0) return MSG_E_UNSUPPORTED;
-  msg_subscription_t *sub = calloc(1, sizeof *sub);
-  if (sub == NULL) return MSG_E_NOMEM;
+  if (size <= 0) return COMLEARN_MSG_E_UNSUPPORTED;
+  comlearn_msg_subscription_t *sub = calloc(1, sizeof *sub);
+  if (sub == NULL) return COMLEARN_MSG_E_NOMEM;
   sub->cfg = *cfg;
   sub->msg = calloc(1, (size_t)size);
   if (sub->msg == NULL) {
     free(sub);
-    return MSG_E_NOMEM;
+    return COMLEARN_MSG_E_NOMEM;
   }
-  msg_status_t st = schema_supported(cfg->type, sub->msg);
-  if (st != MSG_OK) {
+  comlearn_msg_status_t st = schema_supported(cfg->type, sub->msg);
+  if (st != COMLEARN_MSG_OK) {
     free(sub->msg);
     free(sub);
     return st;
@@ -250,22 +250,22 @@ msg_status_t msg_subscribe(lcm_t *lcm, const char *channel, const msg_sub_config
   if (sub->lcm_sub == NULL) {
     free(sub->msg);
     free(sub);
-    return MSG_E_LCM;
+    return COMLEARN_MSG_E_LCM;
   }
   *out = sub;
-  return MSG_OK;
+  return COMLEARN_MSG_OK;
 }
 
-msg_status_t msg_subscription_set_queue_capacity(msg_subscription_t *sub, int capacity) {
-  if (sub == NULL || capacity < 0) return MSG_E_ARG;
-  return lcm_subscription_set_queue_capacity(sub->lcm_sub, capacity) == 0 ? MSG_OK : MSG_E_LCM;
+comlearn_msg_status_t comlearn_msg_subscription_set_queue_capacity(comlearn_msg_subscription_t *sub, int capacity) {
+  if (sub == NULL || capacity < 0) return COMLEARN_MSG_E_ARG;
+  return lcm_subscription_set_queue_capacity(sub->lcm_sub, capacity) == 0 ? COMLEARN_MSG_OK : COMLEARN_MSG_E_LCM;
 }
 
-msg_status_t msg_unsubscribe(lcm_t *lcm, msg_subscription_t *sub) {
-  if (sub == NULL) return MSG_OK;
-  if (lcm == NULL) return MSG_E_ARG;
+comlearn_msg_status_t comlearn_msg_unsubscribe(lcm_t *lcm, comlearn_msg_subscription_t *sub) {
+  if (sub == NULL) return COMLEARN_MSG_OK;
+  if (lcm == NULL) return COMLEARN_MSG_E_ARG;
   int rc = lcm_unsubscribe(lcm, sub->lcm_sub);
   free(sub->msg);
   free(sub);
-  return rc == 0 ? MSG_OK : MSG_E_LCM;
+  return rc == 0 ? COMLEARN_MSG_OK : COMLEARN_MSG_E_LCM;
 }

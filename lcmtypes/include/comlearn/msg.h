@@ -9,16 +9,16 @@
  * stderr and drop a buffer they cannot decode, so nobody can count it; and LCM 1.3.1's generated
  * decoder trusts a string's length prefix (-1 crashes it, a length up to 2^31-1 is allocated
  * before the decode fails and leaks unless the caller cleans up, a missing NUL leaves an
- * unterminated string). msg_decode() first walks the buffer against the type's schema (from
+ * unterminated string). comlearn_msg_decode() first walks the buffer against the type's schema (from
  * the lcm-gen typeinfo, comlearn_<type>_get_type_info()) and only hands it to the generated
  * decoder when every length is in bounds, every string has exactly one NUL, at its end, and the
  * buffer ends exactly where the message does. Supported schemas: primitive fields, strings and
  * fixed-size arrays of them (all comlearn types). Nested types and variable-length arrays are
- * refused with MSG_E_UNSUPPORTED.
+ * refused with COMLEARN_MSG_E_UNSUPPORTED.
  *
- * Memory: msg_decode() allocates what the generated decoder allocates (the strings of a
- * message), released by the type's decode_cleanup. msg_subscribe() allocates one subscription
- * (with one scratch message of its type) released by msg_unsubscribe(). msg_check() allocates
+ * Memory: comlearn_msg_decode() allocates what the generated decoder allocates (the strings of a
+ * message), released by the type's decode_cleanup. comlearn_msg_subscribe() allocates one subscription
+ * (with one scratch message of its type) released by comlearn_msg_unsubscribe(). comlearn_msg_check() allocates
  * nothing for types whose C struct is at most 4 KiB (all comlearn types; larger ones need one
  * temporary block). Nothing prints.
  *
@@ -44,106 +44,106 @@ extern "C" {
 /* Default LCM URL: UDP multicast with TTL 0, so traffic never leaves the host. Every program
  * takes --lcm-url to override it. udpm needs a multicast route; on a host with only loopback:
  * `ip route add 224.0.0.0/4 dev lo` (root). */
-#define MSG_LCM_URL_DEFAULT "udpm://239.255.76.67:7667?ttl=0"
+#define COMLEARN_MSG_LCM_URL_DEFAULT "udpm://239.255.76.67:7667?ttl=0"
 
 /* Default channel names (overridable by programs). Type and direction of each: */
-#define MSG_CHANNEL_YUMI_COMMAND "YUMI_COMMAND" /* comlearn_yumi_command_t, estimator -> robot */
-#define MSG_CHANNEL_YUMI_STATUS "YUMI_STATUS"   /* comlearn_yumi_status_t, robot -> all */
-#define MSG_CHANNEL_OBJECT_STATE "OBJECT_STATE" /* comlearn_object_state_t, perception -> all */
-#define MSG_CHANNEL_SIM_CONTROL "SIM_CONTROL"   /* comlearn_sim_control_t, estimator -> sim only */
-#define MSG_CHANNEL_COM_TRIAL "COM_TRIAL"       /* comlearn_com_trial_t, estimator -> logs */
-#define MSG_CHANNEL_COM_ESTIMATE "COM_ESTIMATE" /* comlearn_com_estimate_t, estimator -> logs */
+#define COMLEARN_MSG_CHANNEL_YUMI_COMMAND "YUMI_COMMAND" /* comlearn_yumi_command_t, estimator -> robot */
+#define COMLEARN_MSG_CHANNEL_YUMI_STATUS "YUMI_STATUS"   /* comlearn_yumi_status_t, robot -> all */
+#define COMLEARN_MSG_CHANNEL_OBJECT_STATE "OBJECT_STATE" /* comlearn_object_state_t, perception -> all */
+#define COMLEARN_MSG_CHANNEL_SIM_CONTROL "SIM_CONTROL"   /* comlearn_sim_control_t, estimator -> sim only */
+#define COMLEARN_MSG_CHANNEL_COM_TRIAL "COM_TRIAL"       /* comlearn_com_trial_t, estimator -> logs */
+#define COMLEARN_MSG_CHANNEL_COM_ESTIMATE "COM_ESTIMATE" /* comlearn_com_estimate_t, estimator -> logs */
 
 /* One status enum for the module: 0 is success, negative values are errors. */
 typedef enum {
-  MSG_OK = 0,
-  MSG_E_ARG = -1,         /* NULL pointer, empty channel, length over INT_MAX, bad capacity */
-  MSG_E_TRUNCATED = -2,   /* the buffer ends before the message does */
-  MSG_E_FINGERPRINT = -3, /* the buffer's 8-byte fingerprint is another type's */
-  MSG_E_MALFORMED = -4,   /* bad string length or NUL (missing, or inside), trailing bytes */
-  MSG_E_NOMEM = -5,       /* allocation failed */
-  MSG_E_LCM = -6,         /* lcm_subscribe / lcm_unsubscribe / set_queue_capacity failed */
-  MSG_E_UNSUPPORTED = -7  /* the type has a nested type or a variable-length array */
-} msg_status_t;
+  COMLEARN_MSG_OK = 0,
+  COMLEARN_MSG_E_ARG = -1,         /* NULL pointer, empty channel, length over INT_MAX, bad capacity */
+  COMLEARN_MSG_E_TRUNCATED = -2,   /* the buffer ends before the message does */
+  COMLEARN_MSG_E_FINGERPRINT = -3, /* the buffer's 8-byte fingerprint is another type's */
+  COMLEARN_MSG_E_MALFORMED = -4,   /* bad string length or NUL (missing, or inside), trailing bytes */
+  COMLEARN_MSG_E_NOMEM = -5,       /* allocation failed */
+  COMLEARN_MSG_E_LCM = -6,         /* lcm_subscribe / lcm_unsubscribe / set_queue_capacity failed */
+  COMLEARN_MSG_E_UNSUPPORTED = -7  /* the type has a nested type or a variable-length array */
+} comlearn_msg_status_t;
 
 /* A static English description of a status; never NULL (unknown values give "unknown status"). */
-const char *msg_status_str(msg_status_t status);
+const char *comlearn_msg_status_str(comlearn_msg_status_t status);
 
 /* Counters of one decoder or subscription, or of many (they may share one). Caller-owned;
- * zero-initialize it (msg_stats_t s = {0};) before first use. Every buffer counted in
+ * zero-initialize it (comlearn_msg_stats_t s = {0};) before first use. Every buffer counted in
  * `received` ends in exactly one of the other counters. */
 typedef struct {
-  uint64_t received;             /* buffers handed to msg_decode() or delivered to a subscription */
+  uint64_t received;             /* buffers handed to comlearn_msg_decode() or delivered to a subscription */
   uint64_t decoded;              /* decoded and (for a subscription) passed to the handler */
-  uint64_t rejected_fingerprint; /* MSG_E_FINGERPRINT: another type on this channel */
-  uint64_t rejected_truncated;   /* MSG_E_TRUNCATED */
-  uint64_t rejected_malformed;   /* MSG_E_MALFORMED: garbage that passed the fingerprint */
-  uint64_t failed;               /* any other error (MSG_E_NOMEM, MSG_E_ARG, MSG_E_UNSUPPORTED) */
-} msg_stats_t;
+  uint64_t rejected_fingerprint; /* COMLEARN_MSG_E_FINGERPRINT: another type on this channel */
+  uint64_t rejected_truncated;   /* COMLEARN_MSG_E_TRUNCATED */
+  uint64_t rejected_malformed;   /* COMLEARN_MSG_E_MALFORMED: garbage that passed the fingerprint */
+  uint64_t failed;               /* any other error (COMLEARN_MSG_E_NOMEM, COMLEARN_MSG_E_ARG, COMLEARN_MSG_E_UNSUPPORTED) */
+} comlearn_msg_stats_t;
 
 /* Sum of the three rejected_* counters: the buffers that could not be decoded. NULL gives 0. */
-uint64_t msg_stats_rejected(const msg_stats_t *stats);
+uint64_t comlearn_msg_stats_rejected(const comlearn_msg_stats_t *stats);
 
 /* Check that buf[0..len) holds exactly one well-formed message of `type` (for example
  * comlearn_yumi_command_t_get_type_info()). Reads only buf[0..len); see Memory above.
- * Returns MSG_OK, MSG_E_ARG (type NULL, buf NULL with len > 0, len > INT_MAX),
- * MSG_E_TRUNCATED (includes len < 8), MSG_E_FINGERPRINT, MSG_E_MALFORMED, MSG_E_UNSUPPORTED or
- * MSG_E_NOMEM. */
-msg_status_t msg_check(const lcm_type_info_t *type, const void *buf, size_t len);
+ * Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG (type NULL, buf NULL with len > 0, len > INT_MAX),
+ * COMLEARN_MSG_E_TRUNCATED (includes len < 8), COMLEARN_MSG_E_FINGERPRINT, COMLEARN_MSG_E_MALFORMED, COMLEARN_MSG_E_UNSUPPORTED or
+ * COMLEARN_MSG_E_NOMEM. */
+comlearn_msg_status_t comlearn_msg_check(const lcm_type_info_t *type, const void *buf, size_t len);
 
-/* Check buf[0..len) as msg_check() does, then decode it into *msg, which must point to a struct
+/* Check buf[0..len) as comlearn_msg_check() does, then decode it into *msg, which must point to a struct
  * of `type` (e.g. a comlearn_yumi_command_t). *msg is overwritten without being released first.
- * On MSG_OK the caller owns the strings inside *msg and releases them with the type's cleanup
+ * On COMLEARN_MSG_OK the caller owns the strings inside *msg and releases them with the type's cleanup
  * (comlearn_yumi_command_t_decode_cleanup(&m), or type->decode_cleanup(msg)). On an error, *msg
  * is all zero and owns nothing (the cleanup is still safe to call).
  * stats (may be NULL): `received` and exactly one other counter are incremented.
- * Returns MSG_OK or a msg_check() error, or MSG_E_NOMEM. May allocate (the strings). */
-msg_status_t msg_decode(const lcm_type_info_t *type, const void *buf, size_t len, void *msg,
-                        msg_stats_t *stats);
+ * Returns COMLEARN_MSG_OK or a comlearn_msg_check() error, or COMLEARN_MSG_E_NOMEM. May allocate (the strings). */
+comlearn_msg_status_t comlearn_msg_decode(const lcm_type_info_t *type, const void *buf, size_t len, void *msg,
+                        comlearn_msg_stats_t *stats);
 
 /* Called with each decoded message. `msg` points to a struct of the subscription's type, valid
  * only during the call (copy what you keep, e.g. with comlearn_<type>_copy()); rbuf->recv_utime
  * is the receive time (LCM's clock, microseconds). */
-typedef void (*msg_handler_t)(const lcm_recv_buf_t *rbuf, const char *channel, const void *msg,
+typedef void (*comlearn_msg_handler_t)(const lcm_recv_buf_t *rbuf, const char *channel, const void *msg,
                               void *user);
 
-/* Called with each rejected buffer and the reason (a negative msg_status_t), after the stats
+/* Called with each rejected buffer and the reason (a negative comlearn_msg_status_t), after the stats
  * were updated. rbuf->data holds the raw bytes. For logging or a status text; may be NULL. */
-typedef void (*msg_reject_handler_t)(const lcm_recv_buf_t *rbuf, const char *channel,
-                                     msg_status_t reason, void *user);
+typedef void (*comlearn_msg_reject_handler_t)(const lcm_recv_buf_t *rbuf, const char *channel,
+                                     comlearn_msg_status_t reason, void *user);
 
-/* What msg_subscribe() needs besides the channel. Caller-owned; copied by msg_subscribe(), so it
+/* What comlearn_msg_subscribe() needs besides the channel. Caller-owned; copied by comlearn_msg_subscribe(), so it
  * may live on the stack. */
 typedef struct {
   const lcm_type_info_t *type; /* e.g. comlearn_yumi_status_t_get_type_info(); required */
-  msg_handler_t on_message;    /* required */
-  msg_reject_handler_t on_reject; /* optional (NULL) */
+  comlearn_msg_handler_t on_message;    /* required */
+  comlearn_msg_reject_handler_t on_reject; /* optional (NULL) */
   void *user;                  /* passed to both handlers */
-  msg_stats_t *stats;          /* optional (NULL); must outlive the subscription */
-} msg_sub_config_t;
+  comlearn_msg_stats_t *stats;          /* optional (NULL); must outlive the subscription */
+} comlearn_msg_sub_config_t;
 
 /* Opaque subscription handle. */
-typedef struct msg_subscription msg_subscription_t;
+typedef struct comlearn_msg_subscription comlearn_msg_subscription_t;
 
-/* Subscribe to `channel` (an LCM channel regex, e.g. MSG_CHANNEL_YUMI_STATUS) on `lcm`. Every
- * buffer received goes through msg_decode(): a decoded message goes to cfg->on_message, a
+/* Subscribe to `channel` (an LCM channel regex, e.g. COMLEARN_MSG_CHANNEL_YUMI_STATUS) on `lcm`. Every
+ * buffer received goes through comlearn_msg_decode(): a decoded message goes to cfg->on_message, a
  * rejected one is counted in cfg->stats and goes to cfg->on_reject; nothing is printed, no buffer
  * crashes the process. Handlers run inside lcm_handle() on the calling thread.
- * On MSG_OK, *out is the new subscription (owned by the caller until msg_unsubscribe()). On an
- * error, *out is NULL. Returns MSG_OK, MSG_E_ARG (lcm, channel, cfg, type, on_message or out
- * NULL, channel empty), MSG_E_UNSUPPORTED, MSG_E_NOMEM or MSG_E_LCM. Allocates. */
-msg_status_t msg_subscribe(lcm_t *lcm, const char *channel, const msg_sub_config_t *cfg,
-                           msg_subscription_t **out);
+ * On COMLEARN_MSG_OK, *out is the new subscription (owned by the caller until comlearn_msg_unsubscribe()). On an
+ * error, *out is NULL. Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG (lcm, channel, cfg, type, on_message or out
+ * NULL, channel empty), COMLEARN_MSG_E_UNSUPPORTED, COMLEARN_MSG_E_NOMEM or COMLEARN_MSG_E_LCM. Allocates. */
+comlearn_msg_status_t comlearn_msg_subscribe(lcm_t *lcm, const char *channel, const comlearn_msg_sub_config_t *cfg,
+                           comlearn_msg_subscription_t **out);
 
 /* Limit the number of received buffers LCM queues for this subscription before it drops the
- * oldest (LCM's default is 30; latest-only consumers may use 1). Returns MSG_OK, MSG_E_ARG
- * (sub NULL or capacity < 0; 0 means unlimited), MSG_E_LCM. */
-msg_status_t msg_subscription_set_queue_capacity(msg_subscription_t *sub, int capacity);
+ * oldest (LCM's default is 30; latest-only consumers may use 1). Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG
+ * (sub NULL or capacity < 0; 0 means unlimited), COMLEARN_MSG_E_LCM. */
+comlearn_msg_status_t comlearn_msg_subscription_set_queue_capacity(comlearn_msg_subscription_t *sub, int capacity);
 
 /* Remove the subscription from `lcm` (the same lcm_t it was made on) and free it. Call it before
- * lcm_destroy(); not from inside one of its own handlers. sub NULL is fine (MSG_OK).
- * Returns MSG_OK, MSG_E_ARG (lcm NULL with sub non-NULL) or MSG_E_LCM (sub is freed anyway). */
-msg_status_t msg_unsubscribe(lcm_t *lcm, msg_subscription_t *sub);
+ * lcm_destroy(); not from inside one of its own handlers. sub NULL is fine (COMLEARN_MSG_OK).
+ * Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG (lcm NULL with sub non-NULL) or COMLEARN_MSG_E_LCM (sub is freed anyway). */
+comlearn_msg_status_t comlearn_msg_unsubscribe(lcm_t *lcm, comlearn_msg_subscription_t *sub);
 
 #ifdef __cplusplus
 }
