@@ -302,6 +302,57 @@ static int spec_valid(const rockgen_spec_t *spec) {
   return 1;
 }
 
+/* Fracture plane i (unit normal n[i], offset h[i]) placed depth_m inside the unfractured surface
+ * of radii r[] in directions d[]. MODEL_E_ARG when a plane would pass behind the center. */
+static model_status_t fractures_place(const rockgen_spec_t *spec, const double (*d)[3],
+                                      const double *r, size_t nv,
+                                      double n[ROCKGEN_MAX_FRACTURES][3],
+                                      double h[ROCKGEN_MAX_FRACTURES]) {
+  model_status_t st = MODEL_OK;
+  for (size_t i = 0; i < spec->fracture_count; ++i) {
+    for (int k = 0; k < 3; ++k) n[i][k] = spec->fractures[i].normal[k];
+    (void)cl_vec3_normalize(n[i], n[i]);
+    double extreme = 0.0;
+    for (size_t v = 0; v < nv; ++v) {
+      const double s = r[v] * cl_vec3_dot(d[v], n[i]);
+      if (s > extreme) extreme = s;
+    }
+    h[i] = extreme - spec->fractures[i].depth_m;
+    if (!(h[i] > 0.0)) st = MODEL_E_ARG;
+  }
+  return st;
+}
+
+/* out's vertices at radius r[v] in direction d[v] (a vertex labelled with a plane put onto it),
+ * then moved to the bounding-box center and rounded to float32. */
+static void vertices_write(model_mesh_t *out, const surface_t *s, const double (*d)[3],
+                           const double *r, const int *plane_of) {
+  const size_t nv = out->vertex_count;
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (size_t v = 0; v < nv; ++v) {
+    double p[3];
+    for (int k = 0; k < 3; ++k) p[k] = r[v] * d[v][k];
+    if (plane_of[v] >= 0) { /* onto its plane to the last bit the arithmetic allows */
+      const double *pn = s->n[plane_of[v]];
+      const double e = cl_vec3_dot(p, pn) - s->h[plane_of[v]];
+      for (int k = 0; k < 3; ++k) p[k] -= e * pn[k];
+    }
+    for (int k = 0; k < 3; ++k) {
+      out->vertices_m[v][k] = p[k];
+      if (p[k] < lo[k]) lo[k] = p[k];
+      if (p[k] > hi[k]) hi[k] = p[k];
+    }
+  }
+  /* Link frame: origin at the bounding-box center; then float32, as the STL file stores. */
+  double center[3];
+  for (int k = 0; k < 3; ++k) center[k] = 0.5 * (lo[k] + hi[k]);
+  for (size_t v = 0; v < nv; ++v) {
+    for (int k = 0; k < 3; ++k) {
+      out->vertices_m[v][k] = to_float32(out->vertices_m[v][k] - center[k]);
+    }
+  }
+}
+
 model_status_t rockgen_shape_build(const rockgen_spec_t *spec, model_mesh_t *out) {
   if (out == NULL) return MODEL_E_ARG;
   memset(out, 0, sizeof *out);
@@ -336,46 +387,14 @@ model_status_t rockgen_shape_build(const rockgen_spec_t *spec, model_mesh_t *out
 
   /* Fracture planes, each placed against the unfractured surface. */
   double n[ROCKGEN_MAX_FRACTURES][3], h[ROCKGEN_MAX_FRACTURES];
-  for (size_t i = 0; i < spec->fracture_count; ++i) {
-    for (int k = 0; k < 3; ++k) n[i][k] = spec->fractures[i].normal[k];
-    (void)cl_vec3_normalize(n[i], n[i]);
-    double extreme = 0.0;
-    for (size_t v = 0; v < nv; ++v) {
-      const double s = r[v] * cl_vec3_dot(d[v], n[i]);
-      if (s > extreme) extreme = s;
-    }
-    h[i] = extreme - spec->fractures[i].depth_m;
-    if (!(h[i] > 0.0)) st = MODEL_E_ARG; /* the plane would pass behind the center */
-  }
+  if (fractures_place(spec, (const double(*)[3])d, r, nv, n, h) != MODEL_OK) st = MODEL_E_ARG;
   const surface_t surf = {spec, &lobes, (const double(*)[3])n, h, spec->fracture_count};
   if (st == MODEL_OK) st = snap_to_rims(&surf, d, nv, t, nt);
   for (size_t v = 0; v < nv; ++v) r[v] = surface_eval(&surf, d[v], &plane_of[v]);
 
   if (st == MODEL_OK) st = mesh_alloc(out, nv, nt);
   if (st == MODEL_OK) {
-    double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-    for (size_t v = 0; v < nv; ++v) {
-      double p[3];
-      for (int k = 0; k < 3; ++k) p[k] = r[v] * d[v][k];
-      if (plane_of[v] >= 0) { /* onto its plane to the last bit the arithmetic allows */
-        const double *pn = n[plane_of[v]];
-        const double e = cl_vec3_dot(p, pn) - h[plane_of[v]];
-        for (int k = 0; k < 3; ++k) p[k] -= e * pn[k];
-      }
-      for (int k = 0; k < 3; ++k) {
-        out->vertices_m[v][k] = p[k];
-        if (p[k] < lo[k]) lo[k] = p[k];
-        if (p[k] > hi[k]) hi[k] = p[k];
-      }
-    }
-    /* Link frame: origin at the bounding-box center; then float32, as the STL file stores. */
-    double center[3];
-    for (int k = 0; k < 3; ++k) center[k] = 0.5 * (lo[k] + hi[k]);
-    for (size_t v = 0; v < nv; ++v) {
-      for (int k = 0; k < 3; ++k) {
-        out->vertices_m[v][k] = to_float32(out->vertices_m[v][k] - center[k]);
-      }
-    }
+    vertices_write(out, &surf, (const double(*)[3])d, r, plane_of);
     memcpy(out->triangles, t, nt * sizeof *t);
   }
   free(d);

@@ -226,67 +226,79 @@ static int load_rock(const char *dir, const char *name, const char *kind, model_
   return 0;
 }
 
-static int table(const char *dir) {
-  printf("Printed by `comlearn-rockgen --table` from the files in assets/ (lengths in the link\n"
-         "frame; CoMs relative to the bounding-box center, which is the link origin). A face is a\n"
-         "planar patch found in the mesh; its margin is the distance from the CoM's projection\n"
-         "to the edge of the polygon the rock stands on (positive: it rests; negative: it tips).\n\n");
-  for (size_t i = 0; i < rockgen_spec_count(); ++i) {
-    const rockgen_spec_t *spec = rockgen_spec_get(i);
-    model_object_t obj;
-    model_mass_t even, uneven, prior;
-    model_halfspace_t region;
-    if (load_rock(dir, spec->name, "even", &obj, &even)) return 1;
-    if (load_rock(dir, spec->name, "uneven", NULL, &uneven)) {
-      model_object_free(&obj);
-      return 1;
-    }
-    rockgen_patch_t patches[PATCHES_MAX];
-    size_t count = 0;
-    model_status_t st = rockgen_mass(spec, &obj.mesh, &prior, NULL, &region);
-    if (st == MODEL_OK) {
-      st = rockgen_patches_find(&obj.mesh, kMinPatchArea_m2, patches, PATCHES_MAX, &count);
-    }
-    if (st != MODEL_OK) {
-      LOG_E("%s: %s", spec->name, model_status_str(st));
-      model_object_free(&obj);
-      return 1;
-    }
-    const double *lo = obj.aabb.min_m, *hi = obj.aabb.max_m;
-    char c_even[64], c_uneven[64], c_prior[64], n_reg[64];
-    mm3(even.com_m, c_even, sizeof c_even);
-    mm3(uneven.com_m, c_uneven, sizeof c_uneven);
-    mm3(prior.com_m, c_prior, sizeof c_prior);
-    snprintf(n_reg, sizeof n_reg, "(%.3f, %.3f, %.3f)", region.normal[0], region.normal[1],
-             region.normal[2]);
-    printf("### %s\n\n", spec->name);
-    printf("| | %s_even.urdf | %s_uneven.urdf |\n|---|---|---|\n", spec->name, spec->name);
-    printf("| mesh | meshes/%s.stl: %zu triangles, %zu vertices | same mesh |\n", spec->name,
-           obj.mesh.triangle_count, obj.mesh.vertex_count);
-    printf("| size (bounding box x, y, z) | %.1f x %.1f x %.1f mm | same |\n",
-           1e3 * (hi[0] - lo[0]), 1e3 * (hi[1] - lo[1]), 1e3 * (hi[2] - lo[2]));
-    printf("| material | %.0f kg/m^3 | %.0f kg/m^3; %.0f kg/m^3 where n . x >= %.2f mm, n = %s |\n",
-           spec->density_kg_m3, spec->density_kg_m3, spec->region_density_kg_m3,
-           1e3 * region.offset_m, n_reg);
-    printf("| mass | %.4f kg | %.4f kg |\n", even.mass_kg, uneven.mass_kg);
-    printf("| true CoM (URDF inertial) | %s mm | %s mm |\n", c_even, c_uneven);
-    printf("| uniform-density CoM (mesh) | %s mm | %s mm |\n", c_prior, c_prior);
-    printf("| distance true - uniform | %.3f mm | %.3f mm |\n\n",
-           1e3 * cl_vec3_dist(even.com_m, prior.com_m),
-           1e3 * cl_vec3_dist(uneven.com_m, prior.com_m));
-    printf("| face | outward normal | area | width / diameter | margin even | margin uneven |\n");
-    printf("|---|---|---|---|---|---|\n");
-    for (size_t p = 0; p < count && p < PATCHES_MAX; ++p) {
-      const double me = rockgen_patch_margin(&patches[p], even.com_m);
-      const double mu = rockgen_patch_margin(&patches[p], uneven.com_m);
-      printf("| F%zu | (%.3f, %.3f, %.3f) | %.1f cm^2 | %.1f / %.1f mm | %.1f mm %s | %.1f mm %s |\n",
-             p + 1, patches[p].normal[0], patches[p].normal[1], patches[p].normal[2],
-             1e4 * patches[p].area_m2, 1e3 * patches[p].width_m, 1e3 * patches[p].diameter_m,
-             1e3 * me, me > 0 ? "rests" : "tips", 1e3 * mu, mu > 0 ? "rests" : "tips");
-    }
-    printf("\n");
-    model_object_free(&obj);
+/* The rock's size, material, masses and CoMs (prior: the uniform-density mass of the mesh). */
+static void rock_summary_print(const rockgen_spec_t *spec, const model_object_t *obj,
+                               const model_mass_t *even, const model_mass_t *uneven,
+                               const model_mass_t *prior, const model_halfspace_t *region) {
+  const double *lo = obj->aabb.min_m, *hi = obj->aabb.max_m;
+  char c_even[64], c_uneven[64], c_prior[64], n_reg[64];
+  mm3(even->com_m, c_even, sizeof c_even);
+  mm3(uneven->com_m, c_uneven, sizeof c_uneven);
+  mm3(prior->com_m, c_prior, sizeof c_prior);
+  snprintf(n_reg, sizeof n_reg, "(%.3f, %.3f, %.3f)", region->normal[0], region->normal[1],
+           region->normal[2]);
+  printf("### %s\n\n", spec->name);
+  printf("| | %s_even.urdf | %s_uneven.urdf |\n|---|---|---|\n", spec->name, spec->name);
+  printf("| mesh | meshes/%s.stl: %zu triangles, %zu vertices | same mesh |\n", spec->name,
+         obj->mesh.triangle_count, obj->mesh.vertex_count);
+  printf("| size (bounding box x, y, z) | %.1f x %.1f x %.1f mm | same |\n",
+         1e3 * (hi[0] - lo[0]), 1e3 * (hi[1] - lo[1]), 1e3 * (hi[2] - lo[2]));
+  printf("| material | %.0f kg/m^3 | %.0f kg/m^3; %.0f kg/m^3 where n . x >= %.2f mm, n = %s |\n",
+         spec->density_kg_m3, spec->density_kg_m3, spec->region_density_kg_m3,
+         1e3 * region->offset_m, n_reg);
+  printf("| mass | %.4f kg | %.4f kg |\n", even->mass_kg, uneven->mass_kg);
+  printf("| true CoM (URDF inertial) | %s mm | %s mm |\n", c_even, c_uneven);
+  printf("| uniform-density CoM (mesh) | %s mm | %s mm |\n", c_prior, c_prior);
+  printf("| distance true - uniform | %.3f mm | %.3f mm |\n\n",
+         1e3 * cl_vec3_dist(even->com_m, prior->com_m),
+         1e3 * cl_vec3_dist(uneven->com_m, prior->com_m));
+}
+
+/* The rock's faces and the margins of its two CoMs on each. */
+static void rock_faces_print(const rockgen_patch_t *patches, size_t count,
+                             const model_mass_t *even, const model_mass_t *uneven) {
+  printf("| face | outward normal | area | width / diameter | margin even | margin uneven |\n");
+  printf("|---|---|---|---|---|---|\n");
+  for (size_t p = 0; p < count && p < PATCHES_MAX; ++p) {
+    const double me = rockgen_patch_margin(&patches[p], even->com_m);
+    const double mu = rockgen_patch_margin(&patches[p], uneven->com_m);
+    printf("| F%zu | (%.3f, %.3f, %.3f) | %.1f cm^2 | %.1f / %.1f mm | %.1f mm %s | %.1f mm %s |\n",
+           p + 1, patches[p].normal[0], patches[p].normal[1], patches[p].normal[2],
+           1e4 * patches[p].area_m2, 1e3 * patches[p].width_m, 1e3 * patches[p].diameter_m,
+           1e3 * me, me > 0 ? "rests" : "tips", 1e3 * mu, mu > 0 ? "rests" : "tips");
   }
+  printf("\n");
+}
+
+/* One rock's section of the table, from its files under dir. 0, or 1 (logged). */
+static int table_rock(const char *dir, const rockgen_spec_t *spec) {
+  model_object_t obj;
+  model_mass_t even, uneven, prior;
+  model_halfspace_t region;
+  if (load_rock(dir, spec->name, "even", &obj, &even)) return 1;
+  if (load_rock(dir, spec->name, "uneven", NULL, &uneven)) {
+    model_object_free(&obj);
+    return 1;
+  }
+  rockgen_patch_t patches[PATCHES_MAX];
+  size_t count = 0;
+  model_status_t st = rockgen_mass(spec, &obj.mesh, &prior, NULL, &region);
+  if (st == MODEL_OK) {
+    st = rockgen_patches_find(&obj.mesh, kMinPatchArea_m2, patches, PATCHES_MAX, &count);
+  }
+  if (st != MODEL_OK) {
+    LOG_E("%s: %s", spec->name, model_status_str(st));
+    model_object_free(&obj);
+    return 1;
+  }
+  rock_summary_print(spec, &obj, &even, &uneven, &prior, &region);
+  rock_faces_print(patches, count, &even, &uneven);
+  model_object_free(&obj);
+  return 0;
+}
+
+/* The base block's section of the table. 0, or 1 (logged). */
+static int table_base(const char *dir) {
   char path[4096];
   snprintf(path, sizeof path, "%s/base/base.urdf", dir);
   model_object_t base;
@@ -308,6 +320,17 @@ static int table(const char *dir) {
   printf("| mass | %.3f kg |\n", base_mass.mass_kg);
   model_object_free(&base);
   return 0;
+}
+
+static int table(const char *dir) {
+  printf("Printed by `comlearn-rockgen --table` from the files in assets/ (lengths in the link\n"
+         "frame; CoMs relative to the bounding-box center, which is the link origin). A face is a\n"
+         "planar patch found in the mesh; its margin is the distance from the CoM's projection\n"
+         "to the edge of the polygon the rock stands on (positive: it rests; negative: it tips).\n\n");
+  for (size_t i = 0; i < rockgen_spec_count(); ++i) {
+    if (table_rock(dir, rockgen_spec_get(i))) return 1;
+  }
+  return table_base(dir);
 }
 
 /* ---- command line ----------------------------------------------------------------------------- */

@@ -198,14 +198,10 @@ static model_status_t initial_simplex(hull_t *h, model_error_t *err, uint32_t te
   return MODEL_OK;
 }
 
-static model_status_t build(hull_t *h, model_error_t *err) {
-  uint32_t tet[4] = {0, 0, 0, 0};
-  model_status_t st = initial_simplex(h, err, tet);
-  if (st != MODEL_OK) {
-    return st;
-  }
+/* a-b-c (tet[0..2]) faces away from d (tet[3]); the other three faces wind to match. Links the
+ * four faces, gives them the other points and stacks those with conflicts. */
+static model_status_t simplex_start(hull_t *h, const uint32_t tet[4]) {
   const uint32_t a = tet[0], b = tet[1], c = tet[2], d = tet[3];
-  /* a-b-c faces away from d; the other three faces wind to match. */
   uint32_t f0 = face_new(h, a, b, c);
   uint32_t f1 = face_new(h, a, d, b);
   uint32_t f2 = face_new(h, b, d, c);
@@ -234,168 +230,326 @@ static model_status_t build(hull_t *h, model_error_t *err) {
       return MODEL_E_NOMEM;
     }
   }
+  return MODEL_OK;
+}
 
-  /* Work arrays reused by every iteration. */
-  typedef struct {
-    uint32_t face;
-    uint8_t first, count, i;
-  } frame_t;
-  frame_t *frames = NULL;
-  size_t frame_cap = 0;
-  uint32_t *visible = NULL, *horizon_face = NULL, *new_faces = NULL;
-  uint8_t *horizon_edge = NULL;
-  size_t visible_cap = 0, horizon_cap = 0, horizon_edge_cap = 0, new_cap = 0;
-  st = MODEL_OK;
+/* One face of the depth-first walk: its edges first, first + 1, ... (count of them), i done. */
+typedef struct {
+  uint32_t face;
+  uint8_t first, count, i;
+} frame_t;
 
+/* Work arrays of one iteration, reused by every iteration (counts reset per iteration). */
+typedef struct {
+  frame_t *frames;
+  size_t frame_count, frame_cap;
+  uint32_t *visible;           /* faces visible from the eye */
+  size_t visible_count, visible_cap;
+  uint32_t *horizon_face;      /* horizon edge k is edge horizon_edge[k] of horizon_face[k] */
+  uint8_t *horizon_edge;
+  size_t horizon_count, horizon_cap, horizon_edge_cap;
+  uint32_t *new_faces;         /* the cone, new_faces[k] on horizon edge k */
+  size_t new_cap;
+} work_t;
+
+static void work_free(work_t *w) {
+  free(w->frames);
+  free(w->visible);
+  free(w->horizon_face);
+  free(w->horizon_edge);
+  free(w->new_faces);
+}
+
+/* The eye: the farthest outside point of face fi. */
+static uint32_t eye_find(const hull_t *h, uint32_t fi) {
+  uint32_t eye = NONE;
+  double far = -1.0;
+  for (uint32_t q = h->faces[fi].conflict; q != NONE; q = h->next[q]) {
+    double dist = face_dist(h, &h->faces[fi], q);
+    if (dist > far) {
+      far = dist;
+      eye = q;
+    }
+  }
+  return eye;
+}
+
+/* Depth-first over the faces visible from the eye, starting at fi; edges to invisible faces form
+ * the horizon, in loop order. */
+static model_status_t visible_walk(hull_t *h, work_t *w, uint32_t fi, uint32_t eye,
+                                   model_error_t *err) {
+  w->visible_count = w->horizon_count = w->frame_count = 0;
+  if (!grow((void **)&w->frames, &w->frame_cap, 1, sizeof *w->frames) ||
+      !grow((void **)&w->visible, &w->visible_cap, 1, sizeof *w->visible)) {
+    return MODEL_E_NOMEM;
+  }
+  h->faces[fi].visible = 1;
+  w->visible[w->visible_count++] = fi;
+  w->frames[w->frame_count++] = (frame_t){fi, 0, 3, 0};
+  while (w->frame_count > 0) {
+    frame_t *fr = &w->frames[w->frame_count - 1];
+    if (fr->i == fr->count) {
+      --w->frame_count;
+      continue;
+    }
+    int e = (fr->first + fr->i) % 3;
+    fr->i++;
+    const face_t *f = &h->faces[fr->face];
+    uint32_t g = f->nb[e];
+    if (g == NONE) {
+      return model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency");
+    }
+    if (h->faces[g].visible) {
+      continue;
+    }
+    if (face_dist(h, &h->faces[g], eye) > h->tol) {
+      int j = twin_edge(&h->faces[g], f->v[e], f->v[(e + 1) % 3]);
+      if (j < 0) {
+        return model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency");
+      }
+      if (!grow((void **)&w->frames, &w->frame_cap, w->frame_count + 1, sizeof *w->frames) ||
+          !grow((void **)&w->visible, &w->visible_cap, w->visible_count + 1,
+                sizeof *w->visible)) {
+        return MODEL_E_NOMEM;
+      }
+      h->faces[g].visible = 1;
+      w->visible[w->visible_count++] = g;
+      w->frames[w->frame_count++] = (frame_t){g, (uint8_t)((j + 1) % 3), 2, 0};
+    } else {
+      if (!grow((void **)&w->horizon_face, &w->horizon_cap, w->horizon_count + 1,
+                sizeof *w->horizon_face) ||
+          !grow((void **)&w->horizon_edge, &w->horizon_edge_cap, w->horizon_count + 1,
+                sizeof *w->horizon_edge)) {
+        return MODEL_E_NOMEM;
+      }
+      w->horizon_face[w->horizon_count] = fr->face;
+      w->horizon_edge[w->horizon_count] = (uint8_t)e;
+      ++w->horizon_count;
+    }
+  }
+  return MODEL_OK;
+}
+
+/* The horizon must be one closed loop. */
+static model_status_t horizon_check(const hull_t *h, const work_t *w, model_error_t *err) {
+  const size_t nhor = w->horizon_count;
+  int loop_ok = nhor >= 3;
+  for (size_t k = 0; k < nhor && loop_ok; ++k) {
+    const face_t *f = &h->faces[w->horizon_face[k]];
+    const face_t *g = &h->faces[w->horizon_face[(k + 1) % nhor]];
+    loop_ok = f->v[(w->horizon_edge[k] + 1) % 3] == g->v[w->horizon_edge[(k + 1) % nhor]];
+  }
+  if (!loop_ok) {
+    return model_fail(err, MODEL_E_HULL,
+                      "convex hull: numerical failure (horizon of %zu edges is not one loop)",
+                      nhor);
+  }
+  return MODEL_OK;
+}
+
+/* The cone of new faces from the horizon to the eye, linked to the faces beyond the horizon and
+ * to each other. */
+static model_status_t cone_build(hull_t *h, work_t *w, uint32_t eye, model_error_t *err) {
+  const size_t nhor = w->horizon_count;
+  if (!grow((void **)&w->new_faces, &w->new_cap, nhor, sizeof *w->new_faces)) {
+    return MODEL_E_NOMEM;
+  }
+  for (size_t k = 0; k < nhor; ++k) {
+    const face_t *f = &h->faces[w->horizon_face[k]];
+    int e = w->horizon_edge[k];
+    uint32_t va = f->v[e], vb = f->v[(e + 1) % 3], outer = f->nb[e];
+    uint32_t nf = face_new(h, va, vb, eye);  /* may move h->faces */
+    if (nf == NONE) {
+      return MODEL_E_NOMEM;
+    }
+    w->new_faces[k] = nf;
+    h->faces[nf].nb[0] = outer;
+    int j = twin_edge(&h->faces[outer], va, vb);
+    if (j < 0) {
+      return model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency");
+    }
+    h->faces[outer].nb[j] = nf;
+  }
+  for (size_t k = 0; k < nhor; ++k) {
+    h->faces[w->new_faces[k]].nb[1] = w->new_faces[(k + 1) % nhor];
+    h->faces[w->new_faces[k]].nb[2] = w->new_faces[(k + nhor - 1) % nhor];
+  }
+  return MODEL_OK;
+}
+
+/* Retire the visible faces; their points go to the new faces or are inside. New faces with
+ * conflicts are stacked. */
+static model_status_t visible_retire(hull_t *h, const work_t *w, uint32_t eye) {
+  const size_t nhor = w->horizon_count;
+  for (size_t k = 0; k < w->visible_count; ++k) {
+    face_t *f = &h->faces[w->visible[k]];
+    f->alive = 0;
+    uint32_t q = f->conflict;
+    f->conflict = NONE;
+    while (q != NONE) {
+      uint32_t nq = h->next[q];
+      if (q != eye) {
+        (void)assign_point(h, q, w->new_faces, nhor);
+      }
+      q = nq;
+    }
+  }
+  for (size_t k = 0; k < nhor; ++k) {
+    if (h->faces[w->new_faces[k]].conflict != NONE && !push_face(h, w->new_faces[k])) {
+      return MODEL_E_NOMEM;
+    }
+  }
+  return MODEL_OK;
+}
+
+/* One quickhull iteration: the farthest outside point of face fi becomes a hull vertex. */
+static model_status_t point_add(hull_t *h, work_t *w, uint32_t fi, model_error_t *err) {
+  const uint32_t eye = eye_find(h, fi);
+  model_status_t st = visible_walk(h, w, fi, eye, err);
+  if (st == MODEL_OK) {
+    st = horizon_check(h, w, err);
+  }
+  if (st == MODEL_OK) {
+    st = cone_build(h, w, eye, err);
+  }
+  if (st == MODEL_OK) {
+    st = visible_retire(h, w, eye);
+  }
+  return st;
+}
+
+static model_status_t build(hull_t *h, model_error_t *err) {
+  uint32_t tet[4] = {0, 0, 0, 0};
+  model_status_t st = initial_simplex(h, err, tet);
+  if (st == MODEL_OK) {
+    st = simplex_start(h, tet);
+  }
+  if (st != MODEL_OK) {
+    return st;
+  }
+  work_t w;
+  memset(&w, 0, sizeof w);
   size_t iterations = 0;
-  while (h->stack_count > 0) {
+  while (h->stack_count > 0 && st == MODEL_OK) {
     uint32_t fi = h->stack[--h->stack_count];
     if (!h->faces[fi].alive || h->faces[fi].conflict == NONE) {
       continue;
     }
     if (++iterations > h->n) {
       st = model_fail(err, MODEL_E_HULL, "convex hull: iteration cap (%zu) reached", h->n);
-      break;
-    }
-    /* The eye: the farthest outside point of this face. */
-    uint32_t eye = NONE;
-    double far = -1.0;
-    for (uint32_t q = h->faces[fi].conflict; q != NONE; q = h->next[q]) {
-      double dist = face_dist(h, &h->faces[fi], q);
-      if (dist > far) {
-        far = dist;
-        eye = q;
-      }
-    }
-
-    /* Depth-first over the faces visible from the eye; edges to invisible faces form the
-     * horizon, in loop order. */
-    size_t nvis = 0, nhor = 0, nframes = 0;
-    if (!grow((void **)&frames, &frame_cap, 1, sizeof *frames) ||
-        !grow((void **)&visible, &visible_cap, 1, sizeof *visible)) {
-      st = MODEL_E_NOMEM;
-      break;
-    }
-    h->faces[fi].visible = 1;
-    visible[nvis++] = fi;
-    frames[nframes++] = (frame_t){fi, 0, 3, 0};
-    while (nframes > 0 && st == MODEL_OK) {
-      frame_t *fr = &frames[nframes - 1];
-      if (fr->i == fr->count) {
-        --nframes;
-        continue;
-      }
-      int e = (fr->first + fr->i) % 3;
-      fr->i++;
-      const face_t *f = &h->faces[fr->face];
-      uint32_t g = f->nb[e];
-      if (g == NONE) {
-        st = model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency");
-        break;
-      }
-      if (h->faces[g].visible) {
-        continue;
-      }
-      if (face_dist(h, &h->faces[g], eye) > h->tol) {
-        int j = twin_edge(&h->faces[g], f->v[e], f->v[(e + 1) % 3]);
-        if (j < 0 || !grow((void **)&frames, &frame_cap, nframes + 1, sizeof *frames) ||
-            !grow((void **)&visible, &visible_cap, nvis + 1, sizeof *visible)) {
-          st = j < 0 ? model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency")
-                     : MODEL_E_NOMEM;
-          break;
-        }
-        h->faces[g].visible = 1;
-        visible[nvis++] = g;
-        frames[nframes++] = (frame_t){g, (uint8_t)((j + 1) % 3), 2, 0};
-      } else {
-        if (!grow((void **)&horizon_face, &horizon_cap, nhor + 1, sizeof *horizon_face) ||
-            !grow((void **)&horizon_edge, &horizon_edge_cap, nhor + 1, sizeof *horizon_edge)) {
-          st = MODEL_E_NOMEM;
-          break;
-        }
-        horizon_face[nhor] = fr->face;
-        horizon_edge[nhor] = (uint8_t)e;
-        ++nhor;
-      }
-    }
-    if (st != MODEL_OK) {
-      break;
-    }
-    /* The horizon must be one closed loop. */
-    int loop_ok = nhor >= 3;
-    for (size_t k = 0; k < nhor && loop_ok; ++k) {
-      const face_t *f = &h->faces[horizon_face[k]];
-      const face_t *g = &h->faces[horizon_face[(k + 1) % nhor]];
-      loop_ok = f->v[(horizon_edge[k] + 1) % 3] == g->v[horizon_edge[(k + 1) % nhor]];
-    }
-    if (!loop_ok) {
-      st = model_fail(err, MODEL_E_HULL,
-                      "convex hull: numerical failure (horizon of %zu edges is not one loop)",
-                      nhor);
-      break;
-    }
-
-    /* The cone of new faces from the horizon to the eye. */
-    if (!grow((void **)&new_faces, &new_cap, nhor, sizeof *new_faces)) {
-      st = MODEL_E_NOMEM;
-      break;
-    }
-    for (size_t k = 0; k < nhor && st == MODEL_OK; ++k) {
-      const face_t *f = &h->faces[horizon_face[k]];
-      int e = horizon_edge[k];
-      uint32_t va = f->v[e], vb = f->v[(e + 1) % 3], outer = f->nb[e];
-      uint32_t nf = face_new(h, va, vb, eye);  /* may move h->faces */
-      if (nf == NONE) {
-        st = MODEL_E_NOMEM;
-        break;
-      }
-      new_faces[k] = nf;
-      h->faces[nf].nb[0] = outer;
-      int j = twin_edge(&h->faces[outer], va, vb);
-      if (j < 0) {
-        st = model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency");
-        break;
-      }
-      h->faces[outer].nb[j] = nf;
-    }
-    if (st != MODEL_OK) {
-      break;
-    }
-    for (size_t k = 0; k < nhor; ++k) {
-      h->faces[new_faces[k]].nb[1] = new_faces[(k + 1) % nhor];
-      h->faces[new_faces[k]].nb[2] = new_faces[(k + nhor - 1) % nhor];
-    }
-
-    /* Retire the visible faces; their points go to the new faces or are inside. */
-    for (size_t k = 0; k < nvis; ++k) {
-      face_t *f = &h->faces[visible[k]];
-      f->alive = 0;
-      uint32_t q = f->conflict;
-      f->conflict = NONE;
-      while (q != NONE) {
-        uint32_t nq = h->next[q];
-        if (q != eye) {
-          (void)assign_point(h, q, new_faces, nhor);
-        }
-        q = nq;
-      }
-    }
-    for (size_t k = 0; k < nhor; ++k) {
-      if (h->faces[new_faces[k]].conflict != NONE && !push_face(h, new_faces[k])) {
-        st = MODEL_E_NOMEM;
-        break;
-      }
-    }
-    if (st != MODEL_OK) {
-      break;
+    } else {
+      st = point_add(h, &w, fi, err);
     }
   }
-  free(frames);
-  free(visible);
-  free(horizon_face);
-  free(horizon_edge);
-  free(new_faces);
+  work_free(&w);
   return st;
+}
+
+/* Bounding-box center of the n >= 1 vertices and its squared diagonal; MODEL_E_NONFINITE at the
+ * first vertex that is not finite. */
+static model_status_t points_bounds(const model_mesh_t *mesh, size_t n, double center[3],
+                                    double *diag2, model_error_t *err) {
+  double lo[3], hi[3];
+  memcpy(lo, mesh->vertices_m[0], sizeof lo);
+  memcpy(hi, mesh->vertices_m[0], sizeof hi);
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      double v = mesh->vertices_m[i][k];
+      if (!isfinite(v)) {
+        return model_fail(err, MODEL_E_NONFINITE, "convex hull: vertex %zu is not finite", i);
+      }
+      lo[k] = fmin(lo[k], v);
+      hi[k] = fmax(hi[k], v);
+    }
+  }
+  *diag2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    center[k] = 0.5 * (lo[k] + hi[k]);
+    *diag2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+  }
+  return MODEL_OK;
+}
+
+/* The live faces as a mesh of the input's (uncentred) vertices they use, numbered in input order.
+ * newindex: h->n entries, all NONE on entry. */
+static model_status_t hull_mesh_write(const hull_t *h, const model_mesh_t *mesh,
+                                      uint32_t *newindex, model_mesh_t *hull) {
+  size_t nf = 0, nv = 0;
+  for (size_t f = 0; f < h->face_count; ++f) {
+    if (h->faces[f].alive) {
+      ++nf;
+      for (int k = 0; k < 3; ++k) {
+        if (newindex[h->faces[f].v[k]] == NONE) {
+          newindex[h->faces[f].v[k]] = 0; /* mark; numbered below in input order */
+        }
+      }
+    }
+  }
+  for (size_t i = 0; i < h->n; ++i) {
+    if (newindex[i] == 0) {
+      newindex[i] = (uint32_t)nv++;
+    }
+  }
+  model_status_t st = model_mesh_alloc(hull, nv, nf);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  for (size_t i = 0; i < h->n; ++i) {
+    if (newindex[i] != NONE) {
+      memcpy(hull->vertices_m[newindex[i]], mesh->vertices_m[i], sizeof hull->vertices_m[0]);
+    }
+  }
+  size_t t = 0;
+  for (size_t f = 0; f < h->face_count; ++f) {
+    if (h->faces[f].alive) {
+      for (int k = 0; k < 3; ++k) {
+        hull->triangles[t][k] = newindex[h->faces[f].v[k]];
+      }
+      ++t;
+    }
+  }
+  return MODEL_OK;
+}
+
+/* The construction is closed and outward by design; verify it in O(faces) rather than trust
+ * rounding: every edge has a live twin that points back, and the volume is positive. */
+static model_status_t hull_verify(const hull_t *h, model_error_t *err) {
+  double volume6 = 0.0;
+  int broken = 0;
+  for (size_t f = 0; f < h->face_count && !broken; ++f) {
+    const face_t *fa = &h->faces[f];
+    if (!fa->alive) {
+      continue;
+    }
+    for (int k = 0; k < 3 && !broken; ++k) {
+      uint32_t g = fa->nb[k];
+      int j = g == NONE ? -1 : twin_edge(&h->faces[g], fa->v[k], fa->v[(k + 1) % 3]);
+      broken = j < 0 || !h->faces[g].alive || h->faces[g].nb[j] != f;
+    }
+    const double *a = h->p[fa->v[0]], *b = h->p[fa->v[1]], *c = h->p[fa->v[2]];
+    volume6 += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+               a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  /* And no point above any face (by more than a rounding margin far above tol): quickhull has
+   * been seen to leave a sheet of two opposite faces through the middle of a generated rock, with
+   * every edge twinned and the volume right (docs/model.md). O(points x faces). */
+  const double slack = 1e3 * h->tol;
+  int outside = 0;
+  for (size_t f = 0; f < h->face_count && !broken && !outside; ++f) {
+    if (!h->faces[f].alive) {
+      continue;
+    }
+    for (uint32_t i = 0; i < h->n && !outside; ++i) {
+      outside = face_dist(h, &h->faces[f], i) > slack;
+    }
+  }
+  if (broken || !(volume6 > 0.0) || outside) {
+    return model_fail(err, MODEL_E_HULL, "convex hull: numerical failure (%s)",
+                      broken    ? "broken face adjacency"
+                      : outside ? "a point above a hull face"
+                                : "non-positive volume");
+  }
+  return MODEL_OK;
 }
 
 model_status_t model_mesh_hull(const model_mesh_t *mesh, model_mesh_t *hull, model_error_t *err) {
@@ -413,28 +567,14 @@ model_status_t model_mesh_hull(const model_mesh_t *mesh, model_mesh_t *hull, mod
   if (n >= UINT32_MAX) {
     return model_fail(err, MODEL_E_ARG, "convex hull: too many points (%zu)", n);
   }
-  double lo[3], hi[3];
-  memcpy(lo, mesh->vertices_m[0], sizeof lo);
-  memcpy(hi, mesh->vertices_m[0], sizeof hi);
-  for (size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) {
-      double v = mesh->vertices_m[i][k];
-      if (!isfinite(v)) {
-        return model_fail(err, MODEL_E_NONFINITE, "convex hull: vertex %zu is not finite", i);
-      }
-      lo[k] = fmin(lo[k], v);
-      hi[k] = fmax(hi[k], v);
-    }
-  }
   double center[3], diag2 = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    center[k] = 0.5 * (lo[k] + hi[k]);
-    diag2 += (hi[k] - lo[k]) * (hi[k] - lo[k]);
+  model_status_t st = points_bounds(mesh, n, center, &diag2, err);
+  if (st != MODEL_OK) {
+    return st;
   }
 
   hull_t h;
   memset(&h, 0, sizeof h);
-  model_status_t st = MODEL_OK;
   double(*p)[3] = malloc(n * sizeof *p);
   h.next = malloc(n * sizeof *h.next);
   uint32_t *newindex = malloc(n * sizeof *newindex);
@@ -453,81 +593,14 @@ model_status_t model_mesh_hull(const model_mesh_t *mesh, model_mesh_t *hull, mod
   h.n = n;
   h.tol = fmax(1e-10 * sqrt(diag2), 8.0 * DBL_MIN);
   st = build(&h, err);
-  if (st != MODEL_OK) {
-    goto done;
+  if (st == MODEL_OK) {
+    st = hull_mesh_write(&h, mesh, newindex, hull);
   }
-
-  size_t nf = 0, nv = 0;
-  for (size_t f = 0; f < h.face_count; ++f) {
-    if (h.faces[f].alive) {
-      ++nf;
-      for (int k = 0; k < 3; ++k) {
-        if (newindex[h.faces[f].v[k]] == NONE) {
-          newindex[h.faces[f].v[k]] = 0; /* mark; numbered below in input order */
-        }
-      }
+  if (st == MODEL_OK) {
+    st = hull_verify(&h, err);
+    if (st != MODEL_OK) {
+      model_mesh_free(hull);
     }
-  }
-  for (size_t i = 0; i < n; ++i) {
-    if (newindex[i] == 0) {
-      newindex[i] = (uint32_t)nv++;
-    }
-  }
-  st = model_mesh_alloc(hull, nv, nf);
-  if (st != MODEL_OK) {
-    goto done;
-  }
-  for (size_t i = 0; i < n; ++i) {
-    if (newindex[i] != NONE) {
-      memcpy(hull->vertices_m[newindex[i]], mesh->vertices_m[i], sizeof hull->vertices_m[0]);
-    }
-  }
-  size_t t = 0;
-  for (size_t f = 0; f < h.face_count; ++f) {
-    if (h.faces[f].alive) {
-      for (int k = 0; k < 3; ++k) {
-        hull->triangles[t][k] = newindex[h.faces[f].v[k]];
-      }
-      ++t;
-    }
-  }
-  /* The construction is closed and outward by design; verify it in O(faces) rather than trust
-   * rounding: every edge has a live twin that points back, and the volume is positive. */
-  double volume6 = 0.0;
-  int broken = 0;
-  for (size_t f = 0; f < h.face_count && !broken; ++f) {
-    const face_t *fa = &h.faces[f];
-    if (!fa->alive) {
-      continue;
-    }
-    for (int k = 0; k < 3 && !broken; ++k) {
-      uint32_t g = fa->nb[k];
-      int j = g == NONE ? -1 : twin_edge(&h.faces[g], fa->v[k], fa->v[(k + 1) % 3]);
-      broken = j < 0 || !h.faces[g].alive || h.faces[g].nb[j] != f;
-    }
-    const double *a = p[fa->v[0]], *b = p[fa->v[1]], *c = p[fa->v[2]];
-    volume6 += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
-               a[2] * (b[0] * c[1] - b[1] * c[0]);
-  }
-  /* And no point above any face (by more than a rounding margin far above tol): quickhull has
-   * been seen to leave a sheet of two opposite faces through the middle of a generated rock, with
-   * every edge twinned and the volume right (docs/model.md). O(points x faces). */
-  const double slack = 1e3 * h.tol;
-  int outside = 0;
-  for (size_t f = 0; f < h.face_count && !broken && !outside; ++f) {
-    if (!h.faces[f].alive) {
-      continue;
-    }
-    for (uint32_t i = 0; i < n && !outside; ++i) {
-      outside = face_dist(&h, &h.faces[f], i) > slack;
-    }
-  }
-  if (broken || !(volume6 > 0.0) || outside) {
-    st = model_fail(err, MODEL_E_HULL, "convex hull: numerical failure (%s)",
-                    broken    ? "broken face adjacency"
-                    : outside ? "a point above a hull face"
-                              : "non-positive volume");
-    model_mesh_free(hull);
   }
 
 done:
