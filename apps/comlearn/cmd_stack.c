@@ -18,6 +18,7 @@
 
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
+#include "comlearn/math3d.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
@@ -261,7 +262,7 @@ static void print_table(const belief_t *bel, size_t n, stack_com_source_t src,
            "(%7.2f %7.2f %7.2f)  (%.4f %.4f %.4f %.4f)\n",
            k, b->urdf, 1e3 * b->com_m[0], 1e3 * b->com_m[1], 1e3 * b->com_m[2],
            1e3 * b->halfwidth_m[0], 1e3 * b->halfwidth_m[1], 1e3 * b->halfwidth_m[2],
-           1e3 * plan->margin_m[k], plan->tilt_rad[k] * 180.0 / 3.14159265358979323846,
+           1e3 * plan->margin_m[k], plan->tilt_rad[k] * 180.0 / CL_PI,
            1e3 * p->position_m[0], 1e3 * p->position_m[1], 1e3 * p->position_m[2],
            p->orientation_wxyz[0], p->orientation_wxyz[1], p->orientation_wxyz[2],
            p->orientation_wxyz[3]);
@@ -436,7 +437,7 @@ static int plan_at_slope(const stack_object_t *in, size_t n, const stack_args_t 
                          double tilt_deg, stack_plan_config_t *pc,
                          const balance_stack_config_t *rsc, slope_search_t *ss,
                          stack_plan_t *plan, rehearsal_t *reh) {
-  pc->max_tilt_rad = tilt_deg * 3.14159265358979323846 / 180.0;
+  pc->max_tilt_rad = tilt_deg * CL_PI / 180.0;
   LOG_I("planning a stack of %zu objects (%s CoMs, contacts up to %.0f deg)", n,
         stack_com_source_str(a->src), tilt_deg);
   const stack_status_t ps = stack_plan(in, n, pc, ss->cand);

@@ -20,11 +20,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "comlearn/stack.h"
 
 enum { BEAM_WIDTH = 48, FULL_EVAL = 16, MAX_PER_SIGNATURE = 3, MAX_UPPER_FACES = 8, MAX_LOWER_FACETS = 12 };
 
-static const double kPi = 3.14159265358979323846;
 static const double kMergeCos = 0.99999998; /* 2e-4 rad between merged hull facets */
 static const double kPlaneTol = 1e-6;       /* a vertex on a face: within 1 um of its plane */
 static const double kMinInradius = 1e-3;    /* faces narrower than 2 mm are not used */
@@ -54,16 +54,12 @@ const char *stack_com_source_str(stack_com_source_t s) {
 
 void stack_plan_config_default(stack_plan_config_t *cfg) {
   if (cfg == NULL) return;
-  cfg->max_tilt_rad = 15.0 * kPi / 180.0;
+  cfg->max_tilt_rad = 15.0 * CL_PI / 180.0;
   cfg->mass_rel_uncertainty = 0.3;
   cfg->yaw_steps = 24;
 }
 
 /* ---- small vector helpers ------------------------------------------------------------------ */
-
-static double dot3(const double a[3], const double b[3]) {
-  return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
 
 static void mat_vec(const double r[3][3], const double v[3], double out[3]) {
   for (int i = 0; i < 3; ++i) out[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2];
@@ -88,9 +84,9 @@ static void axis_angle(const double axis[3], double angle, double r[3][3]) {
 
 /* The shortest rotation taking unit a to unit b. */
 static void rot_a_to_b(const double a[3], const double b[3], double r[3][3]) {
-  const double c = dot3(a, b);
+  const double c = cl_vec3_dot(a, b);
   double ax[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  double s = sqrt(dot3(ax, ax));
+  double s = sqrt(cl_vec3_dot(ax, ax));
   if (s < 1e-12) {
     if (c > 0.0) {
       axis_angle((const double[3]){0, 0, 1}, 0.0, r);
@@ -99,7 +95,7 @@ static void rot_a_to_b(const double a[3], const double b[3], double r[3][3]) {
     /* half turn about any axis perpendicular to a */
     double u[3], v[3];
     model_plane_basis(a, u, v);
-    axis_angle(u, kPi, r);
+    axis_angle(u, CL_PI, r);
     return;
   }
   for (int k = 0; k < 3; ++k) ax[k] /= s;
@@ -261,7 +257,7 @@ static void face_of(const model_mesh_t *hull, const model_hull_face_t *hf, const
   for (size_t s = 0; s < hull->triangle_count; ++s)
     if (facet_face[s] == index)
       for (int k = 0; k < 3; ++k) {
-        const double dd = dot3(f->n, hull->vertices_m[hull->triangles[s][k]]);
+        const double dd = cl_vec3_dot(f->n, hull->vertices_m[hull->triangles[s][k]]);
         if (dd > f->d) f->d = dd;
       }
   model_plane_basis(f->n, f->u, f->v);
@@ -277,10 +273,10 @@ static void hull_planes(const model_mesh_t *hull, double (*planes)[4]) {
     const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
                    e1[0] * e2[1] - e1[1] * e2[0]};
-    const double len = sqrt(dot3(n, n));
+    const double len = sqrt(cl_vec3_dot(n, n));
     for (int k = 0; k < 3 && len > 0.0; ++k) n[k] /= len;
     for (int k = 0; k < 3; ++k) planes[t][k] = n[k];
-    planes[t][3] = dot3(n, a);
+    planes[t][3] = cl_vec3_dot(n, a);
   }
 }
 
@@ -290,10 +286,10 @@ static size_t face_points(const model_mesh_t *mesh, const face_t *f, double (*pt
                           double (*pts2)[2]) {
   size_t np = 0;
   for (size_t i = 0; i < mesh->vertex_count; ++i) {
-    if (fabs(dot3(f->n, mesh->vertices_m[i]) - f->d) > kPlaneTol) continue;
+    if (fabs(cl_vec3_dot(f->n, mesh->vertices_m[i]) - f->d) > kPlaneTol) continue;
     memcpy(pts3[np], mesh->vertices_m[i], sizeof pts3[np]);
-    pts2[np][0] = dot3(f->u, mesh->vertices_m[i]);
-    pts2[np][1] = dot3(f->v, mesh->vertices_m[i]);
+    pts2[np][0] = cl_vec3_dot(f->u, mesh->vertices_m[i]);
+    pts2[np][1] = cl_vec3_dot(f->v, mesh->vertices_m[i]);
     ++np;
   }
   return np;
@@ -429,11 +425,11 @@ static double own_margin(const obj_t *o, const face_t *f, const double r[3][3]) 
   double w[3];
   mat_t_vec(r, (const double[3]){0, 0, 1}, w);
   const double *c = o->in->com_m;
-  const double nw = dot3(f->n, w);
+  const double nw = cl_vec3_dot(f->n, w);
   if (fabs(nw) < 1e-9) return -HUGE_VAL;
-  const double s = (f->d - dot3(f->n, c)) / nw;
+  const double s = (f->d - cl_vec3_dot(f->n, c)) / nw;
   const double p3[3] = {c[0] + s * w[0], c[1] + s * w[1], c[2] + s * w[2]};
-  const double p[2] = {dot3(f->u, p3), dot3(f->v, p3)};
+  const double p[2] = {cl_vec3_dot(f->u, p3), cl_vec3_dot(f->v, p3)};
   return poly_depth((const double(*)[2])f->poly, f->npoly, p);
 }
 
@@ -540,7 +536,7 @@ static double worst_margin(const ctx_t *x, const cand_t *c, const layout_t *L, s
       const obj_t *o = &x->obj[c->obj[k + j]];
       double al[3];
       mat_t_vec(c->rot[k + j], A, al);
-      s[j] = dot3(A, cw[j]);
+      s[j] = cl_vec3_dot(A, cw[j]);
       for (int i = 0; i < 3; ++i) s[j] += o->in->com_halfwidth_m[i] * fabs(al[i]);
     }
     /* the largest mass-weighted mean of s: heavy (hi) for the top-p values, light for the rest */
@@ -605,8 +601,8 @@ static void upper_points(const ctx_t *x, const cand_t *c, const layout_t *L, siz
   mat_t_vec(c->rot[k], L->u[k], ru);
   mat_t_vec(c->rot[k], L->v[k], rv);
   for (size_t i = 0; i < F->npts; ++i) {
-    dst[i][0] = dot3(ru, F->pts3[i]);
-    dst[i][1] = dot3(rv, F->pts3[i]);
+    dst[i][0] = cl_vec3_dot(ru, F->pts3[i]);
+    dst[i][1] = cl_vec3_dot(rv, F->pts3[i]);
   }
   *n = F->npts;
   memcpy(scratch, dst, F->npts * sizeof *scratch);
@@ -680,11 +676,11 @@ static void place(ctx_t *x, const cand_t *c, double (*t)[2], layout_t *L) {
     for (int i = 0; i < 3; ++i) cm[i] /= mt;
     const double *m = L->m[k];
     double rel[3] = {L->O[k][0] - cm[0], L->O[k][1] - cm[1], L->O[k][2] - cm[2]};
-    const double s = dot3(m, rel) / m[2];
+    const double s = cl_vec3_dot(m, rel) / m[2];
     const double X[3] = {cm[0] - L->O[k][0], cm[1] - L->O[k][1], cm[2] + s - L->O[k][2]};
     const face_t *f = &x->obj[c->obj[k - 1]].face[c->facet[k]];
-    t[k][0] += f->center[0] - dot3(L->u[k], X);
-    t[k][1] += f->center[1] - dot3(L->v[k], X);
+    t[k][0] += f->center[0] - cl_vec3_dot(L->u[k], X);
+    t[k][1] += f->center[1] - cl_vec3_dot(L->v[k], X);
   }
   evaluate(x, c, (const double(*)[2])t, L, nup, nuph);
   const size_t nvar = 2 * (c->count - 1);
@@ -721,7 +717,7 @@ static int too_close(const obj_t *a, const double ra[3][3], const double pa[3], 
     mat_t_vec(rb, rel, lb);
     double worst = -HUGE_VAL;
     for (size_t p = 0; p < b->nplanes && worst < kClearance; ++p) {
-      const double s = dot3(b->hull_planes[p], lb) - b->hull_planes[p][3];
+      const double s = cl_vec3_dot(b->hull_planes[p], lb) - b->hull_planes[p][3];
       if (s > worst) worst = s;
     }
     if (worst < kClearance) return 1;
@@ -844,7 +840,7 @@ static void beam_put_on(const ctx_t *x, const cand_t *c, size_t lv, size_t f, co
   rot_a_to_b(up->face[F].n, negm, base);
   for (unsigned y = 0; y < x->yaw_steps; ++y) {
     cand_t nc = *c;
-    axis_angle(m, 2.0 * kPi * y / x->yaw_steps, yawr);
+    axis_angle(m, 2.0 * CL_PI * y / x->yaw_steps, yawr);
     mat_mul((const double(*)[3])yawr, (const double(*)[3])base, nc.rot[lv]);
     nc.count = lv + 1;
     nc.obj[lv] = j;
@@ -1032,7 +1028,7 @@ stack_status_t stack_plan(const stack_object_t *objects, size_t count,
   if (st == STACK_OK && nbeam == 0) {
     snprintf(out->msg, sizeof out->msg,
              "no order of the objects gives each one a face over a facet of the one below within "
-             "%.1f deg of level with its CoM inside", cfg.max_tilt_rad * 180.0 / kPi);
+             "%.1f deg of level with its CoM inside", cfg.max_tilt_rad * 180.0 / CL_PI);
     st = STACK_E_NOPLAN;
   }
   size_t chosen = SIZE_MAX;
