@@ -14,3 +14,15 @@ if(CHECK_URDF)
 else()
   message(WARNING "check_urdf not found (liburdfdom-tools): placement_yumi_check_urdf not registered")
 endif()
+
+# plan.c at -O3 (what a Release build uses) with the strict warnings as errors: GCC 12 warned
+# -Wstringop-overflow there, a false positive the code now avoids (rot_finite() in plan.c).
+add_test(NAME placement_plan_o3_warnings
+         COMMAND ${CMAKE_C_COMPILER} -std=c11 -O3
+                 -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Werror
+                 -I${PROJECT_SOURCE_DIR}/lib/placement/include
+                 -I${PROJECT_SOURCE_DIR}/lib/placement/src
+                 -I${PROJECT_SOURCE_DIR}/lib/model/include
+                 -c ${PROJECT_SOURCE_DIR}/lib/placement/src/plan.c
+                 -o ${CMAKE_CURRENT_BINARY_DIR}/plan_o3.o)
+set_tests_properties(placement_plan_o3_warnings PROPERTIES TIMEOUT 120)

@@ -25,8 +25,14 @@ static int finite_n(const double *v, size_t n) {
   return 1;
 }
 
+/* Row by row, not finite_n(&r[0][0], 9): GCC 12 at -O3 reuses that &r[0][0] (a double[3]) as the
+ * argument of a later rot_valid(r) and warns -Wstringop-overflow (72 bytes read from 24). */
+static int rot_finite(const double r[3][3]) {
+  return finite_n(r[0], 3) && finite_n(r[1], 3) && finite_n(r[2], 3);
+}
+
 static int pose_finite(const placement_pose_t *p) {
-  return finite_n(&p->rot[0][0], 9) && finite_n(p->pos_m, 3);
+  return rot_finite(p->rot) && finite_n(p->pos_m, 3);
 }
 
 /* Orthonormal with det +1, within 1e-6 per entry of R^T R - I and of det - 1. */
@@ -165,7 +171,7 @@ placement_status_t placement_plan_touch_z(const model_mesh_t *mesh_link,
   placement_status_t st = mesh_check(mesh_link);
   if (st != PLACEMENT_OK) return st;
   const double x_m = object_in_block->pos_m[0], y_m = object_in_block->pos_m[1];
-  if (!finite_n(&object_in_block->rot[0][0], 9) || !isfinite(x_m) || !isfinite(y_m) ||
+  if (!rot_finite(object_in_block->rot) || !isfinite(x_m) || !isfinite(y_m) ||
       !finite_n(block_size_m, 3) || !isfinite(touch_depth_m)) {
     return PLACEMENT_E_NONFINITE;
   }
