@@ -10,7 +10,11 @@ list(JOIN comlearn_lcm_types "," comlearn_lcm_types_csv)
 target_compile_definitions(check_messages PRIVATE
   COMLEARN_LCM_TYPE_NAMES="${comlearn_lcm_types_csv}")
 
-# tests/java/DecodeCheck.java, compiled at build time against lcm.jar and the types' jar.
+# tests/java/DecodeCheck.java, compiled at build time against lcm.jar and the types' jar: only
+# when lcmtypes/ builds the jar (a JDK and lcm.jar were found).
+if(NOT TARGET comlearn_lcmtypes_jar)
+  return()
+endif()
 get_target_property(comlearn_lcmtypes_jar_file comlearn_lcmtypes_jar JAR_FILE)
 set(decode_check_src ${CMAKE_CURRENT_SOURCE_DIR}/java/DecodeCheck.java)
 set(decode_check_dir ${CMAKE_CURRENT_BINARY_DIR}/java-classes)
