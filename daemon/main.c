@@ -13,13 +13,10 @@
 #include <lcm/lcm.h>
 
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_paths.h"
 #include "comlearn/math3d.h"
 #include "comlearn/msg.h"
 #include "sim.h"
-
-#ifndef COMLEARN_YUMI_URDF
-#define COMLEARN_YUMI_URDF "assets/yumi/yumi.urdf"
-#endif
 
 static volatile sig_atomic_t stop_flag = 0;
 static void on_signal(int sig) {
@@ -63,7 +60,7 @@ static void usage(FILE *f) {
           "  -h, --help                this help\n"
           "\n"
           "Exit codes: 0 stopped by a signal, 1 runtime failure, 2 bad usage.\n",
-          COMLEARN_MSG_LCM_URL_DEFAULT, COMLEARN_YUMI_URDF);
+          COMLEARN_MSG_LCM_URL_DEFAULT, cli_paths_yumi_urdf());
 }
 
 static int parse_double(const char *s, double lo, double hi, double *out) {
@@ -291,7 +288,7 @@ static int run(daemon_t *d, int realtime) {
 int main(int argc, char **argv) {
   cli_log_init("comlearn-sim");
   options_t o = {.lcm_url = COMLEARN_MSG_LCM_URL_DEFAULT, .seed = 1, .prefix = "",
-                 .yumi_urdf = COMLEARN_YUMI_URDF};
+                 .yumi_urdf = cli_paths_yumi_urdf()};
   int prc = parse_options(argc, argv, &o);
   if (prc < 0) return 0;
   if (prc > 0) return prc;

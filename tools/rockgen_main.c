@@ -12,16 +12,13 @@
 #include <sys/stat.h>
 
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_paths.h"
 #include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "objfile.h"
 #include "rockgen.h"
 #include "tool_args.h"
-
-#ifndef COMLEARN_ASSETS_DIR
-#define COMLEARN_ASSETS_DIR "assets"
-#endif
 
 /* Base block B: a box primitive with sharp straight edges; link origin at the center of its top
  * face (top at z = 0), edges along x and y. Beech wood, 700 kg/m^3 (fixed in the world anyway). */
@@ -354,7 +351,7 @@ static void usage(FILE *f) {
           "  --assets-dir DIR  assets to describe (default: %s)\n"
           "  -h, --help        this text\n"
           "Exit status: 0 success, 1 runtime failure, 2 usage.\n",
-          RANDOM_COUNT_MAX, COMLEARN_ASSETS_DIR);
+          RANDOM_COUNT_MAX, cli_paths_assets_dir());
 }
 
 int main(int argc, char **argv) {
@@ -367,7 +364,7 @@ int main(int argc, char **argv) {
                                        {"assets-dir", required_argument, NULL, 'a'},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
-  const char *out_dir = NULL, *assets_dir = COMLEARN_ASSETS_DIR;
+  const char *out_dir = NULL, *assets_dir = cli_paths_assets_dir();
   int want_table = 0, want_random = 0, have_count = 0, c;
   uint64_t seed = 0, count = 1;
   while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {

@@ -23,6 +23,7 @@
 
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_paths.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
@@ -258,7 +259,7 @@ static int run_backend_open(const exp_opts_t *o, const exp_rock_t *rock, const m
     lc.lcm_url = o->lcm_url;
     lc.urdf_path = rock->path;
     lc.mesh_link = &obj->mesh;
-    lc.yumi_urdf = COMLEARN_YUMI_URDF;
+    lc.yumi_urdf = cli_paths_yumi_urdf();
     lc.policy = estimate_policy_name(run->policy);
     lc.log = lcm_log;
     rc = estimate_lcm_open(&lc, lcmb, inner, err, sizeof err);

@@ -18,6 +18,7 @@
 
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_paths.h"
 #include "comlearn/math3d.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/model.h"
@@ -124,7 +125,7 @@ static int learn(belief_t *b, const char *lcm_url, qlearn_policy_kind_t policy,
     lc.lcm_url = lcm_url;
     lc.urdf_path = b->urdf;
     lc.mesh_link = &b->geo.mesh;
-    lc.yumi_urdf = COMLEARN_YUMI_URDF;
+    lc.yumi_urdf = cli_paths_yumi_urdf();
     lc.policy = policy_name;
     lc.log = lcm_log;
     rc = estimate_lcm_open(&lc, &lcmb, &backend, err, sizeof err);
