@@ -1,4 +1,5 @@
-# Packaging: what a packager's configure gets.
+# Packaging: a packager's configure, the shared libraries' exports, the install (docs/install.md,
+# cmake/ComlearnLibrary.cmake).
 # build_options: a packager's configure: BUILD_TESTING=OFF needs no `check`, no JDK skips the jar
 # with a message, -Werror only with COMLEARN_WERROR (ON in the presets) (tests/build_options.cmake).
 add_test(NAME build_options
@@ -7,3 +8,15 @@ add_test(NAME build_options
                  -DPKG_CONFIG=${PKG_CONFIG_EXECUTABLE}
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/build_options.cmake)
 set_tests_properties(build_options PROPERTIES TIMEOUT 300)
+
+# package_symbols_NAME: the shared library of each installed library exports its public prefix
+# only (tests/shared_symbols.cmake).
+get_property(comlearn_libraries GLOBAL PROPERTY COMLEARN_LIBRARIES)
+foreach(name IN LISTS comlearn_libraries)
+  get_target_property(prefix comlearn_${name}_shared COMLEARN_PREFIX)
+  add_test(NAME package_symbols_${name}
+           COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:comlearn_${name}_shared>
+                   -DARCHIVE=$<TARGET_FILE:comlearn_${name}> -DPREFIX=${prefix}
+                   -P ${CMAKE_CURRENT_SOURCE_DIR}/shared_symbols.cmake)
+  set_tests_properties(package_symbols_${name} PROPERTIES TIMEOUT 60)
+endforeach()
