@@ -20,3 +20,16 @@ foreach(name IN LISTS comlearn_libraries)
                    -P ${CMAKE_CURRENT_SOURCE_DIR}/shared_symbols.cmake)
   set_tests_properties(package_symbols_${name} PROPERTIES TIMEOUT 60)
 endforeach()
+
+# package_install: `cmake --install` of this build into a prefix under the build folder, then
+# examples/ against it with find_package and with pkg-config (tests/install.cmake).
+add_test(NAME package_install
+         COMMAND ${CMAKE_COMMAND} -DBUILD_DIR=${PROJECT_BINARY_DIR}
+                 -DSOURCE_DIR=${PROJECT_SOURCE_DIR}
+                 -DWORK_DIR=${CMAKE_CURRENT_BINARY_DIR}/package-install
+                 -DLIBDIR=${CMAKE_INSTALL_LIBDIR}
+                 -DCC=${CMAKE_C_COMPILER} -DCXX=${CMAKE_CXX_COMPILER}
+                 -DGENERATOR=${CMAKE_GENERATOR} -DPKG_CONFIG=${PKG_CONFIG_EXECUTABLE}
+                 "-DLCM_URL=udpm://239.255.76.67:7690?ttl=0"
+                 -P ${CMAKE_CURRENT_SOURCE_DIR}/install.cmake)
+set_tests_properties(package_install PROPERTIES TIMEOUT 300)
