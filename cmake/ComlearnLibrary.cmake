@@ -19,7 +19,8 @@
 # makes
 #   comlearn_NAME_objects  the OBJECT library (strict warnings unless GENERATED)
 #   comlearn_NAME          STATIC, what the programs and tests in this tree link (comlearn::NAME_static)
-#   comlearn_NAME_shared   SHARED libcomlearn_NAME.so.VERSION, SONAME libcomlearn_NAME.so.MAJOR;
+#   comlearn_NAME_shared   SHARED libcomlearn_NAME.so.VERSION, SONAME libcomlearn_NAME.so.MAJOR,
+#                          RUNPATH $ORIGIN when installed;
 #                          a version script generated from HEADERS (cmake/version_script.cmake)
 #                          keeps every other symbol local (comlearn::NAME)
 # and installs both, the headers and comlearn-NAME.pc. Targets join the export set
@@ -116,7 +117,9 @@ function(comlearn_add_library name)
   set_target_properties(${lib}_shared PROPERTIES
     OUTPUT_NAME ${lib} EXPORT_NAME ${name}
     VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}
-    LINK_DEPENDS ${map} COMLEARN_PREFIX ${A_PREFIX})
+    LINK_DEPENDS ${map} COMLEARN_PREFIX ${A_PREFIX}
+    # installed, each finds the comlearn libraries it needs beside itself, wherever the prefix is
+    INSTALL_RPATH "$ORIGIN")
   set_target_properties(${lib} PROPERTIES EXPORT_NAME ${name}_static)
   set_property(GLOBAL APPEND PROPERTY COMLEARN_LIBRARIES ${name})
 
