@@ -11,7 +11,8 @@
 #      installed YuMi URDF, finding all three components of a bundled rock;
 #   3. examples/ configured, built and run against the prefix with find_package(comlearn), once
 #      on the shared and once on the static libraries (comlearn_VERSION and comlearn_DATA_DIR
-#      set); mesh_info prints known numbers for rock_1_even;
+#      set); mesh_info and estimate_balance print known numbers for rock_1_even (the shared
+#      estimate_balance loads libcomlearn_qlearn.so through libcomlearn_estimate.so's RUNPATH);
 #   4. the pkg-config route: cc examples/mesh_info.c $(pkg-config --cflags --libs comlearn-model)
 #      with PKG_CONFIG_PATH into the prefix, same numbers.
 cmake_minimum_required(VERSION 3.20)
@@ -43,10 +44,11 @@ set(prefix ${WORK_DIR}/prefix)
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 
 # 1. Files.
-set(libs model model_sim balance qlearn placement lcmtypes msg)
+set(libs model model_sim balance qlearn placement estimate lcmtypes msg)
 set(expected
   include/comlearn/model.h include/comlearn/model_inertial.h include/comlearn/balance.h
-  include/comlearn/qlearn.h include/comlearn/placement_plan.h include/comlearn/msg.h
+  include/comlearn/model_support.h include/comlearn/qlearn.h include/comlearn/placement_plan.h
+  include/comlearn/estimate.h include/comlearn/msg.h
   include/comlearn/comlearn_yumi_command_t.h
   ${LIBDIR}/cmake/comlearn/comlearnConfig.cmake
   ${LIBDIR}/cmake/comlearn/comlearnConfigVersion.cmake
@@ -65,7 +67,8 @@ foreach(f IN LISTS expected)
     message(FATAL_ERROR "not installed: ${prefix}/${f}")
   endif()
 endforeach()
-foreach(internal comlearn_app_paths comlearn_estimate comlearn_rockgen model_internal.h)
+foreach(internal comlearn_app_paths comlearn_estimate_ comlearn_stack comlearn_rockgen
+                 comlearn_shapegen model_internal.h)
   file(GLOB_RECURSE hits ${prefix}/*${internal}*)
   if(hits)
     message(FATAL_ERROR "internal file installed: ${hits}")
@@ -101,6 +104,13 @@ bbox_min_m -0.038057 -0.029332 -0.022891
 bbox_max_m 0.038057 0.029332 0.022891
 com_m 0.002667 -0.000927 -0.002493
 ]])
+# lib/estimate on lib/balance, as `comlearn estimate --direct` (the same 22 trials and CoM).
+set(estimate_balance_expected [[
+x +2.6653 mm +- 0.0778 (true +2.6665)
+y -0.9976 mm +- 0.0778 (true -0.9269)
+z -2.4433 mm +- 0.0550 (true -2.4933)
+22 trials, done
+]])
 foreach(kind shared static)
   set(static OFF)
   if(kind STREQUAL "static")
@@ -112,11 +122,13 @@ foreach(kind shared static)
       -DCOMLEARN_EXAMPLES_STATIC=${static})
   expect_match("${run_out}" "comlearn 0\\.1\\.0, assets in ${data}\n" "comlearn_DATA_DIR")
   run(${CMAKE_COMMAND} --build ${bin})
-  run(${bin}/mesh_info ${data}/rocks/rock_1_even.urdf)
-  if(NOT run_out STREQUAL mesh_info_expected)
-    message(FATAL_ERROR "mesh_info (find_package, ${kind}) printed:\n${run_out}\n"
-                        "expected:\n${mesh_info_expected}")
-  endif()
+  foreach(example mesh_info estimate_balance)
+    run(${bin}/${example} ${data}/rocks/rock_1_even.urdf)
+    if(NOT run_out STREQUAL ${example}_expected)
+      message(FATAL_ERROR "${example} (find_package, ${kind}) printed:\n${run_out}\n"
+                          "expected:\n${${example}_expected}")
+    endif()
+  endforeach()
 endforeach()
 if(NOT EXISTS ${WORK_DIR}/examples-shared/mesh_info)
   message(FATAL_ERROR "no examples-shared/mesh_info")
