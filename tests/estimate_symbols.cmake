@@ -1,8 +1,10 @@
 # cmake -DNM=nm -DLIB=libcomlearn_estimate.a -P this
 # lib/estimate is geometry and learning only: every symbol its archive needs from elsewhere is
 # lib/model's (model_*), lib/qlearn's (qlearn_*), the C library's or libm's from the short list
-# below, or the compiler's and sanitizers' own (__*). So it calls no physics engine (ODE's d*,
-# lib/balance's balance_*), no LCM, no file or stream I/O (fopen, printf, ...).
+# below, or the compiler's and sanitizers' own (__*, and _GLOBAL_OFFSET_TABLE_, which the linker
+# defines: position-independent code for the shared library references it). So it calls no
+# physics engine (ODE's d*, lib/balance's balance_*), no LCM, no file or stream I/O (fopen,
+# printf, ...).
 cmake_minimum_required(VERSION 3.20)
 execute_process(COMMAND ${NM} -u ${LIB} OUTPUT_VARIABLE text RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
@@ -17,7 +19,7 @@ foreach(u IN LISTS undefined)
   string(REGEX REPLACE "^U +" "" sym "${u}")
   string(STRIP "${sym}" sym)
   math(EXPR count "${count} + 1")
-  if(sym MATCHES "^(model_|qlearn_|__)")
+  if(sym MATCHES "^(model_|qlearn_|__)" OR sym STREQUAL "_GLOBAL_OFFSET_TABLE_")
     continue()
   endif()
   list(FIND libc "${sym}" at)
