@@ -23,6 +23,7 @@ add_test(NAME placement_plan_o3_warnings
                  -I${PROJECT_SOURCE_DIR}/lib/placement/include
                  -I${PROJECT_SOURCE_DIR}/lib/placement/src
                  -I${PROJECT_SOURCE_DIR}/lib/model/include
+                 -I${PROJECT_SOURCE_DIR}/lib/math/include
                  -c ${PROJECT_SOURCE_DIR}/lib/placement/src/plan.c
                  -o ${CMAKE_CURRENT_BINARY_DIR}/plan_o3.o)
 set_tests_properties(placement_plan_o3_warnings PROPERTIES TIMEOUT 120)
