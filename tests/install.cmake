@@ -44,11 +44,12 @@ set(prefix ${WORK_DIR}/prefix)
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 
 # 1. Files.
-set(libs model model_sim balance qlearn placement estimate lcmtypes msg)
+set(libs model model_sim balance qlearn placement estimate stack stack_sim lcmtypes msg)
 set(expected
   include/comlearn/model.h include/comlearn/model_inertial.h include/comlearn/balance.h
   include/comlearn/model_support.h include/comlearn/qlearn.h include/comlearn/placement_plan.h
-  include/comlearn/estimate.h include/comlearn/msg.h
+  include/comlearn/estimate.h include/comlearn/stack.h include/comlearn/math3d.h
+  include/comlearn/msg.h ${LIBDIR}/pkgconfig/comlearn-math.pc
   include/comlearn/comlearn_yumi_command_t.h
   ${LIBDIR}/cmake/comlearn/comlearnConfig.cmake
   ${LIBDIR}/cmake/comlearn/comlearnConfigVersion.cmake
@@ -67,7 +68,7 @@ foreach(f IN LISTS expected)
     message(FATAL_ERROR "not installed: ${prefix}/${f}")
   endif()
 endforeach()
-foreach(internal comlearn_app_paths comlearn_estimate_ comlearn_stack comlearn_rockgen
+foreach(internal comlearn_cli cli_log.h comlearn_estimate_ comlearn_stack_svg comlearn_rockgen
                  comlearn_shapegen model_internal.h)
   file(GLOB_RECURSE hits ${prefix}/*${internal}*)
   if(hits)
