@@ -24,6 +24,7 @@
 #include "estimate_lcm.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_paths.h"
 #include "comlearn/cli_time.h"
 
 enum { EXIT_USAGE = 2 };
@@ -389,7 +390,7 @@ static int backend_open(const est_args_t *a, const model_object_t *obj, est_back
       url = b->url;
     }
     const char *exe = getenv("COMLEARN_SIM");
-    if (!exe || !exe[0]) exe = COMLEARN_SIM_EXE;
+    if (!exe || !exe[0]) exe = cli_paths_sim_exe();
     b->child = estimate_lcm_sim_spawn(exe, url, err, sizeof err);
     if (b->child < 0) {
       LOG_E("--spawn-sim: %s", err);
@@ -402,7 +403,7 @@ static int backend_open(const est_args_t *a, const model_object_t *obj, est_back
   lc.lcm_url = url;
   lc.urdf_path = a->urdf;
   lc.mesh_link = &obj->mesh;
-  lc.yumi_urdf = COMLEARN_YUMI_URDF;
+  lc.yumi_urdf = cli_paths_yumi_urdf();
   lc.policy = estimate_policy_name(a->cfg.policy);
   lc.log = lcm_log;
   const int rc = estimate_lcm_open(&lc, &b->lcm, &b->backend, err, sizeof err);
