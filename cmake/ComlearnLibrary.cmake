@@ -24,7 +24,10 @@
 #                          a version script generated from HEADERS (cmake/version_script.cmake)
 #                          keeps every other symbol local (comlearn::NAME)
 # and installs both, the headers and comlearn-NAME.pc. Targets join the export set
-# comlearnTargets that comlearn_install_package() writes.
+# comlearnTargets that comlearn_install_package() writes. The installed static archive of a C
+# library (no C++, not GENERATED, no INTERNAL_EXPORTS) is sealed (cmake/seal_archive.cmake): one
+# relocatable object whose only global symbols are the shared library's exports; the in-tree
+# archive, which tests of internals link, stays as compiled.
 include_guard(GLOBAL)
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -127,6 +130,27 @@ function(comlearn_add_library name)
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  set(has_cxx 0)
+  foreach(src IN LISTS A_SOURCES)
+    if(src MATCHES "\\.(cpp|cc|cxx)$")
+      set(has_cxx 1)
+    endif()
+  endforeach()
+  if(NOT A_GENERATED AND NOT A_INTERNAL_EXPORTS AND NOT has_cxx)
+    set(sealed ${CMAKE_CURRENT_BINARY_DIR}/sealed/lib${lib}.a)
+    add_custom_command(
+      OUTPUT ${sealed}
+      COMMAND ${CMAKE_COMMAND} -DMAP=${map} "-DOBJECTS=$<JOIN:$<TARGET_OBJECTS:${lib}_objects>,|>"
+              -DOUT=${sealed} -DLD=${CMAKE_LINKER} -DOBJCOPY=${CMAKE_OBJCOPY} -DAR=${CMAKE_AR}
+              -P ${PROJECT_SOURCE_DIR}/cmake/seal_archive.cmake
+      DEPENDS ${map} $<TARGET_OBJECTS:${lib}_objects> ${PROJECT_SOURCE_DIR}/cmake/seal_archive.cmake
+      COMMENT "sealed archive lib${lib}.a (only the ${A_PREFIX}* exports global)"
+      VERBATIM)
+    add_custom_target(${lib}_sealed ALL DEPENDS ${sealed})
+    set_target_properties(${lib} PROPERTIES COMLEARN_SEALED ${sealed})
+    # after install(TARGETS): the sealed archive replaces the in-tree one in the prefix
+    install(FILES ${sealed} DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  endif()
   install(FILES ${A_HEADERS} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/comlearn)
 
   comlearn_pc_modules(requires ${A_PUBLIC})

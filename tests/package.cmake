@@ -10,13 +10,14 @@ add_test(NAME build_options
 set_tests_properties(build_options PROPERTIES TIMEOUT 300)
 
 # package_symbols_NAME: the shared library of each installed library exports its public prefix
-# only (tests/shared_symbols.cmake).
+# only, and a sealed static archive defines exactly those globals (tests/shared_symbols.cmake).
 get_property(comlearn_libraries GLOBAL PROPERTY COMLEARN_LIBRARIES)
 foreach(name IN LISTS comlearn_libraries)
   get_target_property(prefix comlearn_${name}_shared COMLEARN_PREFIX)
   add_test(NAME package_symbols_${name}
            COMMAND ${CMAKE_COMMAND} -DNM=${CMAKE_NM} -DLIB=$<TARGET_FILE:comlearn_${name}_shared>
                    -DARCHIVE=$<TARGET_FILE:comlearn_${name}> -DPREFIX=${prefix}
+                   "-DSEALED=$<TARGET_PROPERTY:comlearn_${name},COMLEARN_SEALED>"
                    -P ${CMAKE_CURRENT_SOURCE_DIR}/shared_symbols.cmake)
   set_tests_properties(package_symbols_${name} PROPERTIES TIMEOUT 60)
 endforeach()

@@ -1,8 +1,11 @@
-# cmake -DNM=nm -DLIB=libcomlearn_model.so -DARCHIVE=libcomlearn_model.a -DPREFIX=model_ -P this
+# cmake -DNM=nm -DLIB=libcomlearn_model.so -DARCHIVE=libcomlearn_model.a -DPREFIX=model_
+#       [-DSEALED=sealed/libcomlearn_model.a] -P this
 # A shared library of comlearn exports its public API only (cmake/version_script.cmake): every
 # defined dynamic symbol (demangled) starts with PREFIX, there is at least one, and each is also
 # defined in the static library built from the same objects. Prints how many of the archive's
-# global definitions the shared library keeps local.
+# global definitions the shared library keeps local. SEALED (the installed static archive of a C
+# library, cmake/seal_archive.cmake): its global definitions are exactly the shared library's
+# exports.
 cmake_minimum_required(VERSION 3.20)
 foreach(var NM LIB ARCHIVE PREFIX)
   if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
@@ -54,6 +57,15 @@ list(REMOVE_ITEM stray ${archived})
 if(stray)
   list(JOIN stray "\n  " shown)
   message(FATAL_ERROR "${LIB} exports symbols ${ARCHIVE} does not define:\n  ${shown}")
+endif()
+if(DEFINED SEALED AND NOT SEALED STREQUAL "")
+  defined_globals(sealed ${SEALED} -g -C --defined-only)
+  if(NOT sealed STREQUAL exported)
+    list(JOIN sealed " " s1)
+    list(JOIN exported " " s2)
+    message(FATAL_ERROR "${SEALED} defines other globals than ${LIB} exports:\n  ${s1}\n  vs\n  ${s2}")
+  endif()
+  message(STATUS "${SEALED}: the same global definitions as ${LIB} exports")
 endif()
 list(LENGTH exported n_exported)
 list(LENGTH hidden n_hidden)
