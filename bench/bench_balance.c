@@ -139,10 +139,11 @@ static int cases_load(const char *rock, bench_case_t cases[3], model_object_t *o
 static void case_print(int json, int first, const bench_case_t *c, const bench_result_t *r) {
   const char *path = c->path == BALANCE_CONTACT_FAST ? "fast" : "stock";
   if (json)
-    printf("%s{\"case\":\"%s\",\"path\":\"%s\",\"triangles\":%zu,\"trials\":%d,\"trials_per_s\":%.1f,"
-           "\"us_per_step\":%.2f,\"steps_per_trial\":%.1f,\"wrong\":%d,\"bias_um\":%.3f}",
-           first ? "" : ",", c->name, path, c->mesh.triangle_count, r->trials, r->trials_per_s,
-           r->us_per_step, r->steps_per_trial, r->wrong, r->bias_m * 1e6);
+    printf(
+        "%s{\"case\":\"%s\",\"path\":\"%s\",\"triangles\":%zu,\"trials\":%d,\"trials_per_s\":%.1f,"
+        "\"us_per_step\":%.2f,\"steps_per_trial\":%.1f,\"wrong\":%d,\"bias_um\":%.3f}",
+        first ? "" : ",", c->name, path, c->mesh.triangle_count, r->trials, r->trials_per_s,
+        r->us_per_step, r->steps_per_trial, r->wrong, r->bias_m * 1e6);
   else
     printf("| %s | %s | %zu | %d | %.0f | %.2f | %.0f | %d | %+.3f |\n", c->name, path,
            c->mesh.triangle_count, r->trials, r->trials_per_s, r->us_per_step, r->steps_per_trial,
@@ -163,7 +164,8 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--rock") && i + 1 < argc)
       rock = argv[++i];
     else {
-      fprintf(stderr, "usage: bench_balance [--trials N (400)] [--json] [--verbose] [--rock URDF (%s)]\n",
+      fprintf(stderr,
+              "usage: bench_balance [--trials N (400)] [--json] [--verbose] [--rock URDF (%s)]\n",
               rock);
       return 2;
     }
@@ -173,16 +175,20 @@ int main(int argc, char **argv) {
   model_object_t obj;
   if (cases_load(rock, cases, &obj) != 0) return 1;
   const char *only = getenv("BENCH_ONLY");
-  if (json) printf("[");
+  if (json)
+    printf("[");
   else
-    printf("| case | contact path | triangles | trials | trials/s | us/step | steps/trial | wrong | bias um |\n|---|---|---|---|---|---|---|---|---|\n");
+    printf(
+        "| case | contact path | triangles | trials | trials/s | us/step | steps/trial | wrong | "
+        "bias um |\n|---|---|---|---|---|---|---|---|---|\n");
   int first = 1;
   for (int k = 0; k < 3; k++) {
     if (only && !strstr(cases[k].name, only) &&
         !strstr(cases[k].path == BALANCE_CONTACT_FAST ? "fast" : "stock", only))
       continue;
     bench_result_t r;
-    const int nt = cases[k].path == BALANCE_CONTACT_STOCK ? (ntrials / 8 > 8 ? ntrials / 8 : 8) : ntrials;
+    const int nt =
+        cases[k].path == BALANCE_CONTACT_STOCK ? (ntrials / 8 > 8 ? ntrials / 8 : 8) : ntrials;
     if (run_case(&cases[k], nt, verbose, &r) != 0) return 1;
     case_print(json, first, &cases[k], &r);
     fflush(stdout);

@@ -49,10 +49,10 @@ typedef struct {
 
 /* One estimate. */
 typedef struct {
-  int object;           /* index into the object list */
-  int policy;           /* index into opts.pol */
-  int seed;             /* 0: noiseless */
-  int status;           /* estimate_status_t */
+  int object; /* index into the object list */
+  int policy; /* index into opts.pol */
+  int seed;   /* 0: noiseless */
+  int status; /* estimate_status_t */
   int found[3];
   double err_m[3], hw_m[3];
   unsigned trials;
@@ -61,7 +61,7 @@ typedef struct {
 typedef struct {
   char urdf[4096];
   char name[72];
-  int family;           /* shapegen family, or ROCK */
+  int family; /* shapegen family, or ROCK */
   int uneven;
 } obj_t;
 
@@ -127,8 +127,8 @@ static int make_objects(const opts_t *o, const char *dir, obj_t *objs) {
       }
     }
     if (rc != 0) {
-      LOG_E("%s seed %llu: cannot generate or write %s",
-              family_name(fam), (unsigned long long)seed, failed);
+      LOG_E("%s seed %llu: cannot generate or write %s", family_name(fam), (unsigned long long)seed,
+            failed);
       free(so);
       return -1;
     }
@@ -242,11 +242,13 @@ static const char kHeader[] =
     "(mm) | trials per run |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
 
 static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *recs, size_t n) {
-  printf("# bench_coverage\n\n%d objects (%d shapes x even / uneven, families in turn, seeds "
-         "%llu..), "
-         "noiseless and with placement %.3g mm / pose %.3g mm noise for seeds 1..%d; direct "
-         "backend.\n\n", nobj, o->objects, (unsigned long long)o->seed, 1e3 * o->placement_m,
-         1e3 * o->pose_m, o->seeds);
+  printf(
+      "# bench_coverage\n\n%d objects (%d shapes x even / uneven, families in turn, seeds "
+      "%llu..), "
+      "noiseless and with placement %.3g mm / pose %.3g mm noise for seeds 1..%d; direct "
+      "backend.\n\n",
+      nobj, o->objects, (unsigned long long)o->seed, 1e3 * o->placement_m, 1e3 * o->pose_m,
+      o->seeds);
   printf(kHeader, "policy");
   for (int p = 0; p < o->npol; ++p)
     for (int noisy = 0; noisy < 2; ++noisy) {
@@ -274,8 +276,8 @@ static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *re
       if (recs[i].found[k] && fabs(recs[i].err_m[k]) > recs[i].hw_m[k] && recs[i].seed == 0) {
         if (!shown++) printf("\nNoiseless components outside their bound:\n\n");
         printf("- %s, %s, %c: |error| %.4f mm, bound %.4f mm\n", objs[recs[i].object].name,
-               estimate_policy_name(o->pol[recs[i].policy]), "xyz"[k],
-               1e3 * fabs(recs[i].err_m[k]), 1e3 * recs[i].hw_m[k]);
+               estimate_policy_name(o->pol[recs[i].policy]), "xyz"[k], 1e3 * fabs(recs[i].err_m[k]),
+               1e3 * recs[i].hw_m[k]);
       }
 }
 
@@ -299,8 +301,9 @@ static void write_json(const opts_t *o, const obj_t *objs, const rec_t *recs, si
     const rec_t *r = &recs[i];
     fprintf(f, "%s\n{\"object\": ", i ? "," : "");
     cli_json_string(f, objs[r->object].name, 0);
-    fprintf(f, ", \"family\": \"%s\", \"policy\": \"%s\", \"seed\": %d, \"status\": %d, "
-               "\"trials\": %u, \"found\": [%d, %d, %d], \"error_m\": [",
+    fprintf(f,
+            ", \"family\": \"%s\", \"policy\": \"%s\", \"seed\": %d, \"status\": %d, "
+            "\"trials\": %u, \"found\": [%d, %d, %d], \"error_m\": [",
             family_name(objs[r->object].family), estimate_policy_name(o->pol[r->policy]), r->seed,
             r->status, r->trials, r->found[0], r->found[1], r->found[2]);
     json_triple(f, r->found, r->err_m);
@@ -315,23 +318,25 @@ static void write_json(const opts_t *o, const obj_t *objs, const rec_t *recs, si
 /* ---- main ---------------------------------------------------------------------------------- */
 
 static void usage(FILE *f) {
-  fprintf(f, "usage: bench_coverage [options]\n"
-             "Coverage of the reported intervals on generated objects (tools/shapegen families\n"
-             "and "
-             "random rocks, even and uneven), noiseless and noisy, per policy.\n"
-             "  --objects N             shapes, each as an even and an uneven object, 1..2000\n"
-             "                          (default: 112, i.e. 224 objects, 8 per family)\n"
-             "  --seed S                first seed (default: 1)\n"
-             "  --policies LIST         comma list of bisect, pba, paper-qtable, paper-mlp\n"
-             "                          (default: bisect,pba,paper-qtable)\n"
-             "  --seeds K               noisy runs per object and policy, 0..20 (default: 2)\n"
-             "  --placement-noise-mm P  noisy runs' placement noise (default: 0.5)\n"
-             "  --pose-noise-mm Q       noisy runs' pose noise (default: 0.2)\n"
-             "  --jobs J                worker processes, 1..%d (default: 2)\n"
-             "  --json FILE             every run as JSON (default: none)\n"
-             "  --keep DIR              write the objects into DIR and keep them (default: a\n"
-             "                          temporary folder, removed at the end)\n"
-             "  -h, --help              this text\n", MAX_JOBS);
+  fprintf(f,
+          "usage: bench_coverage [options]\n"
+          "Coverage of the reported intervals on generated objects (tools/shapegen families\n"
+          "and "
+          "random rocks, even and uneven), noiseless and noisy, per policy.\n"
+          "  --objects N             shapes, each as an even and an uneven object, 1..2000\n"
+          "                          (default: 112, i.e. 224 objects, 8 per family)\n"
+          "  --seed S                first seed (default: 1)\n"
+          "  --policies LIST         comma list of bisect, pba, paper-qtable, paper-mlp\n"
+          "                          (default: bisect,pba,paper-qtable)\n"
+          "  --seeds K               noisy runs per object and policy, 0..20 (default: 2)\n"
+          "  --placement-noise-mm P  noisy runs' placement noise (default: 0.5)\n"
+          "  --pose-noise-mm Q       noisy runs' pose noise (default: 0.2)\n"
+          "  --jobs J                worker processes, 1..%d (default: 2)\n"
+          "  --json FILE             every run as JSON (default: none)\n"
+          "  --keep DIR              write the objects into DIR and keep them (default: a\n"
+          "                          temporary folder, removed at the end)\n"
+          "  -h, --help              this text\n",
+          MAX_JOBS);
 }
 
 static int parse_policies(const char *arg, opts_t *o) {
@@ -367,13 +372,17 @@ static int mm_arg(const char *text, double *out_m) {
 }
 
 static int parse_args(int argc, char **argv, opts_t *o) {
-  static const struct option opts[] = {
-      {"objects", required_argument, NULL, 'n'}, {"seed", required_argument, NULL, 's'},
-      {"policies", required_argument, NULL, 'p'}, {"seeds", required_argument, NULL, 'k'},
-      {"placement-noise-mm", required_argument, NULL, 'P'},
-      {"pose-noise-mm", required_argument, NULL, 'Q'}, {"jobs", required_argument, NULL, 'j'},
-      {"json", required_argument, NULL, 'J'}, {"keep", required_argument, NULL, 'K'},
-      {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"objects", required_argument, NULL, 'n'},
+                                       {"seed", required_argument, NULL, 's'},
+                                       {"policies", required_argument, NULL, 'p'},
+                                       {"seeds", required_argument, NULL, 'k'},
+                                       {"placement-noise-mm", required_argument, NULL, 'P'},
+                                       {"pose-noise-mm", required_argument, NULL, 'Q'},
+                                       {"jobs", required_argument, NULL, 'j'},
+                                       {"json", required_argument, NULL, 'J'},
+                                       {"keep", required_argument, NULL, 'K'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
   int c, bad = 0;
   while (!bad && (c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
     switch (c) {
@@ -401,9 +410,14 @@ static int parse_args(int argc, char **argv, opts_t *o) {
 
 int main(int argc, char **argv) {
   cli_log_init("bench_coverage");
-  opts_t o = {.objects = 112, .seeds = 2, .jobs = 2, .npol = 3, .seed = 1,
+  opts_t o = {.objects = 112,
+              .seeds = 2,
+              .jobs = 2,
+              .npol = 3,
+              .seed = 1,
               .pol = {QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA, QLEARN_POLICY_PAPER_QTABLE},
-              .placement_m = 0.5e-3, .pose_m = 0.2e-3};
+              .placement_m = 0.5e-3,
+              .pose_m = 0.2e-3};
   if (parse_args(argc, argv, &o) != 0) {
     usage(stderr);
     return 2;

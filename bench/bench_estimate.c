@@ -32,8 +32,8 @@
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
 
-static const char *const all_rocks[] = {"rock_1_even", "rock_1_uneven", "rock_2_even",
-                                        "rock_2_uneven", "rock_3_even", "rock_3_uneven"};
+static const char *const all_rocks[] = {"rock_1_even",   "rock_1_uneven", "rock_2_even",
+                                        "rock_2_uneven", "rock_3_even",   "rock_3_uneven"};
 #define N_ROCKS (sizeof all_rocks / sizeof all_rocks[0])
 #define MAX_REPS 100
 
@@ -115,8 +115,7 @@ static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_resul
     LOG_E("lcm %s: %s: %s", urdf, estimate_status_str(s), r->msg);
     return -1.0;
   }
-  if (ws == -1 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0)
-    LOG_E("comlearn-sim exit status %d", ws);
+  if (ws == -1 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0) LOG_E("comlearn-sim exit status %d", ws);
   return dt;
 }
 
@@ -134,16 +133,16 @@ static int parse_args(int argc, char **argv, int *reps, const char **only) {
   int c;
   while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
     switch (c) {
-    case 'r':
-      *reps = atoi(optarg);
-      if (*reps < 1 || *reps > MAX_REPS) {
-        usage(stderr);
-        return 2;
-      }
-      break;
-    case 'k': *only = optarg; break;
-    case 'h': usage(stdout); return 0;
-    default: usage(stderr); return 2;
+      case 'r':
+        *reps = atoi(optarg);
+        if (*reps < 1 || *reps > MAX_REPS) {
+          usage(stderr);
+          return 2;
+        }
+        break;
+      case 'k': *only = optarg; break;
+      case 'h': usage(stdout); return 0;
+      default: usage(stderr); return 2;
     }
   }
   if (optind != argc) {
@@ -229,11 +228,13 @@ int main(int argc, char **argv) {
     LOG_E("out of memory");
     return 1;
   }
-  printf("Full estimate (bisect, 0.1 mm, noiseless), median of %d; LCM against a spawned "
-         "comlearn-sim.\n\n",
-         reps);
-  printf("| rock | trials | direct s | lcm s | lcm open s | commands / trial | SIM_CONTROL / "
-         "trial | statuses / trial | object states / trial | lcm <= 1 s | agree |\n");
+  printf(
+      "Full estimate (bisect, 0.1 mm, noiseless), median of %d; LCM against a spawned "
+      "comlearn-sim.\n\n",
+      reps);
+  printf(
+      "| rock | trials | direct s | lcm s | lcm open s | commands / trial | SIM_CONTROL / "
+      "trial | statuses / trial | object states / trial | lcm <= 1 s | agree |\n");
   printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
   int failed = 0, rows = 0, met = 0;
   double worst = 0.0;
@@ -246,9 +247,11 @@ int main(int argc, char **argv) {
     met += mtl <= 1.0;
     if (mtl > worst) worst = mtl;
   }
-  printf("\nTarget (docs/design.md): full 3-component estimate over LCM with YuMi placement <= 1 s wall: "
-         "%d of %d rocks (worst %.3f s).\n",
-         met, rows, worst);
+  printf(
+      "\nTarget (docs/design.md): full 3-component estimate over LCM with YuMi placement <= 1 s "
+      "wall: "
+      "%d of %d rocks (worst %.3f s).\n",
+      met, rows, worst);
   free(rd);
   free(rl);
   return failed ? 1 : 0;

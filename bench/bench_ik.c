@@ -39,8 +39,7 @@ typedef struct {
 } run_stats_t;
 
 static void run(const placement_arm_t *arm, const placement_pose_t *targets, size_t n,
-                const placement_ik_config_t *cfg, double *it_buf, double *us_buf,
-                run_stats_t *st) {
+                const placement_ik_config_t *cfg, double *it_buf, double *us_buf, run_stats_t *st) {
   memset(st, 0, sizeof *st);
   double us_sum = 0.0;
   for (size_t i = 0; i < n; ++i) {
@@ -100,23 +99,25 @@ static void arm_print(int json, int side, double fk_us, size_t n, const run_stat
   if (json) {
     printf("%s{\"arm\": \"%s\", \"fk_us\": %.3f, \"runs\": [", side ? ", " : "", name, fk_us);
     for (int r = 0; r < 2; ++r) {
-      printf("%s{\"mode\": \"%s\", \"success\": %.6f, \"worst_pos_m\": %.3g, "
-             "\"worst_rot_rad\": %.3g, \"iterations_median\": %.1f, \"iterations_max\": %.0f, "
-             "\"seeds_max\": %.0f, \"us_median\": %.2f, \"us_mean\": %.2f, \"us_max\": %.1f}",
-             r ? ", " : "", mode[r], (double)rs[r]->ok / (double)n, rs[r]->worst_pos_m,
-             rs[r]->worst_rot_rad, rs[r]->it_median, rs[r]->it_max, rs[r]->seeds_max,
-             rs[r]->us_median, rs[r]->us_mean, rs[r]->us_max);
+      printf(
+          "%s{\"mode\": \"%s\", \"success\": %.6f, \"worst_pos_m\": %.3g, "
+          "\"worst_rot_rad\": %.3g, \"iterations_median\": %.1f, \"iterations_max\": %.0f, "
+          "\"seeds_max\": %.0f, \"us_median\": %.2f, \"us_mean\": %.2f, \"us_max\": %.1f}",
+          r ? ", " : "", mode[r], (double)rs[r]->ok / (double)n, rs[r]->worst_pos_m,
+          rs[r]->worst_rot_rad, rs[r]->it_median, rs[r]->it_max, rs[r]->seeds_max, rs[r]->us_median,
+          rs[r]->us_mean, rs[r]->us_max);
     }
     printf("]}");
   } else {
     printf("%s arm: FK %.3f us/call, %zu random reachable poses\n", name, fk_us, n);
     for (int r = 0; r < 2; ++r) {
-      printf("  IK %-13s success %zu/%zu (%.4f %%), worst FK(IK(T)) error %.2g m %.2g rad, "
-             "iterations median %.0f max %.0f, seeds max %.0f, us/solve median %.1f mean %.1f "
-             "max %.0f\n",
-             mode[r], rs[r]->ok, n, 100.0 * (double)rs[r]->ok / (double)n, rs[r]->worst_pos_m,
-             rs[r]->worst_rot_rad, rs[r]->it_median, rs[r]->it_max, rs[r]->seeds_max,
-             rs[r]->us_median, rs[r]->us_mean, rs[r]->us_max);
+      printf(
+          "  IK %-13s success %zu/%zu (%.4f %%), worst FK(IK(T)) error %.2g m %.2g rad, "
+          "iterations median %.0f max %.0f, seeds max %.0f, us/solve median %.1f mean %.1f "
+          "max %.0f\n",
+          mode[r], rs[r]->ok, n, 100.0 * (double)rs[r]->ok / (double)n, rs[r]->worst_pos_m,
+          rs[r]->worst_rot_rad, rs[r]->it_median, rs[r]->it_max, rs[r]->seeds_max, rs[r]->us_median,
+          rs[r]->us_mean, rs[r]->us_max);
     }
   }
 }
@@ -151,12 +152,10 @@ int main(int argc, char **argv) {
   uint64_t seed = 1;
   const char *urdf = COMLEARN_ASSETS_DIR "/yumi/yumi.urdf";
   int json = 0;
-  static const struct option opts[] = {{"poses", required_argument, NULL, 'n'},
-                                       {"seed", required_argument, NULL, 's'},
-                                       {"urdf", required_argument, NULL, 'u'},
-                                       {"json", no_argument, NULL, 'j'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {
+      {"poses", required_argument, NULL, 'n'}, {"seed", required_argument, NULL, 's'},
+      {"urdf", required_argument, NULL, 'u'},  {"json", no_argument, NULL, 'j'},
+      {"help", no_argument, NULL, 'h'},        {NULL, 0, NULL, 0}};
   int c;
   while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
     switch (c) {

@@ -39,13 +39,15 @@ int main(int argc, char **argv) {
   qlearn_policy_config_t base;
   qlearn_policy_config_default(QLEARN_POLICY_BISECT, &base);
   double limit = log2((base.range_hi_m - base.range_lo_m) / base.resolution_m);
-  printf("sizeof(qlearn_policy_t) = %zu bytes; range %.0f mm, resolution %.2f mm, "
-         "information limit log2(range / resolution) = %.2f trials; %d thresholds c ~ U(-5, 5) cm "
-         "per row\n\n",
-         sizeof(qlearn_policy_t), 1e3 * (base.range_hi_m - base.range_lo_m),
-         1e3 * base.resolution_m, limit, runs);
-  printf("| policy | prior | noise sigma | trials median | trials p95 | trials max | "
-         "|error| median (mm) | |error| p95 (mm) | in reported interval |\n");
+  printf(
+      "sizeof(qlearn_policy_t) = %zu bytes; range %.0f mm, resolution %.2f mm, "
+      "information limit log2(range / resolution) = %.2f trials; %d thresholds c ~ U(-5, 5) cm "
+      "per row\n\n",
+      sizeof(qlearn_policy_t), 1e3 * (base.range_hi_m - base.range_lo_m), 1e3 * base.resolution_m,
+      limit, runs);
+  printf(
+      "| policy | prior | noise sigma | trials median | trials p95 | trials max | "
+      "|error| median (mm) | |error| p95 (mm) | in reported interval |\n");
   printf("|---|---|---|---|---|---|---|---|---|\n");
   for (int pr = 0; pr < 2; ++pr) {
     for (int k = 0; k < 4; ++k) {

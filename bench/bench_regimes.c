@@ -64,8 +64,10 @@ static double bisect(balance_world_t *w, balance_object_t *o, const double q[4],
     const int r = trial(w, o, q, com, mid);
     ++*trials;
     if (r < 0) return NAN;
-    if (r == 1) hi = mid;
-    else lo = mid;
+    if (r == 1)
+      hi = mid;
+    else
+      lo = mid;
   }
   return 0.5 * (lo + hi);
 }
@@ -91,17 +93,18 @@ static void report(const char *name, const model_mesh_t *m, balance_world_t *w, 
   double margin = NAN;
   if (balance_pose_over_edge(w, o, q, MODEL_EDGE_PX, com_est, 0.0, 1e-6, &pose) == BALANCE_OK &&
       model_regime_classify(m, &pose, base, MODEL_EDGE_PX, com_est, NULL, &reg) == MODEL_OK) {
-    kind = reg.kind == MODEL_REGIME_FLAT_PATCH ? "flat patch"
+    kind = reg.kind == MODEL_REGIME_FLAT_PATCH  ? "flat patch"
            : reg.kind == MODEL_REGIME_EDGE_ROLL ? "edge roll"
-                                                  : "point support";
+                                                : "point support";
     margin = reg.chord_margin_m;
   }
   printf("| %-38s | %-13s | %9.2f | %10.1f | %7.1f | %4d | %6d |\n", name, kind,
-         margin == -HUGE_VAL ? -99.0 : margin * 1e3, bias * 1e6, last_not_stay * 1e3,
-         invalid_count, trials);
+         margin == -HUGE_VAL ? -99.0 : margin * 1e3, bias * 1e6, last_not_stay * 1e3, invalid_count,
+         trials);
 }
 
-static int rock(int which, int uneven, model_object_t *obj, model_mass_t *truth, model_mass_t *uni) {
+static int rock(int which, int uneven, model_object_t *obj, model_mass_t *truth,
+                model_mass_t *uni) {
   char path[1024];
   snprintf(path, sizeof path, "%s/rocks/rock_%d_%s.urdf", COMLEARN_ASSETS_DIR, which,
            uneven ? "uneven" : "even");
@@ -112,8 +115,8 @@ static int rock(int which, int uneven, model_object_t *obj, model_mass_t *truth,
 
 /* The -z face at yaw 0 and at the yaw of the largest chord margin, then every flat face at the
  * yaw with the smallest chord margin (sweep) and at the best one. */
-static void rows_flat(int which, const model_mesh_t *mesh, balance_world_t *w,
-                      balance_object_t *o, const double com_m[3]) {
+static void rows_flat(int which, const model_mesh_t *mesh, balance_world_t *w, balance_object_t *o,
+                      const double com_m[3]) {
   char name[96];
   const double up[4] = {1, 0, 0, 0};
   snprintf(name, sizeof name, "rock_%d -z face, yaw 0", which);
@@ -221,7 +224,7 @@ static int ellipsoid_mesh(const double a[3], unsigned rings, unsigned segs, mode
     }
   }
   size_t t = 0;
-#define RING(i, j) ((uint32_t)(2 + ((i) - 1) * segs + ((j) % segs)))
+#define RING(i, j) ((uint32_t)(2 + ((i)-1) * segs + ((j) % segs)))
   for (unsigned j = 0; j < segs; ++j) {
     const uint32_t t0[3] = {0, RING(1, j), RING(1, j + 1)};
     const uint32_t t1[3] = {1, RING(rings - 1, j + 1), RING(rings - 1, j)};
@@ -264,8 +267,9 @@ int main(void) {
   cli_log_init("bench_regimes");
   balance_config_t cfg;
   balance_config_default(&cfg);
-  printf("| case | regime (planned) | chord margin mm | bias um | innermost not-stay mm | invalid "
-         "| trials |\n|---|---|---|---|---|---|---|\n");
+  printf(
+      "| case | regime (planned) | chord margin mm | bias um | innermost not-stay mm | invalid "
+      "| trials |\n|---|---|---|---|---|---|---|\n");
   for (int which = 1; which <= 3; ++which)
     if (rock_rows(which, &cfg) != 0) return 1;
   return ellipsoid_row(&cfg);

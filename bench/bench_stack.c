@@ -51,10 +51,10 @@ static const char *const kSources[SOURCES] = {"learned", "bbox", "true"};
 /* ---- a minimal JSON reader for the keys we need ------------------------------------------- */
 
 typedef struct {
-  int stands;               /* -1 missing */
-  double seconds_standing;  /* NaN missing */
+  int stands;              /* -1 missing */
+  double seconds_standing; /* NaN missing */
   char com_source[16];
-  size_t levels;            /* "margin_m" values found in "objects" */
+  size_t levels; /* "margin_m" values found in "objects" */
   double margin_m[MAX_LEVELS];
 } reply_t;
 
@@ -221,11 +221,11 @@ static int reply_parse(const char *text, size_t len, reply_t *out) {
 /* ---- running a command ------------------------------------------------------------------- */
 
 typedef struct {
-  int status;        /* exit status, 128 + signal, or -1 (could not run / timed out) */
+  int status; /* exit status, 128 + signal, or -1 (could not run / timed out) */
   int timed_out;
   double wall_s;
   size_t out_len;
-  char *out;         /* stdout, NUL-terminated (malloc, MAX_OUT at most) */
+  char *out;          /* stdout, NUL-terminated (malloc, MAX_OUT at most) */
   char err_tail[256]; /* last line of stderr */
 } run_t;
 
@@ -339,8 +339,7 @@ static int run_cmd(char *const argv[], double timeout_s, run_t *res) {
   size_t err_len = 0;
   pump(pid, fd_out, fd_err, t0, timeout_s, res, err, &err_len);
   int ws_ = 0;
-  while (waitpid(pid, &ws_, 0) < 0 && errno == EINTR) {
-  }
+  while (waitpid(pid, &ws_, 0) < 0 && errno == EINTR) {}
   res->wall_s = cli_time_now_s() - t0;
   res->out[res->out_len] = '\0';
   if (!res->timed_out) {
@@ -495,22 +494,20 @@ static int parse_sources(const char *arg, int use[SOURCES]) {
 /* Options into o (defaults as usage() says). Returns -1 to go on, else the exit status (--help,
  * --parse, usage errors). */
 static int parse_args(int argc, char **argv, opts_t *o) {
-  static const struct option opts[] = {{"count", required_argument, NULL, 'n'},
-                                       {"seed-base", required_argument, NULL, 'b'},
-                                       {"com", required_argument, NULL, 'c'},
-                                       {"comlearn", required_argument, NULL, 'C'},
-                                       {"rockgen", required_argument, NULL, 'R'},
-                                       {"timeout", required_argument, NULL, 'T'},
-                                       {"svg-dir", required_argument, NULL, 's'},
-                                       {"json", no_argument, NULL, 'j'},
-                                       {"keep", no_argument, NULL, 'k'},
-                                       {"dry-run", no_argument, NULL, 'd'},
-                                       {"parse", required_argument, NULL, 'p'},
-                                       {"verbose", no_argument, NULL, 'v'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
-  *o = (opts_t){.n = 50, .seed_base = 1000, .timeout_s = 600.0, .comlearn = COMLEARN_BIN,
-                .rockgen = COMLEARN_ROCKGEN, .use = {1, 1, 1}};
+  static const struct option opts[] = {
+      {"count", required_argument, NULL, 'n'},   {"seed-base", required_argument, NULL, 'b'},
+      {"com", required_argument, NULL, 'c'},     {"comlearn", required_argument, NULL, 'C'},
+      {"rockgen", required_argument, NULL, 'R'}, {"timeout", required_argument, NULL, 'T'},
+      {"svg-dir", required_argument, NULL, 's'}, {"json", no_argument, NULL, 'j'},
+      {"keep", no_argument, NULL, 'k'},          {"dry-run", no_argument, NULL, 'd'},
+      {"parse", required_argument, NULL, 'p'},   {"verbose", no_argument, NULL, 'v'},
+      {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
+  *o = (opts_t){.n = 50,
+                .seed_base = 1000,
+                .timeout_s = 600.0,
+                .comlearn = COMLEARN_BIN,
+                .rockgen = COMLEARN_ROCKGEN,
+                .use = {1, 1, 1}};
   long n_triples = 50;
   char *end = NULL;
   int c;
@@ -589,8 +586,8 @@ static int rocks_generate(bench_t *b) {
   char seed_s[32], count_s[32];
   snprintf(seed_s, sizeof seed_s, "%llu", o->seed_base);
   snprintf(count_s, sizeof count_s, "%zu", b->rocks);
-  char *gen_argv[] = {(char *)o->rockgen, "--random", seed_s, "--count", count_s, "--out-dir",
-                      b->dir, NULL};
+  char *gen_argv[] = {(char *)o->rockgen, "--random", seed_s, "--count", count_s,
+                      "--out-dir",        b->dir,     NULL};
   if (o->dry) {
     print_cmd(gen_argv);
     return 0;
@@ -632,7 +629,8 @@ static int bench_alloc(bench_t *b) {
 /* A call that did not give a readable reply: counted by exit, the first one kept. */
 static void record_failure(stats_t *S, size_t i, const run_t *r) {
   ++S->failed;
-  S->exit_hist[r->timed_out || r->status == 0 ? 3 : (r->status == 1 ? 0 : (r->status == 2 ? 1 : 2))]++;
+  S->exit_hist[r->timed_out || r->status == 0 ? 3
+                                              : (r->status == 1 ? 0 : (r->status == 2 ? 1 : 2))]++;
   if (S->first_failure[0] != '\0') return;
   char *ff = S->first_failure;
   const size_t size = sizeof S->first_failure;
@@ -681,7 +679,7 @@ static void svg_keep(bench_t *b, size_t i, int stands) {
 static int bench_call(bench_t *b, size_t i, int s, char urdf[3][4200]) {
   const opts_t *o = b->o;
   const int want_svg = s == 0 && o->svg_dir != NULL && b->svg_saved[0] == '\0';
-  char *cmd[16] = {(char *)o->comlearn, "stack", urdf[0], urdf[1], urdf[2], "--com",
+  char *cmd[16] = {(char *)o->comlearn, "stack",  urdf[0], urdf[1], urdf[2], "--com",
                    (char *)kSources[s], "--json", "-q"};
   size_t argc_cmd = 9;
   if (want_svg) {
@@ -717,8 +715,8 @@ static int bench_call(bench_t *b, size_t i, int s, char urdf[3][4200]) {
   }
   if (o->verbose) {
     fprintf(stderr, "triple %zu %-7s exit %d %s %.2f s%s%s\n", i, kSources[s], r.status,
-            parsed ? (rep.stands ? "stands" : "falls") : "FAILED", r.wall_s,
-            parsed ? "" : ": ", parsed ? "" : r.err_tail);
+            parsed ? (rep.stands ? "stands" : "falls") : "FAILED", r.wall_s, parsed ? "" : ": ",
+            parsed ? "" : r.err_tail);
   } else if (b->progress) {
     fprintf(stderr, "\rbench_stack: triple %zu/%zu, %.0f s", i + 1, o->n,
             cli_time_now_s() - b->t_start);
@@ -746,14 +744,16 @@ static int bench_run(bench_t *b) {
 /* One source's entry of the JSON "sources" array. */
 static void json_source(const stats_t *S, int s, int first, double rate, double lo, double hi,
                         double mf, double mm, double mw) {
-  printf("%s\n  {\"com\": \"%s\", \"runs\": %zu, \"simulated\": %zu, \"stands\": %zu, "
-         "\"rate\": ",
-         first ? "" : ",", kSources[s], S->runs, S->simulated, S->stands);
+  printf(
+      "%s\n  {\"com\": \"%s\", \"runs\": %zu, \"simulated\": %zu, \"stands\": %zu, "
+      "\"rate\": ",
+      first ? "" : ",", kSources[s], S->runs, S->simulated, S->stands);
   cli_json_number(stdout, rate);
-  printf(", \"wilson95\": [%.4f, %.4f], \"failed\": %zu, \"failed_exit\": {\"1\": %zu, "
-         "\"2\": %zu, \"other\": %zu, \"timeout_or_bad_json\": %zu}, "
-         "\"median_seconds_standing_fallen\": ",
-         lo, hi, S->failed, S->exit_hist[0], S->exit_hist[1], S->exit_hist[2], S->exit_hist[3]);
+  printf(
+      ", \"wilson95\": [%.4f, %.4f], \"failed\": %zu, \"failed_exit\": {\"1\": %zu, "
+      "\"2\": %zu, \"other\": %zu, \"timeout_or_bad_json\": %zu}, "
+      "\"median_seconds_standing_fallen\": ",
+      lo, hi, S->failed, S->exit_hist[0], S->exit_hist[1], S->exit_hist[2], S->exit_hist[3]);
   cli_json_number(stdout, mf);
   printf(", \"median_min_margin_m\": ");
   cli_json_number(stdout, mm);
@@ -788,12 +788,14 @@ static void report(bench_t *b) {
     printf("{\"n\": %zu, \"seed_base\": %llu, \"comlearn\": \"%s\", \"sources\": [", o->n,
            o->seed_base, o->comlearn);
   } else {
-    printf("`comlearn stack` on %zu random triples of uneven rocks (seeds %llu..%llu, triple i: "
-           "rock_r<%llu+3i..+2>).\n\n",
-           o->n, o->seed_base, o->seed_base + b->rocks - 1, o->seed_base);
-    printf("| --com | stands | rate [Wilson 95 %%] | failed runs (exit 1 / 2 / other / timeout or "
-           "bad JSON) | median s standing, fallen | median smallest planned margin | median wall "
-           "s / call |\n|---|---|---|---|---|---|---|\n");
+    printf(
+        "`comlearn stack` on %zu random triples of uneven rocks (seeds %llu..%llu, triple i: "
+        "rock_r<%llu+3i..+2>).\n\n",
+        o->n, o->seed_base, o->seed_base + b->rocks - 1, o->seed_base);
+    printf(
+        "| --com | stands | rate [Wilson 95 %%] | failed runs (exit 1 / 2 / other / timeout or "
+        "bad JSON) | median s standing, fallen | median smallest planned margin | median wall "
+        "s / call |\n|---|---|---|---|---|---|---|\n");
   }
   int first = 1;
   for (int s = 0; s < SOURCES; ++s) {
@@ -804,8 +806,10 @@ static void report(bench_t *b) {
     const double rate = S->runs ? (double)S->stands / (double)S->runs : NAN;
     const double mf = median(S->fallen_s, S->n_fallen), mm = median(S->min_margin_m, S->n_margin);
     const double mw = median(S->wall_s, S->runs);
-    if (o->json) json_source(S, s, first, rate, lo, hi, mf, mm, mw);
-    else table_source(S, s, rate, lo, hi, mf, mm, mw);
+    if (o->json)
+      json_source(S, s, first, rate, lo, hi, mf, mm, mw);
+    else
+      table_source(S, s, rate, lo, hi, mf, mm, mw);
     first = 0;
   }
   if (o->json) {

@@ -34,33 +34,34 @@ typedef struct {
 } options_t;
 
 static void usage(FILE *f) {
-  fprintf(f,
-          "usage: comlearn-sim [OPTIONS]\n"
-          "\n"
-          "Stand-in for the YuMi controller and the world: subscribes YUMI_COMMAND and SIM_CONTROL,\n"
-          "publishes YUMI_STATUS and OBJECT_STATE every 4 ms of the simulated clock (docs/sim.md).\n"
-          "Runs until SIGINT or SIGTERM, then exits 0.\n"
-          "\n"
-          "  --lcm-url URL             LCM URL (default: %s)\n"
-          "  --realtime                pace the simulated clock to wall-clock time (default: off:\n"
-          "                            motions and trials run as fast as possible, idle time at\n"
-          "                            wall-clock speed)\n"
-          "  --seed N                  seed of the placement / pose noise and of --drop-rate\n"
-          "                            (default: 1)\n"
-          "  --placement-noise-mm S    std. dev. of a horizontal offset of each release [mm], 0..100\n"
-          "                            (default: 0)\n"
-          "  --pose-noise-mm S         std. dev. of the perceived settled position [mm], 0..100\n"
-          "                            (default: 0)\n"
-          "  --drop-rate P             fraction of incoming and outgoing messages dropped, 0..1\n"
-          "                            (default: 0)\n"
-          "  --channel-prefix P        prefix of every channel name, e.g. TEST_ (default: none)\n"
-          "  --yumi-urdf PATH          YuMi model (default: %s)\n"
-          "  -v, --verbose             log every refused message (default: off)\n"
-          "  -q, --quiet               errors only (default: off)\n"
-          "  -h, --help                this help\n"
-          "\n"
-          "Exit codes: 0 stopped by a signal, 1 runtime failure, 2 bad usage.\n",
-          COMLEARN_MSG_LCM_URL_DEFAULT, cli_paths_yumi_urdf());
+  fprintf(
+      f,
+      "usage: comlearn-sim [OPTIONS]\n"
+      "\n"
+      "Stand-in for the YuMi controller and the world: subscribes YUMI_COMMAND and SIM_CONTROL,\n"
+      "publishes YUMI_STATUS and OBJECT_STATE every 4 ms of the simulated clock (docs/sim.md).\n"
+      "Runs until SIGINT or SIGTERM, then exits 0.\n"
+      "\n"
+      "  --lcm-url URL             LCM URL (default: %s)\n"
+      "  --realtime                pace the simulated clock to wall-clock time (default: off:\n"
+      "                            motions and trials run as fast as possible, idle time at\n"
+      "                            wall-clock speed)\n"
+      "  --seed N                  seed of the placement / pose noise and of --drop-rate\n"
+      "                            (default: 1)\n"
+      "  --placement-noise-mm S    std. dev. of a horizontal offset of each release [mm], 0..100\n"
+      "                            (default: 0)\n"
+      "  --pose-noise-mm S         std. dev. of the perceived settled position [mm], 0..100\n"
+      "                            (default: 0)\n"
+      "  --drop-rate P             fraction of incoming and outgoing messages dropped, 0..1\n"
+      "                            (default: 0)\n"
+      "  --channel-prefix P        prefix of every channel name, e.g. TEST_ (default: none)\n"
+      "  --yumi-urdf PATH          YuMi model (default: %s)\n"
+      "  -v, --verbose             log every refused message (default: off)\n"
+      "  -q, --quiet               errors only (default: off)\n"
+      "  -h, --help                this help\n"
+      "\n"
+      "Exit codes: 0 stopped by a signal, 1 runtime failure, 2 bad usage.\n",
+      COMLEARN_MSG_LCM_URL_DEFAULT, cli_paths_yumi_urdf());
 }
 
 static int parse_double(const char *s, double lo, double hi, double *out) {
@@ -73,62 +74,62 @@ static int parse_double(const char *s, double lo, double hi, double *out) {
 }
 
 static int parse_options(int argc, char **argv, options_t *o) {
-  static const struct option longopts[] = {
-      {"lcm-url", required_argument, NULL, 'u'},
-      {"realtime", no_argument, NULL, 'r'},
-      {"seed", required_argument, NULL, 's'},
-      {"placement-noise-mm", required_argument, NULL, 'P'},
-      {"pose-noise-mm", required_argument, NULL, 'N'},
-      {"drop-rate", required_argument, NULL, 'd'},
-      {"channel-prefix", required_argument, NULL, 'c'},
-      {"yumi-urdf", required_argument, NULL, 'y'},
-      {"verbose", no_argument, NULL, 'v'},
-      {"quiet", no_argument, NULL, 'q'},
-      {"help", no_argument, NULL, 'h'},
-      {NULL, 0, NULL, 0}};
+  static const struct option longopts[] = {{"lcm-url", required_argument, NULL, 'u'},
+                                           {"realtime", no_argument, NULL, 'r'},
+                                           {"seed", required_argument, NULL, 's'},
+                                           {"placement-noise-mm", required_argument, NULL, 'P'},
+                                           {"pose-noise-mm", required_argument, NULL, 'N'},
+                                           {"drop-rate", required_argument, NULL, 'd'},
+                                           {"channel-prefix", required_argument, NULL, 'c'},
+                                           {"yumi-urdf", required_argument, NULL, 'y'},
+                                           {"verbose", no_argument, NULL, 'v'},
+                                           {"quiet", no_argument, NULL, 'q'},
+                                           {"help", no_argument, NULL, 'h'},
+                                           {NULL, 0, NULL, 0}};
   int c;
   opterr = 0;
   while ((c = getopt_long(argc, argv, "vqh", longopts, NULL)) != -1) {
     switch (c) {
-    case 'u': o->lcm_url = optarg; break;
-    case 'r': o->realtime = 1; break;
-    case 's': {
-      char *end;
-      errno = 0;
-      unsigned long long v = strtoull(optarg, &end, 0);
-      if (errno != 0 || end == optarg || *end != '\0' || optarg[0] == '-') {
-        LOG_E("--seed: not an unsigned integer: '%s'", optarg);
-        return 2;
+      case 'u': o->lcm_url = optarg; break;
+      case 'r': o->realtime = 1; break;
+      case 's': {
+        char *end;
+        errno = 0;
+        unsigned long long v = strtoull(optarg, &end, 0);
+        if (errno != 0 || end == optarg || *end != '\0' || optarg[0] == '-') {
+          LOG_E("--seed: not an unsigned integer: '%s'", optarg);
+          return 2;
+        }
+        o->seed = (uint64_t)v;
+        break;
       }
-      o->seed = (uint64_t)v;
-      break;
-    }
-    case 'P':
-    case 'N':
-      if (parse_double(optarg, 0.0, 100.0, c == 'P' ? &o->placement_noise_mm : &o->pose_noise_mm)) {
-        LOG_E("--%s: need a number in [0, 100], got '%s'",
-              c == 'P' ? "placement-noise-mm" : "pose-noise-mm", optarg);
+      case 'P':
+      case 'N':
+        if (parse_double(optarg, 0.0, 100.0,
+                         c == 'P' ? &o->placement_noise_mm : &o->pose_noise_mm)) {
+          LOG_E("--%s: need a number in [0, 100], got '%s'",
+                c == 'P' ? "placement-noise-mm" : "pose-noise-mm", optarg);
+          return 2;
+        }
+        break;
+      case 'd':
+        if (parse_double(optarg, 0.0, 1.0, &o->drop_rate)) {
+          LOG_E("--drop-rate: need a number in [0, 1], got '%s'", optarg);
+          return 2;
+        }
+        break;
+      case 'c': o->prefix = optarg; break;
+      case 'y': o->yumi_urdf = optarg; break;
+      case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
+      case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
+      case 'h': usage(stdout); return -1;
+      default:
+        if (optopt != 0 && optopt != '?')
+          LOG_E("option needs a value or is unknown: -%c", optopt);
+        else
+          LOG_E("unknown option or missing value: %s", argv[optind - 1]);
+        fprintf(stderr, "try 'comlearn-sim --help'\n");
         return 2;
-      }
-      break;
-    case 'd':
-      if (parse_double(optarg, 0.0, 1.0, &o->drop_rate)) {
-        LOG_E("--drop-rate: need a number in [0, 1], got '%s'", optarg);
-        return 2;
-      }
-      break;
-    case 'c': o->prefix = optarg; break;
-    case 'y': o->yumi_urdf = optarg; break;
-    case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
-    case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
-    case 'h': usage(stdout); return -1;
-    default:
-      if (optopt != 0 && optopt != '?')
-        LOG_E("option needs a value or is unknown: -%c", optopt);
-      else
-        LOG_E("unknown option or missing value: %s", argv[optind - 1]);
-      fprintf(stderr, "try 'comlearn-sim --help'\n");
-      return 2;
     }
   }
   if (optind < argc) {
@@ -287,7 +288,9 @@ static int run(daemon_t *d, int realtime) {
 
 int main(int argc, char **argv) {
   cli_log_init("comlearn-sim");
-  options_t o = {.lcm_url = COMLEARN_MSG_LCM_URL_DEFAULT, .seed = 1, .prefix = "",
+  options_t o = {.lcm_url = COMLEARN_MSG_LCM_URL_DEFAULT,
+                 .seed = 1,
+                 .prefix = "",
                  .yumi_urdf = cli_paths_yumi_urdf()};
   int prc = parse_options(argc, argv, &o);
   if (prc < 0) return 0;
@@ -308,7 +311,8 @@ int main(int argc, char **argv) {
   snprintf(d.ch_status, sizeof d.ch_status, "%s%s", o.prefix, COMLEARN_MSG_CHANNEL_YUMI_STATUS);
   snprintf(d.ch_object, sizeof d.ch_object, "%s%s", o.prefix, COMLEARN_MSG_CHANNEL_OBJECT_STATE);
 
-  sim_config_t cfg = {.yumi_urdf = o.yumi_urdf, .seed = o.seed,
+  sim_config_t cfg = {.yumi_urdf = o.yumi_urdf,
+                      .seed = o.seed,
                       .placement_noise_m = o.placement_noise_mm * 1e-3,
                       .pose_noise_m = o.pose_noise_mm * 1e-3};
   char err[512];
@@ -318,9 +322,10 @@ int main(int argc, char **argv) {
   }
   d.lcm = lcm_create(o.lcm_url);
   if (d.lcm == NULL) {
-    LOG_E("cannot open LCM at '%s' (udpm needs a multicast route: "
-          "ip route add 224.0.0.0/4 dev lo, as root; scripts/setup.sh does it)",
-          o.lcm_url);
+    LOG_E(
+        "cannot open LCM at '%s' (udpm needs a multicast route: "
+        "ip route add 224.0.0.0/4 dev lo, as root; scripts/setup.sh does it)",
+        o.lcm_url);
     sim_fini(&d.sim);
     return 1;
   }
@@ -338,11 +343,12 @@ int main(int argc, char **argv) {
         o.realtime ? "realtime" : "as fast as possible", d.ch_command, d.ch_control, d.ch_status,
         d.ch_object);
   int rc = run(&d, o.realtime);
-  LOG_I("stopping at sim time %.3f s: %lld received, %lld rejected, %lld undecodable, "
-        "%llu dropped in, %llu dropped out",
-        (double)d.sim.utime * 1e-6, (long long)d.sim.n_received, (long long)d.sim.n_rejected,
-        (long long)d.sim.n_undecodable, (unsigned long long)d.dropped_in,
-        (unsigned long long)d.dropped_out);
+  LOG_I(
+      "stopping at sim time %.3f s: %lld received, %lld rejected, %lld undecodable, "
+      "%llu dropped in, %llu dropped out",
+      (double)d.sim.utime * 1e-6, (long long)d.sim.n_received, (long long)d.sim.n_rejected,
+      (long long)d.sim.n_undecodable, (unsigned long long)d.dropped_in,
+      (unsigned long long)d.dropped_out);
   lcm_unsubscribe(d.lcm, s1);
   lcm_unsubscribe(d.lcm, s2);
   lcm_destroy(d.lcm);

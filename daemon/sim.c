@@ -67,9 +67,8 @@ int sim_init(sim_t *s, const sim_config_t *cfg, char *err, size_t err_len) {
   s->cfg = *cfg;
   for (int a = 0; a < 2; a++) {
     placement_error_t pe = {{0}};
-    placement_status_t ps = placement_arm_load_yumi(&s->arm[a], cfg->yumi_urdf,
-                                                    a == 0 ? PLACEMENT_ARM_LEFT : PLACEMENT_ARM_RIGHT,
-                                                    &pe);
+    placement_status_t ps = placement_arm_load_yumi(
+        &s->arm[a], cfg->yumi_urdf, a == 0 ? PLACEMENT_ARM_LEFT : PLACEMENT_ARM_RIGHT, &pe);
     if (ps != PLACEMENT_OK) {
       snprintf(err, err_len, "cannot load the YuMi model %s: %s (%s)", cfg->yumi_urdf,
                placement_status_str(ps), pe.msg);
@@ -120,37 +119,38 @@ static void tool_pose(const sim_t *s, int arm, placement_pose_t *tcp_in_base) {
 static int object_pose(sim_t *s, placement_pose_t *out, int *moving) {
   *moving = 0;
   switch (s->phase) {
-  case SIM_OBJ_NONE: return 0;
-  case SIM_OBJ_HELD:
-  case SIM_OBJ_REFUSED: {
-    if (s->phase == SIM_OBJ_REFUSED) {
-      *out = s->rel_world;
+    case SIM_OBJ_NONE: return 0;
+    case SIM_OBJ_HELD:
+    case SIM_OBJ_REFUSED: {
+      if (s->phase == SIM_OBJ_REFUSED) {
+        *out = s->rel_world;
+        return 1;
+      }
+      placement_pose_t tcp;
+      tool_pose(s, s->held_arm, &tcp);
+      placement_pose_mul(&tcp, &s->link_in_tool, out);
       return 1;
     }
-    placement_pose_t tcp;
-    tool_pose(s, s->held_arm, &tcp);
-    placement_pose_mul(&tcp, &s->link_in_tool, out);
-    return 1;
-  }
-  case SIM_OBJ_TRIAL: {
-    if (s->utime >= s->trial_t1) {
-      *out = s->set_world;
-      return 1;
-    }
-    /* Played back on the sim clock: lib/balance decided the whole trial at release (its result
+    case SIM_OBJ_TRIAL: {
+      if (s->utime >= s->trial_t1) {
+        *out = s->set_world;
+        return 1;
+      }
+      /* Played back on the sim clock: lib/balance decided the whole trial at release (its result
      * is the authority, bit-identical to `comlearn estimate --direct`); in between, the pose is
      * interpolated from the released to the final one. */
-    const double t = (double)(s->utime - s->trial_t0) / (double)(s->trial_t1 - s->trial_t0);
-    model_pose_t a, b;
-    pose_to_balance(&s->rel_world, &a);
-    pose_to_balance(&s->set_world, &b);
-    model_pose_t m;
-    for (int i = 0; i < 3; i++) m.position_m[i] = a.position_m[i] + t * (b.position_m[i] - a.position_m[i]);
-    cl_quat_slerp(a.orientation_wxyz, b.orientation_wxyz, t, m.orientation_wxyz);
-    pose_from_balance(&m, out);
-    *moving = 1;
-    return 1;
-  }
+      const double t = (double)(s->utime - s->trial_t0) / (double)(s->trial_t1 - s->trial_t0);
+      model_pose_t a, b;
+      pose_to_balance(&s->rel_world, &a);
+      pose_to_balance(&s->set_world, &b);
+      model_pose_t m;
+      for (int i = 0; i < 3; i++)
+        m.position_m[i] = a.position_m[i] + t * (b.position_m[i] - a.position_m[i]);
+      cl_quat_slerp(a.orientation_wxyz, b.orientation_wxyz, t, m.orientation_wxyz);
+      pose_from_balance(&m, out);
+      *moving = 1;
+      return 1;
+    }
   }
   return 0;
 }
@@ -163,12 +163,13 @@ static void object_release(sim_t *s) {
   s->rel_world = world_pose;
   placement_pose_mul(&s->base_in_block, &world_pose, &block_pose);
   double z0 = 0.0;
-  placement_status_t ps = placement_plan_touch_z(&s->model.mesh, &block_pose,
-                                                 s->plan.block_size_m, 0.0, &z0);
+  placement_status_t ps =
+      placement_plan_touch_z(&s->model.mesh, &block_pose, s->plan.block_size_m, 0.0, &z0);
   if (ps != PLACEMENT_OK) {
     s->phase = SIM_OBJ_REFUSED;
-    set_error(s, ERR(ERR_FAULT), "release refused: object %s is not over block B (%s); not simulated",
-              s->object_id, placement_status_str(ps));
+    set_error(s, ERR(ERR_FAULT),
+              "release refused: object %s is not over block B (%s); not simulated", s->object_id,
+              placement_status_str(ps));
     return;
   }
   const double gap = block_pose.pos_m[2] - z0;
@@ -197,8 +198,8 @@ static void object_release(sim_t *s) {
   pose_from_balance(&s->trial.settled, &block_pose);
   placement_pose_mul(&s->plan.block_in_base, &block_pose, &s->set_world);
   s->trial_t0 = s->utime;
-  s->trial_t1 = s->utime + (int64_t)s->trial.steps * (int64_t)llround(
-                                                          balance_world_config(s->world)->dt_s * 1e6);
+  s->trial_t1 = s->utime + (int64_t)s->trial.steps *
+                               (int64_t)llround(balance_world_config(s->world)->dt_s * 1e6);
   if (s->trial_t1 <= s->trial_t0) s->trial_t1 = s->trial_t0 + 1;
   s->phase = SIM_OBJ_TRIAL;
 }
@@ -252,7 +253,8 @@ void sim_step(sim_t *s) {
   int moving;
   if (object_pose(s, &p, &moving)) {
     if (s->have_prev) {
-      for (int i = 0; i < 3; i++) s->vel[i] = (p.pos_m[i] - s->pose_prev.pos_m[i]) / (SIM_DT_US * 1e-6);
+      for (int i = 0; i < 3; i++)
+        s->vel[i] = (p.pos_m[i] - s->pose_prev.pos_m[i]) / (SIM_DT_US * 1e-6);
       double w[3];
       rot_delta(&s->pose_prev, &p, w);
       for (int i = 0; i < 3; i++) s->omega[i] = w[i] / (SIM_DT_US * 1e-6);
@@ -272,10 +274,10 @@ void sim_step(sim_t *s) {
 
 static const char *mode_str(int8_t m) {
   switch (m) {
-  case COMLEARN_YUMI_COMMAND_T_MODE_HOLD: return "HOLD";
-  case COMLEARN_YUMI_COMMAND_T_MODE_POSITION: return "POSITION";
-  case COMLEARN_YUMI_COMMAND_T_MODE_STOP: return "STOP";
-  default: return "?";
+    case COMLEARN_YUMI_COMMAND_T_MODE_HOLD: return "HOLD";
+    case COMLEARN_YUMI_COMMAND_T_MODE_POSITION: return "POSITION";
+    case COMLEARN_YUMI_COMMAND_T_MODE_STOP: return "STOP";
+    default: return "?";
   }
 }
 
@@ -366,8 +368,8 @@ static void command_motion_start(sim_t *s, const comlearn_yumi_command_t *c) {
     }
     s->width_start[a] = s->width[a];
     s->width_target[a] = c->gripper_width_commanded_m[a];
-    t = fmax(t, fabs(s->width_target[a] - s->width[a]) /
-                    (SIM_GRIPPER_SPEED_M_S * c->velocity_scale));
+    t = fmax(t,
+             fabs(s->width_target[a] - s->width[a]) / (SIM_GRIPPER_SPEED_M_S * c->velocity_scale));
   }
   s->motion_t0 = s->utime;
   s->motion_us = (int64_t)ceil(t * 1e6);
@@ -391,8 +393,10 @@ int32_t sim_command(sim_t *s, const comlearn_yumi_command_t *c) {
   s->last_seq_utime = c->utime;
   clear_error(s);
   (void)mode_str;
-  if (c->mode != COMLEARN_YUMI_COMMAND_T_MODE_POSITION) command_hold(s, c);
-  else command_motion_start(s, c);
+  if (c->mode != COMLEARN_YUMI_COMMAND_T_MODE_POSITION)
+    command_hold(s, c);
+  else
+    command_motion_start(s, c);
   return 0;
 }
 
@@ -553,40 +557,40 @@ void sim_object_fill(sim_t *s, comlearn_object_state_t *os) {
   memcpy(os->velocity_estimated_m_s, s->vel, sizeof s->vel);
   memcpy(os->omega_estimated_rad_s, s->omega, sizeof s->omega);
   switch (s->phase) {
-  case SIM_OBJ_HELD:
-    os->at_rest = s->quiet_ticks >= SIM_REST_TICKS;
-    os->on_base = 0;
-    break;
-  case SIM_OBJ_REFUSED:
-    os->at_rest = 0;
-    os->on_base = 0;
-    break;
-  case SIM_OBJ_TRIAL:
-    if (s->utime < s->trial_t1) {
+    case SIM_OBJ_HELD:
+      os->at_rest = s->quiet_ticks >= SIM_REST_TICKS;
+      os->on_base = 0;
+      break;
+    case SIM_OBJ_REFUSED:
       os->at_rest = 0;
-      os->on_base = 1;
-    } else {
-      /* After the trial: STAYS rests on B; TIPS has gone over the edge (B's world has no floor,
+      os->on_base = 0;
+      break;
+    case SIM_OBJ_TRIAL:
+      if (s->utime < s->trial_t1) {
+        os->at_rest = 0;
+        os->on_base = 1;
+      } else {
+        /* After the trial: STAYS rests on B; TIPS has gone over the edge (B's world has no floor,
        * so it is reported off B and not at rest); SLIDES / INVALID: on B while the CoM is over
        * B's top. */
-      placement_pose_t blk;
-      pose_from_balance(&s->trial.settled, &blk);
-      double com[3];
-      for (int i = 0; i < 3; i++) {
-        com[i] = blk.pos_m[i];
-        for (int j = 0; j < 3; j++) com[i] += blk.rot[i][j] * s->mass.com_m[j];
+        placement_pose_t blk;
+        pose_from_balance(&s->trial.settled, &blk);
+        double com[3];
+        for (int i = 0; i < 3; i++) {
+          com[i] = blk.pos_m[i];
+          for (int j = 0; j < 3; j++) com[i] += blk.rot[i][j] * s->mass.com_m[j];
+        }
+        const int over = fabs(com[0]) <= 0.5 * s->plan.block_size_m[0] &&
+                         fabs(com[1]) <= 0.5 * s->plan.block_size_m[1];
+        const balance_outcome_t o = s->trial.outcome;
+        os->at_rest = o == BALANCE_STAYS;
+        os->on_base = o == BALANCE_STAYS || (o != BALANCE_TIPS && over);
+        if (o == BALANCE_STAYS) {
+          memset(os->velocity_estimated_m_s, 0, sizeof os->velocity_estimated_m_s);
+          memset(os->omega_estimated_rad_s, 0, sizeof os->omega_estimated_rad_s);
+        }
       }
-      const int over = fabs(com[0]) <= 0.5 * s->plan.block_size_m[0] &&
-                       fabs(com[1]) <= 0.5 * s->plan.block_size_m[1];
-      const balance_outcome_t o = s->trial.outcome;
-      os->at_rest = o == BALANCE_STAYS;
-      os->on_base = o == BALANCE_STAYS || (o != BALANCE_TIPS && over);
-      if (o == BALANCE_STAYS) {
-        memset(os->velocity_estimated_m_s, 0, sizeof os->velocity_estimated_m_s);
-        memset(os->omega_estimated_rad_s, 0, sizeof os->omega_estimated_rad_s);
-      }
-    }
-    break;
-  case SIM_OBJ_NONE: break;
+      break;
+    case SIM_OBJ_NONE: break;
   }
 }

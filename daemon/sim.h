@@ -26,9 +26,9 @@
 #include "comlearn/placement_plan.h"
 
 enum {
-  SIM_DT_US = 1000,          /* controller tick [us] */
+  SIM_DT_US = 1000,            /* controller tick [us] */
   SIM_STATUS_PERIOD_US = 4000, /* YUMI_STATUS / OBJECT_STATE every 4 ms of the sim clock (250 Hz) */
-  SIM_REST_TICKS = 20,       /* at_rest of a held object: quiet for this many ticks */
+  SIM_REST_TICKS = 20,         /* at_rest of a held object: quiet for this many ticks */
   SIM_TEXT_MAX = 512,
   SIM_ID_MAX = 128
 };
@@ -43,10 +43,10 @@ enum {
 #define SIM_POS_TOL_RAD 1e-12
 
 typedef struct {
-  const char *yumi_urdf;      /* assets/yumi/yumi.urdf */
-  uint64_t seed;              /* placement / pose noise stream */
-  double placement_noise_m;   /* [0, 0.1] */
-  double pose_noise_m;        /* [0, 0.1] */
+  const char *yumi_urdf;    /* assets/yumi/yumi.urdf */
+  uint64_t seed;            /* placement / pose noise stream */
+  double placement_noise_m; /* [0, 0.1] */
+  double pose_noise_m;      /* [0, 0.1] */
 } sim_config_t;
 
 typedef enum { SIM_OBJ_NONE = 0, SIM_OBJ_HELD, SIM_OBJ_TRIAL, SIM_OBJ_REFUSED } sim_obj_phase_t;

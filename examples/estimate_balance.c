@@ -34,8 +34,8 @@ int main(int argc, char **argv) {
   }
   const estimate_result_t *e = estimate_result(est);
   for (int k = 0; k < 3; ++k)
-    printf("%c %+.4f mm +- %.4f (true %+.4f)\n", "xyz"[k], 1e3 * e->com_m[k],
-           1e3 * e->halfwidth_m[k], 1e3 * truth.com_m[k]);
+    printf("%c %+.4f mm +- %.4f (true %+.4f)\n", "xyz"[k], 1e3 * e -> com_m[k],
+           1e3 * e -> halfwidth_m[k], 1e3 * truth.com_m[k]);
   printf("%zu trials, %s\n", e->trial_count, estimate_status_str(estimate_status(est)));
   const int ok = estimate_status(est) == ESTIMATE_DONE && e->found[0] && e->found[1] && e->found[2];
   estimate_destroy(est);

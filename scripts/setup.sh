@@ -11,7 +11,7 @@ preset=${1:-default}
 pkgs=(gcc g++ make cmake pkg-config git
       libode-dev liblcm-dev liblcm-bin liblcm-java libccd-dev libassimp-dev
       liburdfdom-dev liburdfdom-tools check libglib2.0-dev libjchart2d-java
-      default-jdk-headless default-jre iproute2 binutils)
+      default-jdk-headless default-jre iproute2 binutils clang-format)
 
 missing=()
 for p in "${pkgs[@]}"; do

@@ -17,8 +17,8 @@
 /* Bisect the threshold of (mesh, mass) in orientation q over `edge` and compare it with the true
  * CoM com_true_m (link frame): returns threshold - truth along the edge normal (m). */
 static double threshold_error(const model_mesh_t *mesh, const model_mass_t *mass,
-                              const double com_true_m[3], const double q[4],
-                              model_edge_t edge, balance_contact_t path) {
+                              const double com_true_m[3], const double q[4], model_edge_t edge,
+                              balance_contact_t path) {
   balance_config_t cfg;
   balance_config_default(&cfg);
   cfg.contact = path;
@@ -55,10 +55,14 @@ START_TEST(box_uniform_edges) {
   model_mass_t ms;
   ck_assert_int_eq(model_mesh_mass(&m, 2650.0, &ms), MODEL_OK); /* inertia */
   const double com[3] = {0.008, 0.009, 0.007};                  /* analytic: the box center */
-  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0, "box +X");
-  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_PY, BALANCE_CONTACT_FAST), 1.0, "box +Y");
-  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_NX, BALANCE_CONTACT_FAST), 1.0, "box -X");
-  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_NY, BALANCE_CONTACT_FAST), 1.0, "box -Y");
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
+            "box +X");
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_PY, BALANCE_CONTACT_FAST), 1.0,
+            "box +Y");
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_NX, BALANCE_CONTACT_FAST), 1.0,
+            "box -X");
+  assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_NY, BALANCE_CONTACT_FAST), 1.0,
+            "box -Y");
   model_mesh_free(&m);
 }
 END_TEST
@@ -88,12 +92,14 @@ START_TEST(box_two_material_orientations) {
             "two-material box, +X");
   assert_um(threshold_error(&m, &ms, com, q_id, MODEL_EDGE_NX, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, -X");
-  cl_quat_from_axis_angle(az, 30.0 * CL_PI / 180.0, q); /* yaw: the edge crosses the bottom face obliquely */
+  cl_quat_from_axis_angle(az, 30.0 * CL_PI / 180.0,
+                          q); /* yaw: the edge crosses the bottom face obliquely */
   assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_PX, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, yaw 30 deg, +X");
   model_mesh_free(&m);
   two_material_box(nz, &m, &ms, com);
-  cl_quat_from_axis_angle(ax, 0.5 * CL_PI, q); /* 90 deg about x: the face y = -b is down, link z is world -y */
+  cl_quat_from_axis_angle(ax, 0.5 * CL_PI,
+                          q); /* 90 deg about x: the face y = -b is down, link z is world -y */
   assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_NY, BALANCE_CONTACT_FAST), 1.0,
             "two-material box, 90 deg about x, -Y");
   assert_um(threshold_error(&m, &ms, com, q, MODEL_EDGE_PY, BALANCE_CONTACT_FAST), 1.0,
@@ -127,8 +133,8 @@ START_TEST(ell_prism) {
 }
 END_TEST
 
-static const char *const rocks[6] = {"rock_1_even", "rock_1_uneven", "rock_2_even",
-                                     "rock_2_uneven", "rock_3_even", "rock_3_uneven"};
+static const char *const rocks[6] = {"rock_1_even",   "rock_1_uneven", "rock_2_even",
+                                     "rock_2_uneven", "rock_3_even",   "rock_3_uneven"};
 
 /* The bundled rocks stand on their -z fracture face as they are (identity orientation); the
  * edge at the CoM crosses that face along a chord spanning the CoM by >= 8 mm each side

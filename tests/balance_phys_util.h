@@ -40,8 +40,8 @@ static inline void bp_ell(model_mesh_t *m, double com_m[3]) {
   size_t t = 0;
   for (uint32_t i = 1; i + 1 < 6; i++) { /* caps: a fan from vertex 0 sees the whole L */
     uint32_t *a = m->triangles[t++], *b = m->triangles[t++];
-    a[0] = 0, a[1] = i, a[2] = i + 1;           /* y = -20 mm, normal -y */
-    b[0] = 6, b[1] = 6 + i + 1, b[2] = 6 + i;   /* y = +20 mm, normal +y */
+    a[0] = 0, a[1] = i, a[2] = i + 1;         /* y = -20 mm, normal -y */
+    b[0] = 6, b[1] = 6 + i + 1, b[2] = 6 + i; /* y = +20 mm, normal +y */
   }
   for (uint32_t i = 0; i < 6; i++) {
     const uint32_t j = (i + 1) % 6;

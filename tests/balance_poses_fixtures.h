@@ -15,7 +15,6 @@
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 
-
 /* A hexahedron from 8 corners in the order of a box [lo, hi]: bottom face 0..3 counter-clockwise
  * from (lo, lo), top face 4..7 above them. 12 outward triangles; allocated. */
 static inline void bp_hexahedron(model_mesh_t *m, const double corners[8][3]) {
@@ -109,7 +108,8 @@ static inline void bp_washer(model_mesh_t *m, double r_in, double r_out, double 
 
 /* Mass properties of a box of half extents h and mass kg with its CoM moved to com (the inertia
  * stays the box's own about its center: a valid, positive-definite tensor). */
-static inline void bp_box_mass(const double h[3], double kg, const double com[3], model_mass_t *out) {
+static inline void bp_box_mass(const double h[3], double kg, const double com[3],
+                               model_mass_t *out) {
   memset(out, 0, sizeof *out);
   out->mass_kg = kg;
   memcpy(out->com_m, com, sizeof out->com_m);
@@ -140,7 +140,7 @@ static inline void bp_ellipsoid(model_mesh_t *m, const double a[3], unsigned rin
     }
   }
   size_t t = 0;
-#define BP_RING(i, j) ((uint32_t)(2 + ((i) - 1) * segs + ((j) % segs)))
+#define BP_RING(i, j) ((uint32_t)(2 + ((i)-1) * segs + ((j) % segs)))
   for (unsigned j = 0; j < segs; ++j) {
     uint32_t *p = m->triangles[t++];
     p[0] = 0, p[1] = BP_RING(1, j), p[2] = BP_RING(1, j + 1);

@@ -24,7 +24,7 @@ static void rot(const double q[4], const double v[3], double o[3]) {
 /* The pose with point p (link) over `edge` of kBase at `along` metres along it, lowest vertex at
  * z = -1e-6 (what balance_pose_over_edge is specified to give). */
 static model_pose_t over_edge(const model_mesh_t *m, const double q[4], model_edge_t edge,
-                                const double p[3], double along) {
+                              const double p[3], double along) {
   model_pose_t pose;
   memcpy(pose.orientation_wxyz, q, sizeof pose.orientation_wxyz);
   double zmin = HUGE_VAL, w[3];
@@ -36,10 +36,10 @@ static model_pose_t over_edge(const model_mesh_t *m, const double q[4], model_ed
   const double half = 0.15;
   double target[2] = {along, along};
   switch (edge) {
-  case MODEL_EDGE_PX: target[0] = half; break;
-  case MODEL_EDGE_NX: target[0] = -half; break;
-  case MODEL_EDGE_PY: target[1] = half; break;
-  case MODEL_EDGE_NY: target[1] = -half; break;
+    case MODEL_EDGE_PX: target[0] = half; break;
+    case MODEL_EDGE_NX: target[0] = -half; break;
+    case MODEL_EDGE_PY: target[1] = half; break;
+    case MODEL_EDGE_NY: target[1] = -half; break;
   }
   pose.position_m[0] = target[0] - w[0];
   pose.position_m[1] = target[1] - w[1];
@@ -83,8 +83,7 @@ START_TEST(box_patch_is_its_bottom_face) {
   bp_box(&m, h, 0.0);
   model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, c, 0.0);
   model_regime_t r;
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r),
-                   MODEL_OK);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r), MODEL_OK);
   ck_assert_uint_eq(r.patch.touch_count, 4);
   ck_assert_uint_eq(r.patch.face_count, 2);
   ck_assert_uint_eq(r.patch.vertex_count, 4);
@@ -104,8 +103,7 @@ START_TEST(box_patch_is_its_bottom_face) {
   ck_assert(r.flat_patch_regime);
   /* Over the Y edge, 5 cm along it: the chord spans the 6 cm length, shifted with the object. */
   pose = over_edge(&m, kIdentity, MODEL_EDGE_PY, c, 0.05);
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, c, NULL, &r),
-                   MODEL_OK);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, c, NULL, &r), MODEL_OK);
   ck_assert_double_eq_tol(r.chord_m[0], 0.02, 1e-15);
   ck_assert_double_eq_tol(r.chord_m[1], 0.08, 1e-15);
   ck_assert_double_eq_tol(r.com_along_m, 0.05, 1e-15);
@@ -131,8 +129,7 @@ START_TEST(box_margin_decides_the_regime) {
   /* Beyond the face sideways: the chord misses the CoM estimate (negative margin). */
   const double out[3] = {0.0, 0.025, 0.0};
   pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, out, 0.0);
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, out, NULL, &r),
-                   MODEL_OK);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, out, NULL, &r), MODEL_OK);
   ck_assert_double_eq_tol(r.chord_margin_m, -0.005, 1e-12);
   ck_assert_int_eq(r.kind, MODEL_REGIME_EDGE_ROLL);
   /* A looser threshold accepts the 1.5 mm case. */
@@ -154,8 +151,7 @@ START_TEST(box_best_yaw_is_the_diagonal) {
   model_mesh_t m = {0};
   bp_box(&m, h, 0.0);
   double yaw = -1.0, margin = 0.0;
-  ck_assert_int_eq(model_yaw_best(&m, kIdentity, c, MODEL_EDGE_PX, NULL, &yaw, &margin),
-                   MODEL_OK);
+  ck_assert_int_eq(model_yaw_best(&m, kIdentity, c, MODEL_EDGE_PX, NULL, &yaw, &margin), MODEL_OK);
   ck_assert_double_eq_tol(margin, sqrt(0.03 * 0.03 + 0.02 * 0.02), 1e-9);
   ck_assert(yaw >= 0.0 && yaw < CL_PI);
   /* The edge (world y) seen in the object frame after yaw runs along a diagonal. */
@@ -176,8 +172,7 @@ START_TEST(box_best_yaw_is_the_diagonal) {
   model_orientation_yawed(kIdentity, yaw, q);
   model_pose_t pose = over_edge(&m, q, MODEL_EDGE_PX, c, 0.0);
   model_regime_t r;
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r),
-                   MODEL_OK);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r), MODEL_OK);
   ck_assert_double_eq_tol(r.chord_margin_m, margin, 1e-12);
   model_mesh_free(&m);
 }
@@ -214,9 +209,9 @@ START_TEST(box_faces_with_offset_com) {
     ck_assert_double_eq_tol(w[2], -1.0, 1e-12);
     if (i > 0) ck_assert(f[i].area_m2 <= f[i - 1].area_m2);
   }
-  ck_assert(f[0].flat && f[1].flat);   /* 60 x 40 */
-  ck_assert(f[2].flat && f[3].flat);   /* 60 x 20 */
-  ck_assert(f[4].flat && f[5].flat);   /* 40 x 20: width 20 mm, area 8 cm^2 */
+  ck_assert(f[0].flat && f[1].flat); /* 60 x 40 */
+  ck_assert(f[2].flat && f[3].flat); /* 60 x 20 */
+  ck_assert(f[4].flat && f[5].flat); /* 40 x 20: width 20 mm, area 8 cm^2 */
   /* With a 6 mm margin required, only the two x faces remain candidates (analytic count). */
   model_regime_config_t cfg;
   model_regime_config_default(&cfg);
@@ -277,8 +272,7 @@ START_TEST(two_feet_chord_is_the_real_contact) {
    * polygon all along it. */
   model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PY, mid, 0.0);
   model_regime_t r;
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, mid, NULL, &r),
-                   MODEL_OK);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, mid, NULL, &r), MODEL_OK);
   ck_assert_uint_eq(r.patch.face_count, 4);
   ck_assert_uint_eq(r.patch.region_count, 2);
   ck_assert_double_eq_tol(r.patch.faces_area_m2, 2 * 0.02 * 0.04, 1e-15);
@@ -293,8 +287,7 @@ START_TEST(two_feet_chord_is_the_real_contact) {
    * would give a 40 mm chord there). The object rests on the inner foot, whose edge is 10 mm
    * inside: not a flat-patch trial. */
   pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, mid, 0.0);
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r),
-                   MODEL_OK);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r), MODEL_OK);
   ck_assert(!r.chord_valid);
   ck_assert(r.chord_margin_m == -HUGE_VAL);
   ck_assert_int_eq(r.kind, MODEL_REGIME_POINT_SUPPORT);
@@ -310,12 +303,10 @@ START_TEST(two_feet_chord_is_the_real_contact) {
   /* Yaw: the best line through the gap's middle runs corner to corner across both feet (half
    * length hypot(30, 20) mm); at yaw 0 the line runs in the gap. */
   double yaw = 0.0, best = 0.0, at0 = 0.0;
-  ck_assert_int_eq(model_yaw_best(&m, kIdentity, mid, MODEL_EDGE_PX, NULL, &yaw, &best),
-                   MODEL_OK);
+  ck_assert_int_eq(model_yaw_best(&m, kIdentity, mid, MODEL_EDGE_PX, NULL, &yaw, &best), MODEL_OK);
   ck_assert_double_eq_tol(best, hypot(0.03, 0.02), 1e-9);
   ck_assert(fabs(yaw - CL_PI / 2) > 0.1);
-  ck_assert_int_eq(model_yaw_margin(&m, kIdentity, mid, MODEL_EDGE_PX, 0.0, NULL, &at0),
-                   MODEL_OK);
+  ck_assert_int_eq(model_yaw_margin(&m, kIdentity, mid, MODEL_EDGE_PX, 0.0, NULL, &at0), MODEL_OK);
   ck_assert(at0 == -HUGE_VAL);
   /* The batch form gives what the single calls give, pair by pair. */
   const double yaws[4] = {0.0, yaw, 1.0, 2.5};
@@ -361,8 +352,7 @@ START_TEST(narrow_feet_are_not_flat) {
   const double mid[3] = {0.0, 0.0, 0.0};
   model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PY, mid, 0.0);
   model_regime_t r;
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, mid, NULL, &r),
-                   MODEL_OK);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, mid, NULL, &r), MODEL_OK);
   ck_assert(r.patch.width_m >= 0.02);
   ck_assert_double_eq_tol(r.patch.region_width_m, 0.006, 1e-15);
   ck_assert(!r.patch.flat);
@@ -379,8 +369,7 @@ START_TEST(washer_is_one_ring_region) {
   const double mid[3] = {0.0, 0.0, 0.0};
   model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, mid, 0.0);
   model_regime_t r;
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r),
-                   MODEL_OK);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r), MODEL_OK);
   const double poly = 0.5 * n * sin(2.0 * CL_PI / n); /* area of the unit n-gon */
   ck_assert_uint_eq(r.patch.region_count, 1);
   ck_assert_double_eq_tol(r.patch.faces_area_m2, poly * (r_out * r_out - r_in * r_in), 1e-12);
@@ -409,7 +398,8 @@ START_TEST(rock_bottom_face_spans_the_com) {
       model_regime_t reg;
       ck_assert_int_eq(model_regime_classify(m, &pose, kBase, (model_edge_t)e, coms[c], NULL, &reg),
                        MODEL_OK);
-      ck_assert_msg(reg.patch.width_m >= 0.02, "rock %d: patch %.4f m wide", which, reg.patch.width_m);
+      ck_assert_msg(reg.patch.width_m >= 0.02, "rock %d: patch %.4f m wide", which,
+                    reg.patch.width_m);
       ck_assert(reg.patch.area_m2 >= 4e-4);
       ck_assert(reg.patch.face_count >= 10);
       ck_assert(reg.patch.flat);
@@ -483,8 +473,7 @@ START_TEST(ellipsoid_is_point_support) {
   bp_ellipsoid(&m, a, 24, 48);
   model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, c, 0.0);
   model_regime_t r;
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r),
-                   MODEL_OK);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r), MODEL_OK);
   ck_assert_uint_eq(r.patch.touch_count, 1); /* the pole */
   ck_assert_uint_eq(r.patch.face_count, 0);
   ck_assert(!r.patch.flat);
@@ -493,8 +482,7 @@ START_TEST(ellipsoid_is_point_support) {
   ck_assert_int_eq(r.kind, MODEL_REGIME_POINT_SUPPORT);
   ck_assert(!r.flat_patch_regime);
   double yaw = 1.0, margin = 0.0;
-  ck_assert_int_eq(model_yaw_best(&m, kIdentity, c, MODEL_EDGE_PX, NULL, &yaw, &margin),
-                   MODEL_OK);
+  ck_assert_int_eq(model_yaw_best(&m, kIdentity, c, MODEL_EDGE_PX, NULL, &yaw, &margin), MODEL_OK);
   ck_assert(margin == -HUGE_VAL);
   ck_assert(yaw == 0.0);
   /* Its hull faces are small triangles and quads: none is a flat patch. */
@@ -516,9 +504,9 @@ START_TEST(rock_tilted_is_not_flat) {
   double q[4] = {qy[0] * qx[0] - qy[2] * 0.0, qy[0] * qx[1], qy[2] * qx[0], -qy[2] * qx[1]};
   model_pose_t pose = over_edge(&r.obj.mesh, q, MODEL_EDGE_PX, r.uniform.com_m, 0.0);
   model_regime_t reg;
-  ck_assert_int_eq(model_regime_classify(&r.obj.mesh, &pose, kBase, MODEL_EDGE_PX, r.uniform.com_m,
-                                           NULL, &reg),
-                   MODEL_OK);
+  ck_assert_int_eq(
+      model_regime_classify(&r.obj.mesh, &pose, kBase, MODEL_EDGE_PX, r.uniform.com_m, NULL, &reg),
+      MODEL_OK);
   ck_assert(!reg.patch.flat);
   ck_assert(reg.kind != MODEL_REGIME_FLAT_PATCH);
   ck_assert(reg.patch.touch_count <= 3);
@@ -529,7 +517,8 @@ END_TEST
 /* ---- orientations ------------------------------------------------------------------------ */
 
 START_TEST(resting_orientation_turns_normal_down) {
-  const double normals[5][3] = {{0, 0, -1}, {0, 0, 2}, {1, 0, 0}, {0.3, -0.5, 0.8}, {-0.2, 0.1, -0.9}};
+  const double normals[5][3] = {
+      {0, 0, -1}, {0, 0, 2}, {1, 0, 0}, {0.3, -0.5, 0.8}, {-0.2, 0.1, -0.9}};
   for (int i = 0; i < 5; ++i) {
     double q[4], w[3];
     ck_assert_int_eq(model_orientation_resting(normals[i], q), MODEL_OK);
@@ -560,13 +549,18 @@ START_TEST(bad_input_gives_status) {
   model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, c, 0.0);
   model_regime_t r;
   model_patch_t p;
-  ck_assert_int_eq(model_regime_classify(NULL, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r), MODEL_E_ARG);
+  ck_assert_int_eq(model_regime_classify(NULL, &pose, kBase, MODEL_EDGE_PX, c, NULL, &r),
+                   MODEL_E_ARG);
   ck_assert_int_eq(model_regime_classify(&m, NULL, kBase, MODEL_EDGE_PX, c, NULL, &r), MODEL_E_ARG);
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, NULL, NULL, &r), MODEL_E_ARG);
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, NULL), MODEL_E_ARG);
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, (model_edge_t)7, c, NULL, &r), MODEL_E_ARG);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, NULL, NULL, &r),
+                   MODEL_E_ARG);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, NULL),
+                   MODEL_E_ARG);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, (model_edge_t)7, c, NULL, &r),
+                   MODEL_E_ARG);
   const double bad_base[3] = {0.3, 0.0, 0.1};
-  ck_assert_int_eq(model_regime_classify(&m, &pose, bad_base, MODEL_EDGE_PX, c, NULL, &r), MODEL_E_ARG);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, bad_base, MODEL_EDGE_PX, c, NULL, &r),
+                   MODEL_E_ARG);
   const double nan_com[3] = {0, NAN, 0};
   ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, nan_com, NULL, &r),
                    MODEL_E_NONFINITE);
@@ -584,7 +578,8 @@ START_TEST(bad_input_gives_status) {
   const double q_bad[4] = {2, 0, 0, 0};
   double yaw, margin;
   ck_assert_int_eq(model_yaw_best(&m, q_bad, c, MODEL_EDGE_PX, NULL, &yaw, &margin), MODEL_E_POSE);
-  ck_assert_int_eq(model_yaw_best(&m, kIdentity, c, MODEL_EDGE_PX, NULL, NULL, &margin), MODEL_E_ARG);
+  ck_assert_int_eq(model_yaw_best(&m, kIdentity, c, MODEL_EDGE_PX, NULL, NULL, &margin),
+                   MODEL_E_ARG);
   ck_assert_int_eq(model_yaw_margin(&m, kIdentity, c, MODEL_EDGE_PX, NAN, NULL, &margin),
                    MODEL_E_NONFINITE);
   /* Config out of range. */

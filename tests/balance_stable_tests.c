@@ -110,7 +110,8 @@ START_TEST(com_outside_support_is_not_confirmed) {
   ck_assert(tr.rotation_rad > 0.1);
   balance_stable_pose_t poses[8];
   size_t n = 0, trials = 0;
-  ck_assert_int_eq(balance_stable_find(w, obj, guess, NULL, NULL, poses, 8, &n, &trials), BALANCE_OK);
+  ck_assert_int_eq(balance_stable_find(w, obj, guess, NULL, NULL, poses, 8, &n, &trials),
+                   BALANCE_OK);
   ck_assert(trials > n); /* the bottom face was tried and rejected */
   for (size_t i = 0; i < n; ++i) ck_assert(fabs(poses[i].face.normal_link[2]) < 0.99);
   /* With the true CoM as the guess the bottom face is not even tried. */
@@ -171,7 +172,8 @@ START_TEST(bad_input_gives_status) {
   const double q_bad[4] = {0.9, 0, 0, 0}, q_nan[4] = {NAN, 0, 0, 0}, c_nan[3] = {0, INFINITY, 0};
   ck_assert_int_eq(balance_stable_confirm(w, obj, q_bad, com, NULL, NULL, &ok), BALANCE_E_POSE);
   ck_assert_int_eq(ok, 0);
-  ck_assert_int_eq(balance_stable_confirm(w, obj, q_nan, com, NULL, NULL, &ok), BALANCE_E_NONFINITE);
+  ck_assert_int_eq(balance_stable_confirm(w, obj, q_nan, com, NULL, NULL, &ok),
+                   BALANCE_E_NONFINITE);
   ck_assert_int_eq(balance_stable_confirm(w, obj, up, c_nan, NULL, NULL, &ok), BALANCE_E_NONFINITE);
   model_stable_config_t sc;
   model_stable_config_default(&sc);

@@ -42,9 +42,9 @@ static void two_boxes(two_boxes_t *t, double top_x) {
   const model_pose_t bottom = {{0.0, 0.0, kBoxH[2] - 1e-6}, {1, 0, 0, 0}};
   t->pose[0] = bottom;
   const double at[2] = {top_x, 0.0};
-  ck_assert_int_eq(balance_stack_pose_above(&t->mesh, &bottom, &t->mesh, kUp, com, at, 1e-6,
-                                            &t->pose[1]),
-                   BALANCE_OK);
+  ck_assert_int_eq(
+      balance_stack_pose_above(&t->mesh, &bottom, &t->mesh, kUp, com, at, 1e-6, &t->pose[1]),
+      BALANCE_OK);
 }
 
 static void two_boxes_free(two_boxes_t *t) {
@@ -73,8 +73,8 @@ START_TEST(pose_above_is_exact_for_boxes) {
   const double qx45[4] = {cos(CL_PI / 8), sin(CL_PI / 8), 0, 0};
   ck_assert_int_eq(balance_stack_pose_above(&t.mesh, &t.pose[0], &t.mesh, qx45, c, at, 0.0, &p),
                    BALANCE_OK);
-  ck_assert_double_eq_tol(p.position_m[2], 2.0 * kBoxH[2] - 1e-6 + (kBoxH[1] + kBoxH[2]) / sqrt(2.0),
-                          1e-15);
+  ck_assert_double_eq_tol(p.position_m[2],
+                          2.0 * kBoxH[2] - 1e-6 + (kBoxH[1] + kBoxH[2]) / sqrt(2.0), 1e-15);
   /* No overlap seen from above. */
   const double far[2] = {0.5, 0.0};
   ck_assert_int_eq(balance_stack_pose_above(&t.mesh, &t.pose[0], &t.mesh, kUp, c, far, 0.0, &p),
@@ -93,7 +93,8 @@ START_TEST(two_boxes_centered_stand) {
   balance_stack_object_t per[2];
   ck_assert_int_eq(balance_stack_run(t.w, t.obj, t.pose, 2, &cfg, &r, per), BALANCE_OK);
   ck_assert_msg(r.stands, "fell at %.3f s: %.6f m %.6f rad / %.6f m %.6f rad", r.seconds_standing,
-                per[0].displacement_m, per[0].rotation_rad, per[1].displacement_m, per[1].rotation_rad);
+                per[0].displacement_m, per[0].rotation_rad, per[1].displacement_m,
+                per[1].rotation_rad);
   ck_assert_double_eq(r.seconds_standing, 2.0);
   ck_assert_uint_eq(r.steps, 2000);
   ck_assert_double_eq_tol(r.sim_time_s, 2.0, 1e-9);

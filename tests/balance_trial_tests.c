@@ -475,8 +475,8 @@ static void icosphere(model_mesh_t *m, double r_m, int levels) {
         mid[k] = found;
       }
       const uint32_t a = tri[i][0], b = tri[i][1], c = tri[i][2];
-      const uint32_t sub[4][3] = {{a, mid[0], mid[2]}, {b, mid[1], mid[0]}, {c, mid[2], mid[1]},
-                                  {mid[0], mid[1], mid[2]}};
+      const uint32_t sub[4][3] = {
+          {a, mid[0], mid[2]}, {b, mid[1], mid[0]}, {c, mid[2], mid[1]}, {mid[0], mid[1], mid[2]}};
       memcpy(nxt[n2], sub, sizeof sub);
       n2 += 4;
     }
@@ -583,7 +583,8 @@ START_TEST(tilted_box_rests_on_the_edge_line) {
   ck_assert_double_eq_tol(pose.position_m[0], hx - 0.015, 1e-15);
   const double a = 0.2, yaxis[3] = {0, 1, 0}, xaxis[3] = {1, 0, 0}, c0[3] = {0, 0, 0};
   double q[4];
-  cl_quat_from_axis_angle(yaxis, a, q); /* +x goes down: the +x bottom edge is the lowest, beyond the edge */
+  cl_quat_from_axis_angle(yaxis, a,
+                          q); /* +x goes down: the +x bottom edge is the lowest, beyond the edge */
   ck_assert_int_eq(balance_pose_over_edge(f.w, f.o, q, MODEL_EDGE_PX, c0, 0.01, 1e-6, &pose),
                    BALANCE_OK);
   ck_assert_double_eq_tol(pose.position_m[2], 0.025 / cos(a) - 1e-6, 1e-12);
@@ -629,9 +630,9 @@ START_TEST(point_support_rock_tips_with_com_inside) {
   }
   ck_assert_ptr_nonnull(face);
   int confirmed = 0;
-  ck_assert_int_eq(balance_stable_confirm(w, o, face->orientation_wxyz, truth.com_m, NULL, NULL,
-                                          &confirmed),
-                   BALANCE_OK);
+  ck_assert_int_eq(
+      balance_stable_confirm(w, o, face->orientation_wxyz, truth.com_m, NULL, NULL, &confirmed),
+      BALANCE_OK);
   ck_assert_int_eq(confirmed, 1);
   double q[4], u[3];
   const double n[3] = {1, 0, 0};
@@ -661,10 +662,10 @@ START_TEST(slide_rule_thresholds) {
   double to[3] = {from[0] + d * (1.0 + 1e-9), from[1], from[2]};
   ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.0), 1);
   ck_assert_int_eq(balance_trial_slid(&cfg, from, to, rmax * (1.0 - 1e-12)), 1);
-  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, rmax), 0);  /* not < */
-  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.3), 0);   /* turned: a tip */
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, rmax), 0); /* not < */
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.3), 0);  /* turned: a tip */
   to[0] = from[0] + d * (1.0 - 1e-9);
-  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.0), 0);   /* not far enough */
+  ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.0), 0); /* not far enough */
   /* the horizontal distance, in any direction: 3-4-5 along -x, -y, just over 5 mm */
   to[0] = from[0] - 0.6 * d * (1.0 + 1e-9);
   to[1] = from[1] - 0.8 * d * (1.0 + 1e-9);

@@ -27,13 +27,12 @@ enum { PATCHES_MAX = 16 };
 static const double kRelTol = 1e-9;
 static const double kMinMargin_m = 0.003;
 static const double kMinFaceWidth_m = 0.02;
-static const double kMinPatchArea_m2 = 1e-4;   /* smaller flat spots are not looked at */
+static const double kMinPatchArea_m2 = 1e-4; /* smaller flat spots are not looked at */
 static const double kNonParallelCos = 0.70710678118654752; /* 45 degrees */
 
 static void rock_path(char *buf, size_t n, const char *name, const char *kind) {
   snprintf(buf, n, "%s/rocks/%s_%s.urdf", COMLEARN_ASSETS_DIR, name, kind);
 }
-
 
 static double max_abs(const double m[3][3]) {
   double r = 0.0;
@@ -67,8 +66,8 @@ static void assert_mass_eq(const char *what, const model_mass_t *got, const mode
 typedef struct {
   const rockgen_spec_t *spec;
   model_object_t obj;
-  model_mass_t even_urdf, uneven_urdf;  /* what the simulator reads */
-  model_mass_t even_calc, uneven_calc;  /* recomputed here */
+  model_mass_t even_urdf, uneven_urdf; /* what the simulator reads */
+  model_mass_t even_calc, uneven_calc; /* recomputed here */
   double size_m;
 } rock_t;
 
@@ -89,7 +88,8 @@ static void rock_load(size_t index, rock_t *r) {
   ck_assert_str_eq(other.mesh_path, r->obj.mesh_path);
   ck_assert_uint_eq(other.mesh.vertex_count, r->obj.mesh.vertex_count);
   ck_assert_int_eq(memcmp(other.mesh.vertices_m, r->obj.mesh.vertices_m,
-                          other.mesh.vertex_count * sizeof *other.mesh.vertices_m), 0);
+                          other.mesh.vertex_count * sizeof *other.mesh.vertices_m),
+                   0);
   model_object_free(&other);
 
   /* Independent recomputation: uniform density from the table; the dense region from the
@@ -137,8 +137,8 @@ START_TEST(rock_size_mass_triangles) {
   }
   ck_assert_msg(r.even_urdf.mass_kg >= 0.1 && r.even_urdf.mass_kg <= 0.45, "%s even: %.4f kg",
                 r.spec->name, r.even_urdf.mass_kg);
-  ck_assert_msg(r.uneven_urdf.mass_kg >= 0.1 && r.uneven_urdf.mass_kg <= 0.45,
-                "%s uneven: %.4f kg", r.spec->name, r.uneven_urdf.mass_kg);
+  ck_assert_msg(r.uneven_urdf.mass_kg >= 0.1 && r.uneven_urdf.mass_kg <= 0.45, "%s uneven: %.4f kg",
+                r.spec->name, r.uneven_urdf.mass_kg);
   ck_assert_uint_ge(r.obj.mesh.triangle_count, 1000);
   ck_assert_uint_le(r.obj.mesh.triangle_count, 3000);
   /* the uneven CoM moved 3-10 mm from the uniform-density CoM */
@@ -205,8 +205,8 @@ START_TEST(rock_fracture_faces) {
   rock_load((size_t)_i, &r);
   rockgen_patch_t patches[PATCHES_MAX];
   size_t count = 0;
-  ck_assert_int_eq(rockgen_patches_find(&r.obj.mesh, kMinPatchArea_m2, patches, PATCHES_MAX, &count),
-                   MODEL_OK);
+  ck_assert_int_eq(
+      rockgen_patches_find(&r.obj.mesh, kMinPatchArea_m2, patches, PATCHES_MAX, &count), MODEL_OK);
   ck_assert_uint_le(count, PATCHES_MAX);
   /* One patch per fracture plane of the table, and nothing else flat. */
   ck_assert_uint_eq(count, r.spec->fracture_count);
@@ -217,8 +217,8 @@ START_TEST(rock_fracture_faces) {
     for (int k = 0; k < 3; ++k) n[k] = fn[k] / len;
     int matched = 0;
     for (size_t p = 0; p < count; ++p) {
-      const double c = n[0] * patches[p].normal[0] + n[1] * patches[p].normal[1] +
-                       n[2] * patches[p].normal[2];
+      const double c =
+          n[0] * patches[p].normal[0] + n[1] * patches[p].normal[1] + n[2] * patches[p].normal[2];
       if (c > 1.0 - 1e-9) ++matched;
     }
     ck_assert_msg(matched == 1, "%s: fracture %zu matched %d patches", r.spec->name, f, matched);
@@ -265,8 +265,8 @@ START_TEST(rock_rests_on_two_faces) {
   rock_load((size_t)_i, &r);
   rockgen_patch_t patches[PATCHES_MAX];
   size_t count = 0;
-  ck_assert_int_eq(rockgen_patches_find(&r.obj.mesh, kMinPatchArea_m2, patches, PATCHES_MAX, &count),
-                   MODEL_OK);
+  ck_assert_int_eq(
+      rockgen_patches_find(&r.obj.mesh, kMinPatchArea_m2, patches, PATCHES_MAX, &count), MODEL_OK);
   if (count > PATCHES_MAX) count = PATCHES_MAX;
   char what[64];
   snprintf(what, sizeof what, "%s_even", r.spec->name);
@@ -303,7 +303,6 @@ START_TEST(base_block) {
 END_TEST
 
 /* ---- the patch analysis itself, on shapes with known answers ------------------------------- */
-
 
 START_TEST(patches_of_box) {
   const double lo[3] = {-0.02, -0.03, -0.01}, hi[3] = {0.04, 0.03, 0.02};

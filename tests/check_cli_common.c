@@ -64,8 +64,7 @@ START_TEST(json_numbers_and_non_finite) {
     if (i) fputc(' ', c.f);
     cli_json_number(c.f, v[i]);
   }
-  ck_assert_str_eq(capture_close(&c),
-                   "0 -0 1.5 0.1 -2.25e-07 1.23456789e+11 1e+300 3.14159265");
+  ck_assert_str_eq(capture_close(&c), "0 -0 1.5 0.1 -2.25e-07 1.23456789e+11 1e+300 3.14159265");
   capture_open(&c);
   cli_json_number(c.f, NAN);
   fputc(' ', c.f);
@@ -106,11 +105,13 @@ static const char *log_all_levels(const char *program) {
 
 START_TEST(log_level_filter) {
   cli_log_set_level(CLI_LOG_INFO);
-  ck_assert_str_eq(log_all_levels("prog"), "prog: error: e 1\nprog: warning: w two\n"
-                                           "prog: info: i 3.0\n");
+  ck_assert_str_eq(log_all_levels("prog"),
+                   "prog: error: e 1\nprog: warning: w two\n"
+                   "prog: info: i 3.0\n");
   cli_log_set_level(CLI_LOG_DEBUG);
-  ck_assert_str_eq(log_all_levels("prog"), "prog: error: e 1\nprog: warning: w two\n"
-                                           "prog: info: i 3.0\nprog: debug: d\n");
+  ck_assert_str_eq(log_all_levels("prog"),
+                   "prog: error: e 1\nprog: warning: w two\n"
+                   "prog: info: i 3.0\nprog: debug: d\n");
   cli_log_set_level(CLI_LOG_WARN);
   ck_assert_str_eq(log_all_levels("x-y"), "x-y: error: e 1\nx-y: warning: w two\n");
   cli_log_set_level(CLI_LOG_ERROR);

@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli_test_util.h"
 #include "comlearn/balance_poses.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
@@ -16,7 +17,6 @@
 #include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_test_util.h"
-#include "cli_test_util.h"
 #include "shapegen.h"
 
 static char tmpdir[256];
@@ -101,8 +101,8 @@ END_TEST
 #ifdef ESTIMATE_FEW_ROCKS
 static const char *const rocks[] = {"rock_1_uneven", "rock_2_even", "rock_3_uneven"};
 #else
-static const char *const rocks[] = {"rock_1_even", "rock_1_uneven", "rock_2_even",
-                                    "rock_2_uneven", "rock_3_even", "rock_3_uneven"};
+static const char *const rocks[] = {"rock_1_even",   "rock_1_uneven", "rock_2_even",
+                                    "rock_2_uneven", "rock_3_even",   "rock_3_uneven"};
 #endif
 enum { ROCK_COUNT = sizeof rocks / sizeof rocks[0] };
 
@@ -194,7 +194,8 @@ static void write_boxes(const char *path, size_t n, const double (*c)[3], const 
     ck_assert_int_eq(model_mesh_box(lo, hi, &b), MODEL_OK);
     memcpy(all.vertices_m + 8 * i, b.vertices_m, 8 * sizeof *b.vertices_m);
     for (size_t t = 0; t < 12; ++t)
-      for (int k = 0; k < 3; ++k) all.triangles[12 * i + t][k] = b.triangles[t][k] + 8u * (uint32_t)i;
+      for (int k = 0; k < 3; ++k)
+        all.triangles[12 * i + t][k] = b.triangles[t][k] + 8u * (uint32_t)i;
     model_mesh_free(&b);
   }
   all.vertex_count = 8 * n;
@@ -207,15 +208,17 @@ static void write_boxes(const char *path, size_t n, const double (*c)[3], const 
   const double(*I)[3] = (const double(*)[3])truth->inertia_kg_m2;
   FILE *f = fopen(path, "w");
   ck_assert_ptr_nonnull(f);
-  fprintf(f, "<?xml version=\"1.0\"?>\n<robot name=\"boxes\">\n <link name=\"body\">\n"
-             "  <inertial><origin xyz=\"%.17g %.17g %.17g\"/><mass value=\"%.17g\"/>\n"
-             "   <inertia ixx=\"%.17g\" ixy=\"%.17g\" ixz=\"%.17g\" iyy=\"%.17g\" iyz=\"%.17g\" "
-             "izz=\"%.17g\"/></inertial>\n",
+  fprintf(f,
+          "<?xml version=\"1.0\"?>\n<robot name=\"boxes\">\n <link name=\"body\">\n"
+          "  <inertial><origin xyz=\"%.17g %.17g %.17g\"/><mass value=\"%.17g\"/>\n"
+          "   <inertia ixx=\"%.17g\" ixy=\"%.17g\" ixz=\"%.17g\" iyy=\"%.17g\" iyz=\"%.17g\" "
+          "izz=\"%.17g\"/></inertial>\n",
           truth->com_m[0], truth->com_m[1], truth->com_m[2], truth->mass_kg, I[0][0], I[0][1],
           I[0][2], I[1][1], I[1][2], I[2][2]);
   for (size_t i = 0; i < n; ++i)
-    fprintf(f, "  <collision><origin xyz=\"%.17g %.17g %.17g\"/><geometry><box size=\"%.17g %.17g "
-               "%.17g\"/></geometry></collision>\n",
+    fprintf(f,
+            "  <collision><origin xyz=\"%.17g %.17g %.17g\"/><geometry><box size=\"%.17g %.17g "
+            "%.17g\"/></geometry></collision>\n",
             c[i][0], c[i][1], c[i][2], sz[i][0], sz[i][1], sz[i][2]);
   fprintf(f, " </link>\n</robot>\n");
   fclose(f);
@@ -234,7 +237,7 @@ static int check_covered(const char *what, const estimate_result_t *r, const mod
     ck_assert_msg(r->reason[k][0] == '\0', "%s: %c found with a reason", what, "xyz"[k]);
     ck_assert_msg(fabs(r->com_m[k] - truth->com_m[k]) <= r->halfwidth_m[k],
                   "%s: %c off by %.4f mm, interval +-%.4f mm", what, "xyz"[k],
-                  1e3 * fabs(r->com_m[k] - truth->com_m[k]), 1e3 * r->halfwidth_m[k]);
+                  1e3 * fabs(r->com_m[k] - truth->com_m[k]), 1e3 * r -> halfwidth_m[k]);
   }
   return found;
 }
@@ -254,10 +257,12 @@ static void check_planes_exact(const char *what, const model_object_t *obj,
     for (int e = 0; e < 2; ++e) {
       ck_assert_int_ge(ends[e], 0);
       ck_assert_int_eq(model_regime_classify(&obj->mesh, &r->trial[ends[e]].released, base,
-                                               MODEL_EDGE_PX, truth->com_m, NULL, reg),
+                                             MODEL_EDGE_PX, truth->com_m, NULL, reg),
                        MODEL_OK);
-      ck_assert_msg(reg->flat_patch_regime, "%s: search %zu trial %d: chord margin %.2f mm at the "
-                    "truth", what, i, ends[e], 1e3 * reg->chord_margin_m);
+      ck_assert_msg(reg->flat_patch_regime,
+                    "%s: search %zu trial %d: chord margin %.2f mm at the "
+                    "truth",
+                    what, i, ends[e], 1e3 * reg->chord_margin_m);
     }
   }
   free(reg);
@@ -307,13 +312,14 @@ START_TEST(domino_rank_two_bound) {
   const double sx = 0.048, sy = 0.024, sz = 0.0075, m = sx * sy * sz * 2000.0;
   FILE *f = fopen(urdf, "w");
   ck_assert_ptr_nonnull(f);
-  fprintf(f, "<?xml version=\"1.0\"?>\n<robot name=\"domino\">\n <link name=\"body\">\n"
-             "  <inertial><origin xyz=\"0.005220728 -0.000354679 -0.000156485\"/>"
-             "<mass value=\"%.17g\"/>\n   <inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" "
-             "iyz=\"0\" izz=\"%.17g\"/></inertial>\n  <collision><geometry><box size=\"%g %g %g\"/>"
-             "</geometry></collision>\n </link>\n</robot>\n",
-          m, m / 12 * (sy * sy + sz * sz), m / 12 * (sx * sx + sz * sz), m / 12 * (sx * sx + sy * sy),
-          sx, sy, sz);
+  fprintf(f,
+          "<?xml version=\"1.0\"?>\n<robot name=\"domino\">\n <link name=\"body\">\n"
+          "  <inertial><origin xyz=\"0.005220728 -0.000354679 -0.000156485\"/>"
+          "<mass value=\"%.17g\"/>\n   <inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" "
+          "iyz=\"0\" izz=\"%.17g\"/></inertial>\n  <collision><geometry><box size=\"%g %g %g\"/>"
+          "</geometry></collision>\n </link>\n</robot>\n",
+          m, m / 12 * (sy * sy + sz * sz), m / 12 * (sx * sx + sz * sz),
+          m / 12 * (sx * sx + sy * sy), sx, sy, sz);
   fclose(f);
   estimate_result_t *r = malloc(sizeof *r);
   ck_assert_ptr_nonnull(r);
@@ -328,16 +334,17 @@ START_TEST(domino_rank_two_bound) {
   qlearn_solve_init(&solve);
   for (size_t i = 0; i < r->search_count; ++i)
     if (r->search[i].fed)
-      ck_assert_int_eq(qlearn_solve_add_plane(&solve, r->search[i].plane_n_obj, r->search[i].plane_d_m,
-                                              r->search[i].halfwidth_m / sqrt(3.0)),
-                       QLEARN_OK);
+      ck_assert_int_eq(
+          qlearn_solve_add_plane(&solve, r->search[i].plane_n_obj, r->search[i].plane_d_m,
+                                 r->search[i].halfwidth_m / sqrt(3.0)),
+          QLEARN_OK);
   qlearn_solve_result_t sr;
   ck_assert_int_eq(qlearn_solve_compute(&solve, 1.96, 1.0, &sr), QLEARN_E_SINGULAR);
   for (int k = 0; k < 2; ++k) {
     ck_assert(sr.found[k]);
     ck_assert_double_ge(r->halfwidth_m[k], sr.halfwidth_m[k]);
     fprintf(stderr, "domino %c: error %.4f mm, bound %.4f mm, 1.96 sigma %.4f mm\n", "xyz"[k],
-            1e3 * fabs(r->com_m[k] - truth.com_m[k]), 1e3 * r->halfwidth_m[k],
+            1e3 * fabs(r->com_m[k] - truth.com_m[k]), 1e3 * r -> halfwidth_m[k],
             1e3 * sr.halfwidth_m[k]);
   }
   /* y: the statistical interval would not hold the truth; the bound does */
@@ -424,7 +431,7 @@ START_TEST(noisy_intervals_cover) {
       ck_assert(r->noisy);
       for (int k = 0; k < 3; ++k) {
         ck_assert_msg(r->found[k], "%s seed %d: %c not found: %s", which[i], (int)seed, "xyz"[k],
-                      r->reason[k]);
+                      r -> reason[k]);
         ++comps;
         covered += fabs(r->com_m[k] - truth.com_m[k]) <= r->halfwidth_m[k];
         /* the interval is a noise interval, not the noiseless 0.1 mm bracket */
@@ -463,8 +470,8 @@ START_TEST(paper_walk_starts_at_bbox_centre) {
   for (int k = 0; k < 3; ++k) ck_assert_double_eq_tol(r->start_m[k], centre[k], 1e-15);
   /* the first search starts exactly there */
   const estimate_search_t *s0 = &r->search[0];
-  const double p0 = s0->dir_link[0] * centre[0] + s0->dir_link[1] * centre[1] +
-                    s0->dir_link[2] * centre[2];
+  const double p0 =
+      s0->dir_link[0] * centre[0] + s0->dir_link[1] * centre[1] + s0->dir_link[2] * centre[2];
   ck_assert_double_eq_tol(s0->prior_m, p0, 1e-12);
   for (size_t i = 0; i < r->trial_count; ++i)
     if (r->trial[i].search == 0) {
@@ -517,8 +524,10 @@ START_TEST(cli_direct_noise) {
   static char out[1 << 17];
   char cmd[1024], urdf[512];
   snprintf(urdf, sizeof urdf, "%s/rocks/rock_3_even.urdf", COMLEARN_ASSETS_DIR);
-  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct --json --truth --placement-noise-mm 0.5 "
-           "--pose-noise-mm 0.2 --seed 7 --start bbox", COMLEARN_BIN, urdf);
+  snprintf(cmd, sizeof cmd,
+           "'%s' estimate '%s' --direct --json --truth --placement-noise-mm 0.5 "
+           "--pose-noise-mm 0.2 --seed 7 --start bbox",
+           COMLEARN_BIN, urdf);
   ck_assert_int_eq(run(cmd, out, sizeof out), 0);
   ck_assert_ptr_nonnull(strstr(out, "\"interval\": \"95%\""));
   ck_assert_ptr_nonnull(strstr(out, "\"reason\": [null, null, null]"));
@@ -539,8 +548,10 @@ START_TEST(cli_direct_noise) {
     ck_assert_double_eq_tol(hw[k], r->halfwidth_m[k], 1e-11);
   }
   /* an explicit --noise-mm overrides the default; 0 claims noiseless bounds (a user's choice) */
-  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct --json --placement-noise-mm 0.5 --seed 7 "
-           "--noise-mm 0 2>/dev/null", COMLEARN_BIN, urdf);
+  snprintf(cmd, sizeof cmd,
+           "'%s' estimate '%s' --direct --json --placement-noise-mm 0.5 --seed 7 "
+           "--noise-mm 0 2>/dev/null",
+           COMLEARN_BIN, urdf);
   run(cmd, out, sizeof out);
   ck_assert_ptr_nonnull(strstr(out, "\"interval\": \"bound\""));
   free(r);
@@ -595,9 +606,10 @@ START_TEST(cli_bad_input) {
   snprintf(urdf, sizeof urdf, "%s/noinertial.urdf", tmpdir);
   FILE *f = fopen(urdf, "w");
   ck_assert_ptr_nonnull(f);
-  fprintf(f, "<?xml version=\"1.0\"?>\n<robot name=\"b\">\n <link name=\"l\">\n"
-             "  <collision><geometry><box size=\"0.04 0.05 0.03\"/></geometry></collision>\n"
-             " </link>\n</robot>\n");
+  fprintf(f,
+          "<?xml version=\"1.0\"?>\n<robot name=\"b\">\n <link name=\"l\">\n"
+          "  <collision><geometry><box size=\"0.04 0.05 0.03\"/></geometry></collision>\n"
+          " </link>\n</robot>\n");
   fclose(f);
   snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct 2>/dev/null", COMLEARN_BIN, urdf);
   ck_assert_int_eq(run(cmd, out, sizeof out), 2);

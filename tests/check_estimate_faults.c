@@ -53,8 +53,7 @@ static int killer_running, garbler_running;
 
 static void sleep_ms(long ms) {
   struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
-  while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {
-  }
+  while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {}
 }
 
 /* comlearn-sim on `url` with extra arguments (NULL-terminated, at most 6). The child gets SIGKILL
@@ -154,7 +153,8 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
   estimate_lcm_t *l = NULL;
   ck_assert_msg(estimate_lcm_open(&lc, &l, &inner, msg, sizeof msg) == 0,
                 "%s (udpm needs a multicast route: `ip route add 224.0.0.0/4 dev lo` as root, "
-                "scripts/setup.sh)", msg);
+                "scripts/setup.sh)",
+                msg);
   estimate_backend_t b = inner;
   b.run = counting_run;
   atomic_store(&trials_started, 0);
@@ -163,8 +163,8 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
   estimate_status_t s = estimate_run(mesh, &b, &cfg, r);
   estimate_lcm_stats(l, stats);
   estimate_lcm_close(l);
-  ck_assert_msg(s == ESTIMATE_OK, "lcm %s: %s: %s\nbackend log:\n%s", urdf,
-                estimate_status_str(s), r->msg, log_buf);
+  ck_assert_msg(s == ESTIMATE_OK, "lcm %s: %s: %s\nbackend log:\n%s", urdf, estimate_status_str(s),
+                r->msg, log_buf);
 }
 
 typedef struct {
@@ -198,8 +198,8 @@ static void box_run(box_run_t *b) {
   b->wall_s = now_s() - t0;
   check_agree(b->d, b->l);
   for (int k = 0; k < 3; ++k)
-    ck_assert_msg(fabs(b->l->com_m[k] - b->truth.com_m[k]) <= 1e-4, "component %d %.4f mm off",
-                  k, 1e3 * (b->l->com_m[k] - b->truth.com_m[k]));
+    ck_assert_msg(fabs(b->l->com_m[k] - b->truth.com_m[k]) <= 1e-4, "component %d %.4f mm off", k,
+                  1e3 * (b->l->com_m[k] - b->truth.com_m[k]));
   ck_assert_uint_eq(b->st.trials, b->l->trial_count);
 }
 
@@ -290,8 +290,10 @@ START_TEST(daemon_killed_and_restarted) {
   box_run_t b = {0};
   box_run(&b);
   report("daemon_killed_and_restarted", &b);
-  fprintf(stderr, "daemon_killed_and_restarted: killed in trial request %d + %d ms; backend "
-          "log:\n%s", kill_at[kill_case], kill_delay_ms[kill_case], log_buf);
+  fprintf(stderr,
+          "daemon_killed_and_restarted: killed in trial request %d + %d ms; backend "
+          "log:\n%s",
+          kill_at[kill_case], kill_delay_ms[kill_case], log_buf);
   /* killed mid-estimate, and the estimate went on against the new daemon */
   ck_assert_int_ge(atomic_load(&killed_at), kill_at[kill_case]);
   ck_assert_int_lt(atomic_load(&killed_at), (int)b.l->trial_count);
@@ -345,14 +347,14 @@ static void *garbler_main(void *arg) {
       const unsigned char *own = c == 0 ? st_buf : os_buf;
       const int own_len = c == 0 ? st_len : os_len;
       unsigned long long n = 0;
-      n += lcm_publish(lcm, ch[c], own, (unsigned)(own_len - 1)) == 0;  /* truncated */
-      n += lcm_publish(lcm, ch[c], own, (unsigned)(own_len / 2)) == 0;  /* truncated */
-      n += lcm_publish(lcm, ch[c], c == 0 ? os_buf : st_buf,             /* the other type */
+      n += lcm_publish(lcm, ch[c], own, (unsigned)(own_len - 1)) == 0; /* truncated */
+      n += lcm_publish(lcm, ch[c], own, (unsigned)(own_len / 2)) == 0; /* truncated */
+      n += lcm_publish(lcm, ch[c], c == 0 ? os_buf : st_buf,           /* the other type */
                        (unsigned)(c == 0 ? os_len : st_len)) == 0;
-      n += lcm_publish(lcm, ch[c], tr_buf, (unsigned)tr_len) == 0;      /* COM_TRIAL */
+      n += lcm_publish(lcm, ch[c], tr_buf, (unsigned)tr_len) == 0; /* COM_TRIAL */
       memcpy(bad, own, (size_t)own_len);
       bad[own_len] = 0x42;
-      n += lcm_publish(lcm, ch[c], bad, (unsigned)own_len + 1) == 0;    /* trailing byte */
+      n += lcm_publish(lcm, ch[c], bad, (unsigned)own_len + 1) == 0; /* trailing byte */
       memcpy(bad, own, (size_t)own_len);
       bad[3] ^= 0x10; /* fingerprint off by one bit */
       n += lcm_publish(lcm, ch[c], bad, (unsigned)own_len) == 0;

@@ -25,8 +25,8 @@ typedef struct {
   double noise_m;
 } golden_case_t;
 
-static const char *const rocks[] = {"rock_1_even", "rock_1_uneven", "rock_2_even",
-                                    "rock_2_uneven", "rock_3_even", "rock_3_uneven"};
+static const char *const rocks[] = {"rock_1_even",   "rock_1_uneven", "rock_2_even",
+                                    "rock_2_uneven", "rock_3_even",   "rock_3_uneven"};
 
 static uint64_t fnv(uint64_t h, const void *p, size_t n) {
   const unsigned char *b = p;
@@ -64,13 +64,13 @@ static uint64_t trial_digest(const estimate_result_t *r) {
 
 /* One run, formatted as its golden line (without the newline). */
 /* Outside a Check runner (--write) a failed ck_assert only prints; this stops either way. */
-#define NEED(cond)                                                                      \
-  do {                                                                                  \
-    if (!(cond)) {                                                                      \
-      fprintf(stderr, "%s:%d: %s failed (%s)\n", __FILE__, __LINE__, #cond, c->rock);   \
-      ck_abort_msg("%s failed", #cond);                                                 \
-      exit(EXIT_FAILURE);                                                               \
-    }                                                                                   \
+#define NEED(cond)                                                                    \
+  do {                                                                                \
+    if (!(cond)) {                                                                    \
+      fprintf(stderr, "%s:%d: %s failed (%s)\n", __FILE__, __LINE__, #cond, c->rock); \
+      ck_abort_msg("%s failed", #cond);                                               \
+      exit(EXIT_FAILURE);                                                             \
+    }                                                                                 \
   } while (0)
 
 static void run_case(const golden_case_t *c, char *line, size_t size) {
@@ -108,9 +108,8 @@ static void run_case(const golden_case_t *c, char *line, size_t size) {
 
 /* Every case, in the golden file's order. Returns the count; fills cases[] when not NULL. */
 static size_t all_cases(golden_case_t *cases) {
-  static const qlearn_policy_kind_t policies[] = {QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA,
-                                                  QLEARN_POLICY_PAPER_QTABLE,
-                                                  QLEARN_POLICY_PAPER_MLP};
+  static const qlearn_policy_kind_t policies[] = {
+      QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA, QLEARN_POLICY_PAPER_QTABLE, QLEARN_POLICY_PAPER_MLP};
   size_t n = 0;
   for (size_t r = 0; r < sizeof rocks / sizeof rocks[0]; ++r)
     for (size_t p = 0; p < sizeof policies / sizeof policies[0]; ++p)

@@ -19,8 +19,8 @@
 #include "comlearn/model_inertial.h"
 #include "estimate_backend.h"
 #include "estimate_direct.h"
-#include "estimate_test_util.h"
 #include "estimate_lcm.h"
+#include "estimate_test_util.h"
 
 static char tmpdir[256];
 static unsigned url_counter;
@@ -75,7 +75,8 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
   estimate_backend_t b;
   ck_assert_msg(estimate_lcm_open(&lc, &l, &b, msg, sizeof msg) == 0,
                 "%s (udpm needs a multicast route: `ip route add 224.0.0.0/4 dev lo` as root, "
-                "scripts/setup.sh)", msg);
+                "scripts/setup.sh)",
+                msg);
   ck_assert_str_eq(b.name, "lcm");
   estimate_config_t cfg;
   estimate_config_default(&cfg);
@@ -101,8 +102,8 @@ static void run_both(const char *urdf, const double truth_m[3], double tol_m) {
   estimate_lcm_urdf(urdf, &obj.mesh, l, &st);
   for (int k = 0; k < 3; ++k) {
     ck_assert_msg(l->found[k], "%s: component %d not found (%s)", urdf, k, l->msg);
-    ck_assert_msg(fabs(l->com_m[k] - truth_m[k]) <= tol_m, "%s: component %d %.4f mm off", urdf,
-                  k, 1e3 * (l->com_m[k] - truth_m[k]));
+    ck_assert_msg(fabs(l->com_m[k] - truth_m[k]) <= tol_m, "%s: component %d %.4f mm off", urdf, k,
+                  1e3 * (l->com_m[k] - truth_m[k]));
   }
   check_agree(d, l);
   /* every trial answered once; four waypoints and one SIM_CONTROL per trial, plus the resends a
@@ -129,8 +130,8 @@ START_TEST(box_offset_com_over_lcm) {
 END_TEST
 
 /* every bundled rock (assets/rocks), one loop iteration each */
-static const char *const rocks[] = {"rock_1_even", "rock_1_uneven", "rock_2_even",
-                                    "rock_2_uneven", "rock_3_even", "rock_3_uneven"};
+static const char *const rocks[] = {"rock_1_even",   "rock_1_uneven", "rock_2_even",
+                                    "rock_2_uneven", "rock_3_even",   "rock_3_uneven"};
 #define N_ROCKS ((int)(sizeof rocks / sizeof rocks[0]))
 
 START_TEST(rock_over_lcm) {
@@ -169,8 +170,8 @@ START_TEST(cli_spawn_sim_equals_direct) {
   snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct --json -q", COMLEARN_BIN, rock);
   ck_assert_int_eq(run_capture(cmd, out_d, sizeof out_d), 0);
   unique_url(url, sizeof url);
-  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --spawn-sim --lcm-url '%s' --json -q",
-           COMLEARN_BIN, rock, url);
+  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --spawn-sim --lcm-url '%s' --json -q", COMLEARN_BIN,
+           rock, url);
   ck_assert_int_eq(run_capture(cmd, out_l, sizeof out_l), 0);
   ck_assert_ptr_nonnull(strstr(out_l, "\"backend\": \"lcm\""));
   com_of(out_d, com_d, sizeof com_d);

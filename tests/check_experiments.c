@@ -11,12 +11,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "cli_test_util.h"
 #include "comlearn/balance.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "estimate_backend.h"
 #include "estimate_direct.h"
-#include "cli_test_util.h"
 #include "file_test_util.h"
 
 static char tmpdir[256];
@@ -59,9 +59,9 @@ static int tape_run(void *ctx, const estimate_trial_request_t *req, estimate_tri
 
 /* Estimate urdf on a direct backend (noise set when placement or pose > 0, or force_set), every
  * trial taped. */
-static void run_direct(const char *urdf, qlearn_policy_kind_t policy, double res_m,
-                       double sigma_m, int force_set, uint64_t seed, double placement_m,
-                       double pose_m, tape_t *tape, estimate_result_t *res) {
+static void run_direct(const char *urdf, qlearn_policy_kind_t policy, double res_m, double sigma_m,
+                       int force_set, uint64_t seed, double placement_m, double pose_m,
+                       tape_t *tape, estimate_result_t *res) {
   model_object_t obj = {0};
   model_error_t err = {{0}};
   ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
@@ -303,7 +303,6 @@ static const char *js_value(const char *p, int depth) {
   strtod(p, &end);
   return end == p ? NULL : end;
 }
-
 
 static size_t count_of(const char *hay, const char *needle) {
   size_t n = 0;

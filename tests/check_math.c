@@ -106,9 +106,8 @@ END_TEST
 
 START_TEST(test_quat_rot_round_trip) {
   /* identity, half turns (trace -1: every Shepperd branch) and a generic rotation */
-  const double qs[6][4] = {{1, 0, 0, 0},         {0, 1, 0, 0},   {0, 0, 1, 0},
-                           {0, 0, 0, 1},         {0, 0.6, 0.8, 0},
-                           {0.5, -0.5, 0.5, 0.5}};
+  const double qs[6][4] = {{1, 0, 0, 0}, {0, 1, 0, 0},     {0, 0, 1, 0},
+                           {0, 0, 0, 1}, {0, 0.6, 0.8, 0}, {0.5, -0.5, 0.5, 0.5}};
   for (int i = 0; i < 6; ++i) {
     double r[3][3], q[4];
     cl_quat_to_rot(qs[i], r);

@@ -280,8 +280,8 @@ static const type_case_t cases[] = {
      fill_object_state, spot_object_state, pub_object_state},
     {"sim_control_t", COMLEARN_MSG_CHANNEL_SIM_CONTROL, comlearn_sim_control_t_get_type_info,
      fill_sim_control, spot_sim_control, pub_sim_control},
-    {"com_trial_t", COMLEARN_MSG_CHANNEL_COM_TRIAL, comlearn_com_trial_t_get_type_info, fill_com_trial,
-     spot_com_trial, pub_com_trial},
+    {"com_trial_t", COMLEARN_MSG_CHANNEL_COM_TRIAL, comlearn_com_trial_t_get_type_info,
+     fill_com_trial, spot_com_trial, pub_com_trial},
     {"com_estimate_t", COMLEARN_MSG_CHANNEL_COM_ESTIMATE, comlearn_com_estimate_t_get_type_info,
      fill_com_estimate, spot_com_estimate, pub_com_estimate},
 };
@@ -309,16 +309,16 @@ static size_t elem_count(const lcm_field_t *f) {
 /* Bytes of one element in the C struct (strings: a char pointer). */
 static size_t elem_bytes(lcm_field_type_t t) {
   switch (t) {
-  case LCM_FIELD_INT8_T:
-  case LCM_FIELD_BYTE:
-  case LCM_FIELD_BOOLEAN: return 1;
-  case LCM_FIELD_INT16_T: return 2;
-  case LCM_FIELD_INT32_T:
-  case LCM_FIELD_FLOAT: return 4;
-  case LCM_FIELD_INT64_T:
-  case LCM_FIELD_DOUBLE: return 8;
-  case LCM_FIELD_STRING: return sizeof(char *);
-  case LCM_FIELD_USER_TYPE: break;
+    case LCM_FIELD_INT8_T:
+    case LCM_FIELD_BYTE:
+    case LCM_FIELD_BOOLEAN: return 1;
+    case LCM_FIELD_INT16_T: return 2;
+    case LCM_FIELD_INT32_T:
+    case LCM_FIELD_FLOAT: return 4;
+    case LCM_FIELD_INT64_T:
+    case LCM_FIELD_DOUBLE: return 8;
+    case LCM_FIELD_STRING: return sizeof(char *);
+    case LCM_FIELD_USER_TYPE: break;
   }
   ck_abort_msg("nested types are not used by comlearn");
   return 0;
@@ -340,8 +340,7 @@ static void where_of(char *where, size_t n, const lcm_field_t *f, size_t e) {
 
 /* 0 when every element of every field of a and b is equal (numbers bit for bit, strings byte
  * for byte); else 1 with the first difference named in where. */
-static int msg_diff(const lcm_type_info_t *t, const void *a, const void *b, char *where,
-                    size_t n) {
+static int msg_diff(const lcm_type_info_t *t, const void *a, const void *b, char *where, size_t n) {
   for (int i = 0; i < t->num_fields(); i++) {
     lcm_field_t fa, fb;
     get_field(t, a, i, &fa);
@@ -374,16 +373,16 @@ static double num_at(const lcm_field_t *f, size_t e) {
   float fl;
   double d;
   switch (f->type) {
-  case LCM_FIELD_INT8_T:
-  case LCM_FIELD_BOOLEAN: memcpy(&i8, p, 1); return i8;
-  case LCM_FIELD_BYTE: return (unsigned char)*p;
-  case LCM_FIELD_INT16_T: memcpy(&i16, p, 2); return i16;
-  case LCM_FIELD_INT32_T: memcpy(&i32, p, 4); return i32;
-  case LCM_FIELD_INT64_T: memcpy(&i64, p, 8); return (double)i64;
-  case LCM_FIELD_FLOAT: memcpy(&fl, p, 4); return fl;
-  case LCM_FIELD_DOUBLE: memcpy(&d, p, 8); return d;
-  case LCM_FIELD_STRING:
-  case LCM_FIELD_USER_TYPE: break;
+    case LCM_FIELD_INT8_T:
+    case LCM_FIELD_BOOLEAN: memcpy(&i8, p, 1); return i8;
+    case LCM_FIELD_BYTE: return (unsigned char)*p;
+    case LCM_FIELD_INT16_T: memcpy(&i16, p, 2); return i16;
+    case LCM_FIELD_INT32_T: memcpy(&i32, p, 4); return i32;
+    case LCM_FIELD_INT64_T: memcpy(&i64, p, 8); return (double)i64;
+    case LCM_FIELD_FLOAT: memcpy(&fl, p, 4); return fl;
+    case LCM_FIELD_DOUBLE: memcpy(&d, p, 8); return d;
+    case LCM_FIELD_STRING:
+    case LCM_FIELD_USER_TYPE: break;
   }
   ck_abort_msg("not a number field");
   return 0.0;
@@ -573,7 +572,8 @@ START_TEST(test_reject_fingerprint) {
       comlearn_msg_stats_t st = {0};
       any_msg_t got;
       memset(&got, 0x5a, sizeof got);
-      ck_assert_int_eq(comlearn_msg_decode(cases[b].info(), buf, len, &got, &st), COMLEARN_MSG_E_FINGERPRINT);
+      ck_assert_int_eq(comlearn_msg_decode(cases[b].info(), buf, len, &got, &st),
+                       COMLEARN_MSG_E_FINGERPRINT);
       ck_assert_uint_eq(st.received, 1);
       ck_assert_uint_eq(st.rejected_fingerprint, 1);
       ck_assert_uint_eq(st.decoded + st.rejected_truncated + st.rejected_malformed + st.failed, 0);
@@ -610,8 +610,8 @@ START_TEST(test_reject_truncated) {
     ck_assert_ptr_nonnull(cut);
     memcpy(cut, buf, n);
     any_msg_t got;
-    ck_assert_msg(comlearn_msg_decode(t, cut, n, &got, &st) == COMLEARN_MSG_E_TRUNCATED, "%s cut to %zu of %zu",
-                  c->name, n, len);
+    ck_assert_msg(comlearn_msg_decode(t, cut, n, &got, &st) == COMLEARN_MSG_E_TRUNCATED,
+                  "%s cut to %zu of %zu", c->name, n, len);
     free(cut);
   }
   ck_assert_uint_eq(st.received, len);
@@ -650,7 +650,8 @@ START_TEST(test_reject_malformed_strings) {
       {0x80000000u, COMLEARN_MSG_E_MALFORMED}, /* INT32_MIN */
       {0x7fffffffu, COMLEARN_MSG_E_TRUNCATED}, /* longer than the buffer */
       {good - 1, COMLEARN_MSG_E_MALFORMED},    /* last byte is not the NUL */
-      {good + 4, COMLEARN_MSG_E_MALFORMED},    /* ends on the next length's low byte, 0x0a, not a NUL */
+      {good + 4,
+       COMLEARN_MSG_E_MALFORMED}, /* ends on the next length's low byte, 0x0a, not a NUL */
   };
   comlearn_msg_stats_t st = {0};
   for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
@@ -695,7 +696,8 @@ START_TEST(test_reject_trailing_bytes) {
   any_msg_t got;
   for (size_t extra = 1; extra <= 3; extra++) {
     ck_assert_int_eq(comlearn_msg_check(t, longer, len + extra), COMLEARN_MSG_E_MALFORMED);
-    ck_assert_int_eq(comlearn_msg_decode(t, longer, len + extra, &got, &st), COMLEARN_MSG_E_MALFORMED);
+    ck_assert_int_eq(comlearn_msg_decode(t, longer, len + extra, &got, &st),
+                     COMLEARN_MSG_E_MALFORMED);
   }
   ck_assert_int_eq(comlearn_msg_check(t, longer, len), COMLEARN_MSG_OK);
   ck_assert_uint_eq(st.rejected_malformed, 3);
@@ -705,9 +707,8 @@ START_TEST(test_reject_trailing_bytes) {
 END_TEST
 
 static void check_stats_balance(const comlearn_msg_stats_t *st) {
-  ck_assert_uint_eq(st->received, st->decoded + st->rejected_fingerprint +
-                                      st->rejected_truncated + st->rejected_malformed +
-                                      st->failed);
+  ck_assert_uint_eq(st->received, st->decoded + st->rejected_fingerprint + st->rejected_truncated +
+                                      st->rejected_malformed + st->failed);
 }
 
 /* Random bytes of random length, then random bytes behind a valid fingerprint, then valid
@@ -795,27 +796,32 @@ START_TEST(test_args_and_status_str) {
   ck_assert_int_eq(comlearn_msg_check(NULL, b, sizeof b), COMLEARN_MSG_E_ARG);
   ck_assert_uint_eq(comlearn_msg_stats_rejected(NULL), 0);
 
-  comlearn_msg_subscription_t *sub = (comlearn_msg_subscription_t *)&st; /* must be overwritten with NULL */
+  comlearn_msg_subscription_t *sub =
+      (comlearn_msg_subscription_t *)&st; /* must be overwritten with NULL */
   comlearn_msg_sub_config_t cfg = {0};
   ck_assert_int_eq(comlearn_msg_subscribe(NULL, "X", &cfg, &sub), COMLEARN_MSG_E_ARG);
   ck_assert_ptr_null(sub);
   lcm_t *lcm = lcm_create("memq://");
   ck_assert_ptr_nonnull(lcm);
-  ck_assert_int_eq(comlearn_msg_subscribe(lcm, "X", &cfg, &sub), COMLEARN_MSG_E_ARG); /* no type, no handler */
+  ck_assert_int_eq(comlearn_msg_subscribe(lcm, "X", &cfg, &sub),
+                   COMLEARN_MSG_E_ARG); /* no type, no handler */
   ck_assert_int_eq(comlearn_msg_subscribe(lcm, "", &cfg, &sub), COMLEARN_MSG_E_ARG);
   ck_assert_int_eq(comlearn_msg_subscribe(lcm, "X", NULL, &sub), COMLEARN_MSG_E_ARG);
   ck_assert_int_eq(comlearn_msg_unsubscribe(lcm, NULL), COMLEARN_MSG_OK);
   ck_assert_int_eq(comlearn_msg_subscription_set_queue_capacity(NULL, 1), COMLEARN_MSG_E_ARG);
   lcm_destroy(lcm);
 
-  const comlearn_msg_status_t all[] = {COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG, COMLEARN_MSG_E_TRUNCATED, COMLEARN_MSG_E_FINGERPRINT,
-                              COMLEARN_MSG_E_MALFORMED, COMLEARN_MSG_E_NOMEM, COMLEARN_MSG_E_LCM, COMLEARN_MSG_E_UNSUPPORTED};
+  const comlearn_msg_status_t all[] = {COMLEARN_MSG_OK,          COMLEARN_MSG_E_ARG,
+                                       COMLEARN_MSG_E_TRUNCATED, COMLEARN_MSG_E_FINGERPRINT,
+                                       COMLEARN_MSG_E_MALFORMED, COMLEARN_MSG_E_NOMEM,
+                                       COMLEARN_MSG_E_LCM,       COMLEARN_MSG_E_UNSUPPORTED};
   const char *unknown = comlearn_msg_status_str((comlearn_msg_status_t)-99);
   ck_assert_str_eq(unknown, "unknown status");
   for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
     ck_assert_ptr_nonnull(comlearn_msg_status_str(all[i]));
     ck_assert_str_ne(comlearn_msg_status_str(all[i]), unknown);
-    for (size_t k = 0; k < i; k++) ck_assert_str_ne(comlearn_msg_status_str(all[i]), comlearn_msg_status_str(all[k]));
+    for (size_t k = 0; k < i; k++)
+      ck_assert_str_ne(comlearn_msg_status_str(all[i]), comlearn_msg_status_str(all[k]));
   }
   ck_assert_str_eq(comlearn_msg_status_str(COMLEARN_MSG_OK), "success");
 }
@@ -884,8 +890,10 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, const vo
   s->received++;
   s->recv_utime = rbuf->recv_utime;
   snprintf(s->channel, sizeof s->channel, "%s", channel);
-  if (msg_diff(s->c->info(), s->sent, msg, s->where, sizeof s->where) != 0) s->mismatches++;
-  else s->c->spot(msg);
+  if (msg_diff(s->c->info(), s->sent, msg, s->where, sizeof s->where) != 0)
+    s->mismatches++;
+  else
+    s->c->spot(msg);
 }
 
 static void on_reject(const lcm_recv_buf_t *rbuf, const char *channel, comlearn_msg_status_t reason,
@@ -923,9 +931,13 @@ START_TEST(test_memq_publish_handle) {
     cases[i].fill(&sent[i]);
     sinks[i].c = &cases[i];
     sinks[i].sent = &sent[i];
-    comlearn_msg_sub_config_t cfg = {.type = cases[i].info(), .on_message = on_message,
-                            .on_reject = on_reject, .user = &sinks[i], .stats = &stats[i]};
-    ck_assert_int_eq(comlearn_msg_subscribe(lcm, cases[i].channel, &cfg, &subs[i]), COMLEARN_MSG_OK);
+    comlearn_msg_sub_config_t cfg = {.type = cases[i].info(),
+                                     .on_message = on_message,
+                                     .on_reject = on_reject,
+                                     .user = &sinks[i],
+                                     .stats = &stats[i]};
+    ck_assert_int_eq(comlearn_msg_subscribe(lcm, cases[i].channel, &cfg, &subs[i]),
+                     COMLEARN_MSG_OK);
     ck_assert_ptr_nonnull(subs[i]);
   }
   ck_assert_int_eq(comlearn_msg_subscription_set_queue_capacity(subs[0], 5), COMLEARN_MSG_OK);
@@ -944,7 +956,8 @@ START_TEST(test_memq_publish_handle) {
     ck_assert_uint_eq(stats[i].received, 2);
     ck_assert_uint_eq(stats[i].decoded, 2);
   }
-  for (int i = 0; i < NCASES; i++) ck_assert_int_eq(comlearn_msg_unsubscribe(lcm, subs[i]), COMLEARN_MSG_OK);
+  for (int i = 0; i < NCASES; i++)
+    ck_assert_int_eq(comlearn_msg_unsubscribe(lcm, subs[i]), COMLEARN_MSG_OK);
   lcm_destroy(lcm);
 }
 END_TEST
@@ -956,7 +969,8 @@ START_TEST(test_memq_rejects) {
   ck_assert_ptr_nonnull(lcm);
   any_msg_t sent[NCASES];
   sink_t sinks[NCASES];
-  comlearn_msg_stats_t shared = {0}; /* one counter set for all subscriptions, as a daemon keeps it */
+  comlearn_msg_stats_t shared = {
+      0}; /* one counter set for all subscriptions, as a daemon keeps it */
   comlearn_msg_subscription_t *subs[NCASES];
   memset(sinks, 0, sizeof sinks);
   for (int i = 0; i < NCASES; i++) {
@@ -964,9 +978,13 @@ START_TEST(test_memq_rejects) {
     cases[i].fill(&sent[i]);
     sinks[i].c = &cases[i];
     sinks[i].sent = &sent[i];
-    comlearn_msg_sub_config_t cfg = {.type = cases[i].info(), .on_message = on_message,
-                            .on_reject = on_reject, .user = &sinks[i], .stats = &shared};
-    ck_assert_int_eq(comlearn_msg_subscribe(lcm, cases[i].channel, &cfg, &subs[i]), COMLEARN_MSG_OK);
+    comlearn_msg_sub_config_t cfg = {.type = cases[i].info(),
+                                     .on_message = on_message,
+                                     .on_reject = on_reject,
+                                     .user = &sinks[i],
+                                     .stats = &shared};
+    ck_assert_int_eq(comlearn_msg_subscribe(lcm, cases[i].channel, &cfg, &subs[i]),
+                     COMLEARN_MSG_OK);
   }
   uint64_t seed = 12345;
   for (int i = 0; i < NCASES; i++) {
@@ -996,7 +1014,8 @@ START_TEST(test_memq_rejects) {
   ck_assert_uint_eq(shared.rejected_fingerprint, 2 * NCASES); /* wrong type and junk */
   ck_assert_uint_eq(shared.rejected_truncated, 3 * NCASES);   /* half, 3 bytes, empty */
   ck_assert_uint_eq(comlearn_msg_stats_rejected(&shared), 5 * NCASES);
-  for (int i = 0; i < NCASES; i++) ck_assert_int_eq(comlearn_msg_unsubscribe(lcm, subs[i]), COMLEARN_MSG_OK);
+  for (int i = 0; i < NCASES; i++)
+    ck_assert_int_eq(comlearn_msg_unsubscribe(lcm, subs[i]), COMLEARN_MSG_OK);
   lcm_destroy(lcm);
 }
 END_TEST
@@ -1024,31 +1043,31 @@ static void dump_fields(FILE *out, const lcm_type_info_t *t, const void *m) {
       fputc('=', out);
       const char *p = (const char *)f.data;
       switch (f.type) {
-      case LCM_FIELD_INT8_T:
-      case LCM_FIELD_BOOLEAN: fprintf(out, "%d", (int)((const int8_t *)p)[e]); break;
-      case LCM_FIELD_BYTE: fprintf(out, "%d", (int)(int8_t)((const uint8_t *)p)[e]); break;
-      case LCM_FIELD_INT16_T: fprintf(out, "%d", (int)((const int16_t *)p)[e]); break;
-      case LCM_FIELD_INT32_T: fprintf(out, "%" PRId32, ((const int32_t *)p)[e]); break;
-      case LCM_FIELD_INT64_T: fprintf(out, "%" PRId64, ((const int64_t *)p)[e]); break;
-      case LCM_FIELD_FLOAT: {
-        uint32_t bits;
-        memcpy(&bits, p + e * 4, 4);
-        fprintf(out, "0x%08" PRIx32, bits);
-        break;
-      }
-      case LCM_FIELD_DOUBLE: {
-        uint64_t bits;
-        memcpy(&bits, p + e * 8, 8);
-        fprintf(out, "0x%016" PRIx64, bits);
-        break;
-      }
-      case LCM_FIELD_STRING: {
-        const unsigned char *s = (const unsigned char *)((char *const *)p)[e];
-        fputc('"', out);
-        for (; *s != '\0'; s++) fprintf(out, "%02x", *s);
-        break;
-      }
-      case LCM_FIELD_USER_TYPE: break;
+        case LCM_FIELD_INT8_T:
+        case LCM_FIELD_BOOLEAN: fprintf(out, "%d", (int)((const int8_t *)p)[e]); break;
+        case LCM_FIELD_BYTE: fprintf(out, "%d", (int)(int8_t)((const uint8_t *)p)[e]); break;
+        case LCM_FIELD_INT16_T: fprintf(out, "%d", (int)((const int16_t *)p)[e]); break;
+        case LCM_FIELD_INT32_T: fprintf(out, "%" PRId32, ((const int32_t *)p)[e]); break;
+        case LCM_FIELD_INT64_T: fprintf(out, "%" PRId64, ((const int64_t *)p)[e]); break;
+        case LCM_FIELD_FLOAT: {
+          uint32_t bits;
+          memcpy(&bits, p + e * 4, 4);
+          fprintf(out, "0x%08" PRIx32, bits);
+          break;
+        }
+        case LCM_FIELD_DOUBLE: {
+          uint64_t bits;
+          memcpy(&bits, p + e * 8, 8);
+          fprintf(out, "0x%016" PRIx64, bits);
+          break;
+        }
+        case LCM_FIELD_STRING: {
+          const unsigned char *s = (const unsigned char *)((char *const *)p)[e];
+          fputc('"', out);
+          for (; *s != '\0'; s++) fprintf(out, "%02x", *s);
+          break;
+        }
+        case LCM_FIELD_USER_TYPE: break;
       }
       fputc('\n', out);
     }

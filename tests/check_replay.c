@@ -45,8 +45,7 @@ static double now_s(void) {
 
 static void sleep_s(double s) {
   struct timespec ts = {(time_t)s, (long)((s - (double)(time_t)s) * 1e9)};
-  while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {
-  }
+  while (nanosleep(&ts, &ts) != 0 && errno == EINTR) {}
 }
 
 /* Wait up to timeout_s for pid; SIGKILL after that. Returns the wait status, -1 if it had to be
@@ -195,8 +194,8 @@ typedef struct {
   size_t n, next;
   int8_t kind[MAX_TRIALS];
   estimate_trial_reply_t reply[MAX_TRIALS];
-  comlearn_com_trial_t rec[MAX_TRIALS];       /* the logged records (strings cleared) */
-  estimate_trial_request_t req[MAX_TRIALS];   /* what the recomputation asked for */
+  comlearn_com_trial_t rec[MAX_TRIALS];     /* the logged records (strings cleared) */
+  estimate_trial_request_t req[MAX_TRIALS]; /* what the recomputation asked for */
 } log_backend_t;
 
 static estimate_outcome_t outcome_from_msg(int8_t o) {
@@ -273,8 +272,7 @@ static int check_estimator_fields(const log_backend_t *lb, const estimate_result
       /* the target point lies on the search's line, at x_m (placement noise aside) */
       double x = 0.0;
       for (int k = 0; k < 3; ++k) x += u[k] * t->target_point_link_m[k];
-      ck_assert_msg(fabs(x - tr->x_m) < 1e-3, "trial %zu: target at %.6f, x_m %.6f", i, x,
-                    tr->x_m);
+      ck_assert_msg(fabs(x - tr->x_m) < 1e-3, "trial %zu: target at %.6f, x_m %.6f", i, x, tr->x_m);
       /* placement noise: the target point within a millimetre of the edge line at release */
       ck_assert_msg(fabs(t->target_offset_m) < 1e-3, "trial %zu: target_offset_m %g", i,
                     t->target_offset_m);
@@ -316,7 +314,7 @@ static int recompute_from_log(const char *log_path, const char *urdf, size_t liv
     if (strcmp(ev->channel, COMLEARN_MSG_CHANNEL_COM_TRIAL) == 0) {
       comlearn_com_trial_t t;
       ck_assert_int_eq(comlearn_msg_decode(comlearn_com_trial_t_get_type_info(), ev->data,
-                                  (size_t)ev->datalen, &t, &stats),
+                                           (size_t)ev->datalen, &t, &stats),
                        COMLEARN_MSG_OK);
       ck_assert_uint_lt(lb->n, MAX_TRIALS);
       ck_assert_int_eq(t.trial_index, (int)lb->n); /* none lost, none twice */
@@ -333,7 +331,7 @@ static int recompute_from_log(const char *log_path, const char *urdf, size_t liv
     } else if (strcmp(ev->channel, COMLEARN_MSG_CHANNEL_COM_ESTIMATE) == 0) {
       comlearn_com_estimate_t e;
       ck_assert_int_eq(comlearn_msg_decode(comlearn_com_estimate_t_get_type_info(), ev->data,
-                                  (size_t)ev->datalen, &e, &stats),
+                                           (size_t)ev->datalen, &e, &stats),
                        COMLEARN_MSG_OK);
       if (e.done) {
         final_e = e;
@@ -372,9 +370,10 @@ static int recompute_from_log(const char *log_path, const char *urdf, size_t liv
     bits_equal += memcmp(&res->com_m[k], &final_e.com_estimated_m[k], sizeof(double)) == 0;
   }
   const int planned_off = check_estimator_fields(lb, res, live_flagged);
-  fprintf(stderr, "check_replay: %s: estimator-side fields of %zu COM_TRIALs equal the "
-          "estimator's; %d edge trials planned outside the flat-patch regime\n", urdf, lb->n,
-          planned_off);
+  fprintf(stderr,
+          "check_replay: %s: estimator-side fields of %zu COM_TRIALs equal the "
+          "estimator's; %d edge trials planned outside the flat-patch regime\n",
+          urdf, lb->n, planned_off);
   free(res);
   free(lb);
   model_object_free(&obj);
@@ -430,7 +429,7 @@ static void record_replay(const char *urdf) {
 
   /* 2. replay into comlearn watch */
   char *watch_argv[] = {(char *)COMLEARN_BIN, "watch", "--once", "--json", "--timeout-s", "60",
-                        "--lcm-url", url2, NULL};
+                        "--lcm-url",          url2,    NULL};
   pid_t watch = spawn(watch_argv, watch_out, watch_err);
   ck_assert_msg(wait_for_text(watch_err, "listening on", 20.0), "comlearn watch did not start");
   snprintf(cmd, sizeof cmd, "timeout 60 lcm-logplayer --lcm-url='%s' '%s' > /dev/null", url2,
@@ -506,8 +505,10 @@ static void record_replay(const char *urdf) {
   /* 4. the estimate recomputed from the logged outcomes and poses */
   const int bits = recompute_from_log(log_path, urdf, (size_t)n, flagged);
   free(flagged);
-  fprintf(stderr, "check_replay: %s: %ld trials replayed equal; recomputed estimate: %d of 3 "
-          "components bit-identical to the logged COM_ESTIMATE\n", urdf, n, bits);
+  fprintf(stderr,
+          "check_replay: %s: %ld trials replayed equal; recomputed estimate: %d of 3 "
+          "components bit-identical to the logged COM_ESTIMATE\n",
+          urdf, n, bits);
   ck_assert_int_eq(bits, 3);
 }
 
@@ -520,9 +521,7 @@ START_TEST(replay_box) {
 }
 END_TEST
 
-START_TEST(replay_rock) {
-  record_replay(COMLEARN_ASSETS_DIR "/rocks/rock_1_uneven.urdf");
-}
+START_TEST(replay_rock) { record_replay(COMLEARN_ASSETS_DIR "/rocks/rock_1_uneven.urdf"); }
 END_TEST
 
 START_TEST(watch_timeout_and_sigint) {
@@ -532,8 +531,8 @@ START_TEST(watch_timeout_and_sigint) {
   snprintf(err, sizeof err, "%s/w.err", tmpdir);
   snprintf(err2, sizeof err2, "%s/w2.err", tmpdir); /* a file of its own: "listening on" */
   /* --once with nothing on the URL: exit 1 after the timeout */
-  char *a1[] = {(char *)COMLEARN_BIN, "watch", "--once", "--timeout-s", "0.3", "--lcm-url", url,
-                NULL};
+  char *a1[] = {(char *)COMLEARN_BIN, "watch", "--once", "--timeout-s", "0.3",
+                "--lcm-url",          url,     NULL};
   const double t0 = now_s();
   int ws = wait_child(spawn(a1, out, err), 20.0);
   ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 1, "timeout: %d", ws);

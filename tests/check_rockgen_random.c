@@ -22,16 +22,15 @@
 #include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "file_test_util.h"
 #include "model_test_util.h"
 #include "rockgen.h"
 #include "stack_svg.h"
-#include "file_test_util.h"
 
 enum { PATCHES_MAX = 16, SEEDS = 60 };
 
 static const double kMinPatchArea_m2 = 1e-4;
 static const uint64_t kFirstSeed = 1000; /* the bench's default seed base */
-
 
 /* Run comlearn-rockgen with argv (NULL-terminated), output discarded; its exit status or -1. */
 static int run_rockgen(char *const argv[]) {
@@ -54,11 +53,16 @@ static int run_rockgen(char *const argv[]) {
 }
 
 static int generate(const char *dir, const char *seed, const char *count) {
-  char *argv[] = {(char *)"comlearn-rockgen", (char *)"--random", (char *)seed, (char *)"--count",
-                  (char *)count, (char *)"--out-dir", (char *)dir, NULL};
+  char *argv[] = {(char *)"comlearn-rockgen",
+                  (char *)"--random",
+                  (char *)seed,
+                  (char *)"--count",
+                  (char *)count,
+                  (char *)"--out-dir",
+                  (char *)dir,
+                  NULL};
   return run_rockgen(argv);
 }
-
 
 /* ---- the spec ----------------------------------------------------------------------------- */
 
@@ -218,8 +222,8 @@ START_TEST(every_seed_rests_on_its_bottom_face) {
       }
     }
     for (int k = 0; k < 3; ++k) {
-      ck_assert_msg(hi[k] - lo[k] >= 0.035 && hi[k] - lo[k] <= 0.10, "%s: extent %d %.4f m",
-                    s.name, k, hi[k] - lo[k]);
+      ck_assert_msg(hi[k] - lo[k] >= 0.035 && hi[k] - lo[k] <= 0.10, "%s: extent %d %.4f m", s.name,
+                    k, hi[k] - lo[k]);
       ck_assert_double_eq_tol(hi[k] + lo[k], 0.0, 1e-8); /* link origin: bounding-box center */
     }
     ck_assert(even.mass_kg >= 0.1 && uneven.mass_kg <= 0.6 && uneven.mass_kg > even.mass_kg);
@@ -254,21 +258,22 @@ START_TEST(files_deterministic_and_loadable) {
                   "%s differs between two runs", rel);
     for (int k = 0; k < 2; ++k) {
       snprintf(rel, sizeof rel, "rock_r%u_%s.urdf", seed, kKinds[k]);
-      ck_assert_msg(test_same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
-                    "%s differs between two runs", rel);
+      ck_assert_msg(
+          test_same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
+          "%s differs between two runs", rel);
     }
   }
   /* Different seeds, different files. */
   ck_assert(!test_same_file(mt_join(&a, "meshes/rock_r1000.stl", pa, sizeof pa),
-                       mt_join(&a, "meshes/rock_r1001.stl", pb, sizeof pb)));
+                            mt_join(&a, "meshes/rock_r1001.stl", pb, sizeof pb)));
   ck_assert(!test_same_file(mt_join(&a, "rock_r1000_uneven.urdf", pa, sizeof pa),
-                       mt_join(&a, "rock_r1001_uneven.urdf", pb, sizeof pb)));
+                            mt_join(&a, "rock_r1001_uneven.urdf", pb, sizeof pb)));
   /* A seed written alone equals the same seed written in a batch. */
   mt_tmpdir_t c;
   mt_tmpdir_make(&c);
   ck_assert_int_eq(generate(c.path, "1001", "1"), 0);
   ck_assert(test_same_file(mt_join(&a, "rock_r1001_uneven.urdf", pa, sizeof pa),
-                      mt_join(&c, "rock_r1001_uneven.urdf", pb, sizeof pb)));
+                           mt_join(&c, "rock_r1001_uneven.urdf", pb, sizeof pb)));
 
   /* The files load with lib/model; the mesh is the generated one and the inertial is exact. */
   for (int r = 0; r < 3; ++r) {
@@ -300,10 +305,11 @@ START_TEST(files_deterministic_and_loadable) {
     }
     model_mesh_free(&gen);
   }
-  const char *const names[] = {
-      "meshes/rock_r1000.stl", "meshes/rock_r1001.stl", "meshes/rock_r1002.stl",
-      "rock_r1000_even.urdf",  "rock_r1000_uneven.urdf", "rock_r1001_even.urdf",
-      "rock_r1001_uneven.urdf", "rock_r1002_even.urdf", "rock_r1002_uneven.urdf", "meshes"};
+  const char *const names[] = {"meshes/rock_r1000.stl",  "meshes/rock_r1001.stl",
+                               "meshes/rock_r1002.stl",  "rock_r1000_even.urdf",
+                               "rock_r1000_uneven.urdf", "rock_r1001_even.urdf",
+                               "rock_r1001_uneven.urdf", "rock_r1002_even.urdf",
+                               "rock_r1002_uneven.urdf", "meshes"};
   mt_tmpdir_remove(&a, names, sizeof names / sizeof names[0]);
   mt_tmpdir_remove(&b, names, sizeof names / sizeof names[0]);
   const char *const one[] = {"meshes/rock_r1001.stl", "rock_r1001_even.urdf",
@@ -332,8 +338,8 @@ static size_t front_facing(const model_mesh_t *m, const model_pose_t *pose) {
       for (int r = 0; r < 3; ++r) w[j][r] = rot[r][0] * v[0] + rot[r][1] * v[1] + rot[r][2] * v[2];
     }
     /* y of (b - a) x (c - a) */
-    const double ny = (w[1][2] - w[0][2]) * (w[2][0] - w[0][0]) -
-                      (w[1][0] - w[0][0]) * (w[2][2] - w[0][2]);
+    const double ny =
+        (w[1][2] - w[0][2]) * (w[2][0] - w[0][0]) - (w[1][0] - w[0][0]) * (w[2][2] - w[0][2]);
     n += ny < 0.0;
   }
   return n;
@@ -369,10 +375,11 @@ START_TEST(hull_failure_rejected) {
   ck_assert_int_eq(rockgen_shape_build(&spec, &mesh), MODEL_OK);
   ck_assert_int_eq(model_mesh_hull(&mesh, &hull, NULL), MODEL_OK);
   for (size_t t = 0; t < hull.triangle_count; ++t) {
-    const double *a = hull.vertices_m[hull.triangles[t][0]], *b = hull.vertices_m[hull.triangles[t][1]],
+    const double *a = hull.vertices_m[hull.triangles[t][0]],
+                 *b = hull.vertices_m[hull.triangles[t][1]],
                  *c = hull.vertices_m[hull.triangles[t][2]];
-    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, w[3] = {c[0] - a[0], c[1] - a[1],
-                                                                          c[2] - a[2]};
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                 w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
     const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!(len > 1e-12)) continue;
@@ -409,7 +416,8 @@ START_TEST(stack_svg_side_view) {
     }
     /* upright, stacked; the middle one turned 90 degrees about z */
     const double h = sqrt(0.5);
-    const model_pose_t p = {{0.002 * i, 0.0, z - lo}, {i == 1 ? h : 1.0, 0.0, 0.0, i == 1 ? h : 0.0}};
+    const model_pose_t p = {{0.002 * i, 0.0, z - lo},
+                            {i == 1 ? h : 1.0, 0.0, 0.0, i == 1 ? h : 0.0}};
     pose[i] = p;
     z += hi - lo;
     want += front_facing(&m[i], &pose[i]);

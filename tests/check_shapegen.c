@@ -26,9 +26,9 @@
 #include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "file_test_util.h"
 #include "model_test_util.h"
 #include "shapegen.h"
-#include "file_test_util.h"
 
 enum { SEEDS = 5 };
 static const double MM = 1e-3;
@@ -145,11 +145,11 @@ static unsigned char *select_plane(const model_mesh_t *m, double z, size_t *coun
 }
 
 typedef struct {
-  size_t count;        /* groups */
-  double area[8];      /* real area per group (the first 8) */
-  double hull_area[8]; /* area of the convex hull of each group's vertices */
+  size_t count;              /* groups */
+  double area[8];            /* real area per group (the first 8) */
+  double hull_area[8];       /* area of the convex hull of each group's vertices */
   double area_all, hull_all; /* all groups together */
-  double gap_m;        /* smallest distance between vertices of different groups */
+  double gap_m;              /* smallest distance between vertices of different groups */
 } plane_groups_t;
 
 static void plane_groups(const model_mesh_t *m, double z, plane_groups_t *out) {
@@ -366,10 +366,12 @@ START_TEST(deterministic_and_rule) {
   gen(_i, 7, &b);
   ck_assert_uint_eq(a.mesh.vertex_count, b.mesh.vertex_count);
   ck_assert_uint_eq(a.mesh.triangle_count, b.mesh.triangle_count);
-  ck_assert_int_eq(memcmp(a.mesh.vertices_m, b.mesh.vertices_m,
-                          a.mesh.vertex_count * sizeof *a.mesh.vertices_m), 0);
-  ck_assert_int_eq(memcmp(a.mesh.triangles, b.mesh.triangles,
-                          a.mesh.triangle_count * sizeof *a.mesh.triangles), 0);
+  ck_assert_int_eq(
+      memcmp(a.mesh.vertices_m, b.mesh.vertices_m, a.mesh.vertex_count * sizeof *a.mesh.vertices_m),
+      0);
+  ck_assert_int_eq(
+      memcmp(a.mesh.triangles, b.mesh.triangles, a.mesh.triangle_count * sizeof *a.mesh.triangles),
+      0);
   ck_assert_int_eq(memcmp(&a.spec, &b.spec, sizeof a.spec), 0);
   ck_assert_int_eq(memcmp(&a.uneven, &b.uneven, sizeof a.uneven), 0);
   shapegen_object_free(&b);
@@ -391,8 +393,9 @@ START_TEST(deterministic_and_rule) {
   }
   ck_assert(ok);
   ck_assert_uint_eq(k - 1, a.spec.attempt);
-  ck_assert_int_eq(memcmp(b.mesh.vertices_m, a.mesh.vertices_m,
-                          a.mesh.vertex_count * sizeof *a.mesh.vertices_m), 0);
+  ck_assert_int_eq(
+      memcmp(b.mesh.vertices_m, a.mesh.vertices_m, a.mesh.vertex_count * sizeof *a.mesh.vertices_m),
+      0);
   free(s);
   shapegen_object_free(&b);
   shapegen_object_free(&a);
@@ -411,7 +414,8 @@ static double pl_i0(const double *x, const double *f, size_t n) {
 static double pl_i1(const double *x, const double *f, size_t n) { /* integral of x f */
   double s = 0.0;
   for (size_t i = 0; i + 1 < n; ++i) {
-    s += (x[i + 1] - x[i]) / 6.0 * (x[i] * (2 * f[i] + f[i + 1]) + x[i + 1] * (f[i] + 2 * f[i + 1]));
+    s +=
+        (x[i + 1] - x[i]) / 6.0 * (x[i] * (2 * f[i] + f[i + 1]) + x[i + 1] * (f[i] + 2 * f[i + 1]));
   }
   return s;
 }
@@ -539,7 +543,8 @@ START_TEST(closed_forms) {
       ck_assert_double_eq_tol(m.mass_kg, v, 1e-12 * v);
       assert_com(name, m.com_m, com, 1e-15);
       for (int k = 0; k < 3; ++k) {
-        const double want = v / 12.0 * (dim[(k + 1) % 3] * dim[(k + 1) % 3] + dim[(k + 2) % 3] * dim[(k + 2) % 3]);
+        const double want =
+            v / 12.0 * (dim[(k + 1) % 3] * dim[(k + 1) % 3] + dim[(k + 2) % 3] * dim[(k + 2) % 3]);
         ck_assert_double_eq_tol(m.inertia_kg_m2[k][k], want, 1e-12 * want);
         ck_assert_double_eq_tol(m.inertia_kg_m2[k][(k + 1) % 3], 0.0, 1e-12 * want);
       }
@@ -586,16 +591,19 @@ START_TEST(closed_forms) {
         const double ar = s->rev.rz_m[pm / 4][0] - big;
         const double ideal = 2.0 * CL_PI * CL_PI * big * ar * az;
         const double n2 = (double)s->rev.segments * s->rev.segments;
-        const double bound = 2.0 * CL_PI * CL_PI / 3.0 * (1.0 / n2 + 1.0 / ((double)pm * (double)pm));
+        const double bound =
+            2.0 * CL_PI * CL_PI / 3.0 * (1.0 / n2 + 1.0 / ((double)pm * (double)pm));
         ck_assert_msg(m.mass_kg <= ideal && m.mass_kg >= ideal * (1.0 - bound),
-                      "%s: volume %.9g, ideal torus %.9g, bound %.3g", name, m.mass_kg, ideal, bound);
+                      "%s: volume %.9g, ideal torus %.9g, bound %.3g", name, m.mass_kg, ideal,
+                      bound);
       }
     } else if (s->shape == SHAPEGEN_SHAPE_REVOLVE) { /* the mug: cup + a tube along the handle */
       revolve_closed_form(s, &v, com);
       const shapegen_handle_t *h = &s->handle;
       const unsigned n = s->rev.segments;
       const double a = h->radius_m * sin(2 * CL_PI * h->columns / n);
-      const double bh = 0.5 * (s->rev.rz_m[h->upper_row + h->rows][1] - s->rev.rz_m[h->upper_row][1]);
+      const double bh =
+          0.5 * (s->rev.rz_m[h->upper_row + h->rows][1] - s->rev.rz_m[h->upper_row][1]);
       double len = 0.0;
       for (int k = 0; k < 1000; ++k) {
         const double p0 = CL_PI / 2 - CL_PI * k / 1000, p1 = CL_PI / 2 - CL_PI * (k + 1) / 1000;
@@ -734,7 +742,8 @@ static void feature_pebble(const shapegen_object_t *o) {
                   p[i].triangle_count);
     pairs += p[i].triangle_count == 2;
   }
-  ck_assert_msg(pairs * 50 <= o->mesh.triangle_count, "%s: %zu coplanar pairs", o->spec.name, pairs);
+  ck_assert_msg(pairs * 50 <= o->mesh.triangle_count, "%s: %zu coplanar pairs", o->spec.name,
+                pairs);
   free(p);
 }
 
@@ -801,7 +810,8 @@ static void feature_plate(const shapegen_object_t *o) {
   for (int k = 0; k < 3; ++k) e[k] = hi[k] - lo[k];
   const double emin = fmin(e[0], fmin(e[1], e[2])), emax = fmax(e[0], fmax(e[1], e[2]));
   if (strstr(var, "thin") != NULL) {
-    ck_assert_msg(emin >= 2 * MM - 1e-9 && emin <= 4 * MM + 1e-9, "%s: %.2f mm thick", name, emin / MM);
+    ck_assert_msg(emin >= 2 * MM - 1e-9 && emin <= 4 * MM + 1e-9, "%s: %.2f mm thick", name,
+                  emin / MM);
     ck_assert(emax >= 20 * MM);
   } else if (strstr(var, "bar") != NULL) {
     ck_assert(emax >= 60 * MM && e[1] <= 10 * MM + 1e-9 && e[2] <= 10 * MM + 1e-9);
@@ -822,7 +832,8 @@ static void feature_plate(const shapegen_object_t *o) {
 static size_t pl_pieces(const double *x, const double *f, size_t n) {
   size_t pieces = 1;
   for (size_t i = 1; i + 1 < n; ++i) {
-    const double s0 = (f[i] - f[i - 1]) / (x[i] - x[i - 1]), s1 = (f[i + 1] - f[i]) / (x[i + 1] - x[i]);
+    const double s0 = (f[i] - f[i - 1]) / (x[i] - x[i - 1]),
+                 s1 = (f[i + 1] - f[i]) / (x[i + 1] - x[i]);
     pieces += fabs(s1 - s0) > 1e-6;
   }
   return pieces;
@@ -946,8 +957,6 @@ static int run_shapegen(char *const argv[], const char *out_path) {
   return WIFEXITED(ws) ? WEXITSTATUS(ws) : -1;
 }
 
-
-
 static double max_abs(const double m[3][3]) {
   double r = 0.0;
   for (int i = 0; i < 3; ++i) {
@@ -981,8 +990,10 @@ START_TEST(files_round_trip) {
   snprintf(first, sizeof first, "%d", FIRST);
   snprintf(count, sizeof count, "%d", BATCH);
   snprintf(list, sizeof list, "%s.txt", a.path);
-  char *const run_a[] = {"g", "--family", "all", "--seed", first, "--count", count, "--out-dir", a.path, NULL};
-  char *const run_b[] = {"g", "--family", "all", "--seed", first, "--count", count, "--out-dir", b.path, NULL};
+  char *const run_a[] = {"g",       "--family", "all",       "--seed", first,
+                         "--count", count,      "--out-dir", a.path,   NULL};
+  char *const run_b[] = {"g",       "--family", "all",       "--seed", first,
+                         "--count", count,      "--out-dir", b.path,   NULL};
   ck_assert_int_eq(run_shapegen(run_a, list), 0);
   ck_assert_int_eq(run_shapegen(run_b, NULL), 0);
   /* one line per object, in order, each family once */
@@ -1007,9 +1018,9 @@ START_TEST(files_round_trip) {
   char *const run_c[] = {"g", "--family", "mug", "--seed", "107", "--out-dir", c.path, NULL};
   ck_assert_int_eq(run_shapegen(run_c, NULL), 0);
   ck_assert(test_same_file(mt_join(&a, "mug_s107_uneven.urdf", pa, sizeof pa),
-                      mt_join(&c, "mug_s107_uneven.urdf", pb, sizeof pb)));
+                           mt_join(&c, "mug_s107_uneven.urdf", pb, sizeof pb)));
   ck_assert(test_same_file(mt_join(&a, "meshes/mug_s107.stl", pa, sizeof pa),
-                      mt_join(&c, "meshes/mug_s107.stl", pb, sizeof pb)));
+                           mt_join(&c, "meshes/mug_s107.stl", pb, sizeof pb)));
   static const char *const kinds[2] = {"even", "uneven"};
   for (int i = 0; i < BATCH; ++i) {
     shapegen_object_t o;
@@ -1019,8 +1030,9 @@ START_TEST(files_round_trip) {
                   "%s differs between two runs", rel);
     for (int k = 0; k < 2; ++k) {
       snprintf(rel, sizeof rel, "%s_%s.urdf", o.spec.name, kinds[k]);
-      ck_assert_msg(test_same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
-                    "%s differs between two runs", rel);
+      ck_assert_msg(
+          test_same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
+          "%s differs between two runs", rel);
       model_object_t obj;
       model_mass_t mass;
       model_error_t err = {{0}};
@@ -1056,7 +1068,8 @@ START_TEST(files_round_trip) {
   names[3 * BATCH] = "meshes";
   mt_tmpdir_remove(&a, names, 3 * BATCH + 1);
   mt_tmpdir_remove(&b, names, 3 * BATCH + 1);
-  const char *one[] = {"meshes/mug_s107.stl", "mug_s107_even.urdf", "mug_s107_uneven.urdf", "meshes"};
+  const char *one[] = {"meshes/mug_s107.stl", "mug_s107_even.urdf", "mug_s107_uneven.urdf",
+                       "meshes"};
   mt_tmpdir_remove(&c, one, 4);
 }
 END_TEST
@@ -1072,9 +1085,10 @@ START_TEST(cli_usage) {
   ck_assert_int_eq(run_shapegen(help, out), 0);
   size_t n = 0;
   char *text = test_slurp(out, &n);
-  static const char *const opts[] = {"--family", "--seed", "--count", "--out-dir", "--help",
-                                     "--version", "(default: 1)", "Exit status"};
-  for (size_t i = 0; i < sizeof opts / sizeof opts[0]; ++i) ck_assert_ptr_nonnull(strstr(text, opts[i]));
+  static const char *const opts[] = {"--family", "--seed",    "--count",      "--out-dir",
+                                     "--help",   "--version", "(default: 1)", "Exit status"};
+  for (size_t i = 0; i < sizeof opts / sizeof opts[0]; ++i)
+    ck_assert_ptr_nonnull(strstr(text, opts[i]));
   for (unsigned f = 0; f < SHAPEGEN_FAMILY_COUNT; ++f) {
     ck_assert_ptr_nonnull(strstr(text, shapegen_family_name((shapegen_family_t)f)));
   }
@@ -1093,7 +1107,8 @@ START_TEST(cli_usage) {
       {"g", "--family", "box", "--seed", "-1", "--out-dir", sub, NULL},
       {"g", "--family", "box", "--seed", "1x", "--out-dir", sub, NULL},
       {"g", "--family", "box", "--seed", "18446744073709551616", "--out-dir", sub, NULL},
-      {"g", "--family", "box", "--seed", "18446744073709551615", "--count", "2", "--out-dir", sub, NULL},
+      {"g", "--family", "box", "--seed", "18446744073709551615", "--count", "2", "--out-dir", sub,
+       NULL},
       {"g", "--family", "box", "--seed", "1", "--count", "0", "--out-dir", sub, NULL},
       {"g", "--family", "box", "--seed", "1", "--count", "100001", "--out-dir", sub, NULL},
       {"g", "--family", "box", "--seed", "1", "--out-dir", sub, "extra", NULL},
@@ -1104,7 +1119,8 @@ START_TEST(cli_usage) {
   }
   struct stat st;
   ck_assert_int_ne(stat(sub, &st), 0); /* nothing was written */
-  char *const unwritable[] = {"g", "--family", "box", "--seed", "1", "--out-dir", "/proc/comlearn/x", NULL};
+  char *const unwritable[] = {"g",         "--family",         "box", "--seed", "1",
+                              "--out-dir", "/proc/comlearn/x", NULL};
   ck_assert_int_eq(run_shapegen(unwritable, NULL), 1);
   const char *names[] = {"out.txt"};
   mt_tmpdir_remove(&d, names, 1);

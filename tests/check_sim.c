@@ -157,11 +157,19 @@ static void spawn(fx_t *f, const char *const *extra) {
                 f->url);
   self_check_udpm(f->lcm, f->url);
   comlearn_msg_sub_config_t c1 = {.type = comlearn_yumi_status_t_get_type_info(),
-                         .on_message = on_status, .user = f, .stats = &f->stats};
+                                  .on_message = on_status,
+                                  .user = f,
+                                  .stats = &f->stats};
   comlearn_msg_sub_config_t c2 = {.type = comlearn_object_state_t_get_type_info(),
-                         .on_message = on_object, .user = f, .stats = &f->stats};
-  ck_assert_int_eq(comlearn_msg_subscribe(f->lcm, COMLEARN_MSG_CHANNEL_YUMI_STATUS, &c1, &f->sub_st), COMLEARN_MSG_OK);
-  ck_assert_int_eq(comlearn_msg_subscribe(f->lcm, COMLEARN_MSG_CHANNEL_OBJECT_STATE, &c2, &f->sub_os), COMLEARN_MSG_OK);
+                                  .on_message = on_object,
+                                  .user = f,
+                                  .stats = &f->stats};
+  ck_assert_int_eq(
+      comlearn_msg_subscribe(f->lcm, COMLEARN_MSG_CHANNEL_YUMI_STATUS, &c1, &f->sub_st),
+      COMLEARN_MSG_OK);
+  ck_assert_int_eq(
+      comlearn_msg_subscribe(f->lcm, COMLEARN_MSG_CHANNEL_OBJECT_STATE, &c2, &f->sub_os),
+      COMLEARN_MSG_OK);
   comlearn_msg_subscription_set_queue_capacity(f->sub_st, 0);
   const char *argv[32] = {COMLEARN_SIM_EXE, "--lcm-url", f->url, "-q"};
   int n = 4;
@@ -244,7 +252,8 @@ static void send_cmd(fx_t *f, int64_t seq, int8_t mode, const double q[2][7], co
   c.velocity_scale = scale;
   memcpy(c.q_commanded_rad, q, sizeof c.q_commanded_rad);
   memcpy(c.gripper_width_commanded_m, w, sizeof c.gripper_width_commanded_m);
-  ck_assert_int_eq(comlearn_yumi_command_t_publish(f->lcm, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, &c), 0);
+  ck_assert_int_eq(comlearn_yumi_command_t_publish(f->lcm, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, &c),
+                   0);
 }
 
 /* Send and wait until the daemon's status reflects it (messages_received grew to `count`). */
@@ -285,9 +294,11 @@ START_TEST(help_and_bad_options) {
   static char out[8192];
   const char *help[] = {COMLEARN_SIM_EXE, "--help", NULL};
   ck_assert_int_eq(run_exit(help, out, sizeof out), 0);
-  const char *opts[] = {"--lcm-url", "--realtime", "--seed", "--placement-noise-mm",
-                        "--pose-noise-mm", "--drop-rate", "--channel-prefix", "--yumi-urdf",
-                        "--help", COMLEARN_MSG_LCM_URL_DEFAULT};
+  const char *opts[] = {"--lcm-url",        "--realtime",
+                        "--seed",           "--placement-noise-mm",
+                        "--pose-noise-mm",  "--drop-rate",
+                        "--channel-prefix", "--yumi-urdf",
+                        "--help",           COMLEARN_MSG_LCM_URL_DEFAULT};
   for (size_t i = 0; i < sizeof opts / sizeof opts[0]; i++)
     ck_assert_msg(strstr(out, opts[i]) != NULL, "--help does not mention %s", opts[i]);
   /* every option line carries its default */
@@ -336,15 +347,16 @@ START_TEST(joint_tracking_velocity_limit) {
   f.hist = calloc(HIST_MAX, sizeof *f.hist);
   ck_assert_ptr_nonnull(f.hist);
   placement_arm_t arm;
-  ck_assert_int_eq(placement_arm_load_yumi(&arm, YUMI_URDF, PLACEMENT_ARM_RIGHT, NULL), PLACEMENT_OK);
+  ck_assert_int_eq(placement_arm_load_yumi(&arm, YUMI_URDF, PLACEMENT_ARM_RIGHT, NULL),
+                   PLACEMENT_OK);
   double q0[2][7], q[2][7], w[2] = {0, 0};
   memcpy(q0, f.st.q_measured_rad, sizeof q0);
   memcpy(q, q0, sizeof q);
   q[1][0] += 0.5;
   q[1][4] += 0.8;
   const double scale = 0.5;
-  const double t_exp = fmax(0.5 / (arm.velocity_rad_s[0] * scale),
-                            0.8 / (arm.velocity_rad_s[4] * scale));
+  const double t_exp =
+      fmax(0.5 / (arm.velocity_rad_s[0] * scale), 0.8 / (arm.velocity_rad_s[4] * scale));
   ck_assert_double_eq_tol(arm.velocity_rad_s[0], CL_PI, 1e-12); /* 180 deg/s */
   f.n_hist = 0;
   int64_t seq = 1;
@@ -447,7 +459,8 @@ START_TEST(invalid_commands_refused) {
   fx_t f;
   spawn(&f, NULL);
   placement_arm_t arm;
-  ck_assert_int_eq(placement_arm_load_yumi(&arm, YUMI_URDF, PLACEMENT_ARM_RIGHT, NULL), PLACEMENT_OK);
+  ck_assert_int_eq(placement_arm_load_yumi(&arm, YUMI_URDF, PLACEMENT_ARM_RIGHT, NULL),
+                   PLACEMENT_OK);
   double q[2][7], w[2] = {0.01, 0.01};
   memcpy(q, f.st.q_measured_rad, sizeof q);
   const int64_t far = f.st.utime + 600000000;
@@ -518,7 +531,8 @@ START_TEST(invalid_commands_refused) {
     sc.action = cases[i].action;
     sc.urdf_path = (char *)cases[i].path;
     sc.link_in_tool_wxyz[0] = cases[i].qw;
-    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc),
+                     0);
     ck_assert(wait_for(&f, sc_acked, &sc.seq, 5.0));
     ck_assert_msg(f.os.sim_control_result == cases[i].want, "case %zu: result %d, want %d", i,
                   f.os.sim_control_result, cases[i].want);
@@ -616,18 +630,21 @@ END_TEST
 static void write_box_urdf_mass(const char *path, double com_x, double mass_kg) {
   FILE *fp = fopen(path, "w");
   ck_assert_ptr_nonnull(fp);
-  fprintf(fp,
-          "<?xml version=\"1.0\"?>\n<robot name=\"box\">\n <link name=\"box\">\n"
-          "  <inertial><origin xyz=\"%.17g 0 0\" rpy=\"0 0 0\"/><mass value=\"%.17g\"/>\n"
-          "   <inertia ixx=\"1.0e-4\" ixy=\"0\" ixz=\"0\" iyy=\"0.7e-4\" iyz=\"0\" izz=\"0.9e-4\"/>"
-          "</inertial>\n"
-          "  <collision><origin xyz=\"0 0 0\" rpy=\"0 0 0\"/><geometry><box size=\"0.04 0.06 0.05\"/>"
-          "</geometry></collision>\n </link>\n</robot>\n",
-          com_x, mass_kg);
+  fprintf(
+      fp,
+      "<?xml version=\"1.0\"?>\n<robot name=\"box\">\n <link name=\"box\">\n"
+      "  <inertial><origin xyz=\"%.17g 0 0\" rpy=\"0 0 0\"/><mass value=\"%.17g\"/>\n"
+      "   <inertia ixx=\"1.0e-4\" ixy=\"0\" ixz=\"0\" iyy=\"0.7e-4\" iyz=\"0\" izz=\"0.9e-4\"/>"
+      "</inertial>\n"
+      "  <collision><origin xyz=\"0 0 0\" rpy=\"0 0 0\"/><geometry><box size=\"0.04 0.06 0.05\"/>"
+      "</geometry></collision>\n </link>\n</robot>\n",
+      com_x, mass_kg);
   fclose(fp);
 }
 
-static void write_box_urdf(const char *path, double com_x) { write_box_urdf_mass(path, com_x, 0.2); }
+static void write_box_urdf(const char *path, double com_x) {
+  write_box_urdf_mass(path, com_x, 0.2);
+}
 
 static int trial_over(const fx_t *f, const void *arg) {
   const int64_t t = *(const int64_t *)arg;
@@ -650,7 +667,8 @@ static int place_trial(fx_t *f, const char *urdf, int first, int64_t *sc_seq, in
   sc.link_in_tool_position_m[2] = 0.010;
   sc.link_in_tool_wxyz[1] = 1.0;
   sc.gripper_width_m = 0.04;
-  ck_assert_int_eq(comlearn_sim_control_t_publish(f->lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+  ck_assert_int_eq(comlearn_sim_control_t_publish(f->lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc),
+                   0);
   ck_assert(wait_for(f, sc_acked, sc_seq, 5.0));
   ck_assert_int_eq(f->os.sim_control_result, OS(SIM_CONTROL_APPLIED));
   ck_assert(f->os.tracked);
@@ -658,7 +676,8 @@ static int place_trial(fx_t *f, const char *urdf, int first, int64_t *sc_seq, in
   ck_assert_str_eq(f->os.object_id, "box_test");
 
   placement_arm_t arm;
-  ck_assert_int_eq(placement_arm_load_yumi(&arm, YUMI_URDF, PLACEMENT_ARM_RIGHT, NULL), PLACEMENT_OK);
+  ck_assert_int_eq(placement_arm_load_yumi(&arm, YUMI_URDF, PLACEMENT_ARM_RIGHT, NULL),
+                   PLACEMENT_OK);
   model_object_t mo;
   ck_assert_int_eq(model_object_load(urdf, NULL, &mo, NULL), MODEL_OK);
   placement_plan_config_t cfg;
@@ -782,8 +801,8 @@ START_TEST(implausible_load_refused) {
     const char *path, *why[3];
   } cases[] = {
       {bad_mass, {"SIM_CONTROL load of 'box_bad' refused", "mass 1e-300 kg", "[0.001, 10] kg"}},
-      {bad_com, {"SIM_CONTROL load of 'box_bad' refused", "outside the mesh's bounding box",
-                 "x = 0.021 m"}},
+      {bad_com,
+       {"SIM_CONTROL load of 'box_bad' refused", "outside the mesh's bounding box", "x = 0.021 m"}},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     const int64_t rejected = f.st.messages_rejected;
@@ -797,15 +816,16 @@ START_TEST(implausible_load_refused) {
     sc.link_in_tool_position_m[2] = 0.010;
     sc.link_in_tool_wxyz[1] = 1.0;
     sc.gripper_width_m = 0.04;
-    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc),
+                     0);
     ck_assert(wait_for(&f, sc_acked, &sc_seq, 5.0));
     ck_assert_int_eq(f.os.sim_control_result, OS(SIM_CONTROL_ERR_LOAD));
     ck_assert_msg(wait_for(&f, status_says_load_refused, cases[i].why[0], 2.0),
                   "case %zu: status error_text: %s", i, f.st.error_text);
     ck_assert_int_eq(f.st.error_code, ST(ERR_INVALID));
     for (int w = 1; w < 3; w++)
-      ck_assert_msg(strstr(f.st.error_text, cases[i].why[w]) != NULL, "case %zu: '%s' not in %s",
-                    i, cases[i].why[w], f.st.error_text);
+      ck_assert_msg(strstr(f.st.error_text, cases[i].why[w]) != NULL, "case %zu: '%s' not in %s", i,
+                    cases[i].why[w], f.st.error_text);
     ck_assert_msg(strstr(f.st.error_text, cases[i].path) != NULL, "case %zu: no URDF in %s", i,
                   f.st.error_text);
     ck_assert_int_eq(f.st.messages_rejected, rejected + 1);

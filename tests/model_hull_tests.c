@@ -65,8 +65,7 @@ static void assert_valid_hull(const model_mesh_t *pts, const model_mesh_t *hull,
     const double *c = hull->vertices_m[hull->triangles[t][2]];
     double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
     double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
-                   u[0] * w[1] - u[1] * w[0]};
+    double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
     double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     flat += !(len > 0.0);
     for (size_t i = 0; i < pts->vertex_count; ++i) {
@@ -161,9 +160,10 @@ START_TEST(test_hull_random_points) {
   uint64_t s = 42;
   points_alloc(&pts, 2000);
   for (size_t i = 0; i < pts.vertex_count;) {
-    double p[3] = {2 * cl_rng_uniform(&s) - 1, 2 * cl_rng_uniform(&s) - 1, 2 * cl_rng_uniform(&s) - 1};
+    double p[3] = {2 * cl_rng_uniform(&s) - 1, 2 * cl_rng_uniform(&s) - 1,
+                   2 * cl_rng_uniform(&s) - 1};
     if (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] <= 1.0) {
-      pts.vertices_m[i][0] = 0.03 * p[0] + 0.4;  /* a 6 cm ball away from the origin */
+      pts.vertices_m[i][0] = 0.03 * p[0] + 0.4; /* a 6 cm ball away from the origin */
       pts.vertices_m[i][1] = 0.03 * p[1] - 0.2;
       pts.vertices_m[i][2] = 0.03 * p[2] + 0.1;
       ++i;
@@ -293,8 +293,8 @@ START_TEST(test_aabb_and_center) {
   model_mesh_t r;
   mt_rock(&r, 12, 24);
   ck_assert_int_eq(model_mesh_aabb(&r, &box), MODEL_OK);
-  double want_lo[3] = {INFINITY, INFINITY, INFINITY}, want_hi[3] = {-INFINITY, -INFINITY,
-                                                                    -INFINITY};
+  double want_lo[3] = {INFINITY, INFINITY, INFINITY},
+         want_hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (size_t i = 0; i < r.vertex_count; ++i) {
     for (int k = 0; k < 3; ++k) {
       want_lo[k] = fmin(want_lo[k], r.vertices_m[i][k]);
@@ -318,12 +318,12 @@ END_TEST
 
 START_TEST(test_polygon_square) {
   /* A 40 x 20 mm rectangle's corners, shuffled, with interior and edge points. */
-  double pts[9][2] = {{0.04, 0.02}, {0.01, 0.01}, {0.0, 0.0}, {0.02, 0.0}, {0.0, 0.02},
+  double pts[9][2] = {{0.04, 0.02}, {0.01, 0.01},  {0.0, 0.0},   {0.02, 0.0}, {0.0, 0.02},
                       {0.04, 0.0},  {0.03, 0.005}, {0.02, 0.02}, {0.0, 0.01}};
   double hull[10][2];
   const size_t n = model_polygon_hull(pts, 9, hull);
   ck_assert_uint_eq(n, 4); /* collinear edge points dropped */
-  const double (*h)[2] = (const double(*)[2])hull;
+  const double(*h)[2] = (const double(*)[2])hull;
   ck_assert_double_eq_tol(model_polygon_area(h, n), 0.04 * 0.02, 1e-18); /* counter-clockwise */
   ck_assert_double_eq_tol(model_polygon_width(h, n), 0.02, 1e-15);
   const double inside[2] = {0.03, 0.015}, outside[2] = {0.05, 0.025}, corner[2] = {0.0, 0.0};

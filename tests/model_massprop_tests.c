@@ -91,13 +91,13 @@ static void normalize(double v[3], double radius) {
  * which mass properties do not mind. Centrally and icosahedrally symmetric up to rounding. */
 static void make_icosphere(model_mesh_t *m, int levels, double radius, const double center[3]) {
   const double g = (1.0 + sqrt(5.0)) / 2.0;
-  const double ico_v[12][3] = {{-1, g, 0}, {1, g, 0},  {-1, -g, 0}, {1, -g, 0},
-                               {0, -1, g}, {0, 1, g},  {0, -1, -g}, {0, 1, -g},
-                               {g, 0, -1}, {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
+  const double ico_v[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0},
+                               {0, -1, g}, {0, 1, g}, {0, -1, -g}, {0, 1, -g},
+                               {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
   static const uint32_t ico_t[20][3] = {
-      {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+      {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
       {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+      {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
   size_t nt = 20;
   for (int l = 0; l < levels; ++l) nt *= 4;
   double(*tri)[3][3] = calloc(nt, sizeof *tri);
@@ -123,7 +123,8 @@ static void make_icosphere(model_mesh_t *m, int levels, double radius, const dou
                                     {tri[t][2], mid[2], mid[1]},
                                     {mid[0], mid[1], mid[2]}};
       for (int c = 0; c < 4; ++c) {
-        for (int i = 0; i < 3; ++i) memcpy(next[4 * t + (size_t)c][i], corner[c][i], 3 * sizeof(double));
+        for (int i = 0; i < 3; ++i)
+          memcpy(next[4 * t + (size_t)c][i], corner[c][i], 3 * sizeof(double));
       }
     }
     count *= 4;
@@ -134,7 +135,8 @@ static void make_icosphere(model_mesh_t *m, int levels, double radius, const dou
   mesh_alloc(m, 3 * nt, nt);
   for (size_t t = 0; t < nt; ++t) {
     for (int i = 0; i < 3; ++i) {
-      for (int k = 0; k < 3; ++k) m->vertices_m[3 * t + (size_t)i][k] = radius * tri[t][i][k] + center[k];
+      for (int k = 0; k < 3; ++k)
+        m->vertices_m[3 * t + (size_t)i][k] = radius * tri[t][i][k] + center[k];
       m->triangles[t][i] = (uint32_t)(3 * t + (size_t)i);
     }
   }
@@ -239,7 +241,8 @@ static model_mass_t compose(const model_mass_t *a, const model_mass_t *b, double
   memset(&r, 0, sizeof r);
   const double mb = w * b->mass_kg;
   r.mass_kg = a->mass_kg + mb;
-  for (int k = 0; k < 3; ++k) r.com_m[k] = (a->mass_kg * a->com_m[k] + mb * b->com_m[k]) / r.mass_kg;
+  for (int k = 0; k < 3; ++k)
+    r.com_m[k] = (a->mass_kg * a->com_m[k] + mb * b->com_m[k]) / r.mass_kg;
   const model_mass_t *part[2] = {a, b};
   const double mass[2] = {a->mass_kg, mb};
   const double scale[2] = {1.0, w};
@@ -249,8 +252,8 @@ static model_mass_t compose(const model_mass_t *a, const model_mass_t *b, double
     const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
-        r.inertia_kg_m2[i][j] += scale[p] * part[p]->inertia_kg_m2[i][j] +
-                                 mass[p] * ((i == j ? dd : 0.0) - d[i] * d[j]);
+        r.inertia_kg_m2[i][j] +=
+            scale[p] * part[p]->inertia_kg_m2[i][j] + mass[p] * ((i == j ? dd : 0.0) - d[i] * d[j]);
       }
     }
   }
@@ -321,9 +324,10 @@ START_TEST(tetrahedron_tonon) {
   ck_assert_double_eq_tol(got.com_m[1], 0.78281, 1e-5);
   ck_assert_double_eq_tol(got.com_m[2], 3.72962, 1e-5);
   const double paper[6] = {43520.33257, 194711.28938, 191168.76173, /* a, b, c */
-                           4417.66150, -46343.16662, 11996.20119};  /* a', b', c' */
-  const double ours[6] = {got.inertia_kg_m2[0][0], got.inertia_kg_m2[1][1], got.inertia_kg_m2[2][2],
-                          -got.inertia_kg_m2[1][2], -got.inertia_kg_m2[0][2], -got.inertia_kg_m2[0][1]};
+                           4417.66150,  -46343.16662, 11996.20119}; /* a', b', c' */
+  const double ours[6] = {got.inertia_kg_m2[0][0],  got.inertia_kg_m2[1][1],
+                          got.inertia_kg_m2[2][2],  -got.inertia_kg_m2[1][2],
+                          -got.inertia_kg_m2[0][2], -got.inertia_kg_m2[0][1]};
   for (int i = 0; i < 6; ++i) ck_assert_double_eq_tol(ours[i] / paper[i], 1.0, 1e-7);
   model_mesh_free(&m);
 }
@@ -417,7 +421,8 @@ static model_mass_t transform_mass(const model_mass_t *a, double r[3][3], const 
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
       for (int k = 0; k < 3; ++k) {
-        for (int l = 0; l < 3; ++l) b.inertia_kg_m2[i][j] += r[i][k] * a->inertia_kg_m2[k][l] * r[j][l];
+        for (int l = 0; l < 3; ++l)
+          b.inertia_kg_m2[i][j] += r[i][k] * a->inertia_kg_m2[k][l] * r[j][l];
       }
     }
   }
@@ -559,7 +564,8 @@ START_TEST(halfspace_all_or_nothing) {
   const model_halfspace_t miss = {{0, 0, 1}, 0.5}, all = {{0, 0, 1}, 0.0},
                           all_far = {{0, 0, 1}, -7.0};
   model_mass_t got;
-  const model_mass_t want1 = box_closed_form(lo, hi, 1000.0), want2 = box_closed_form(lo, hi, 3000.0);
+  const model_mass_t want1 = box_closed_form(lo, hi, 1000.0),
+                     want2 = box_closed_form(lo, hi, 3000.0);
   ck_assert_int_eq(model_mesh_mass_halfspace(&m, 1000.0, &miss, 3000.0, &got), MODEL_OK);
   assert_mass_near(&got, &want1, 0.3, 1e-12);
   ck_assert_int_eq(model_mesh_mass_halfspace(&m, 1000.0, &all, 3000.0, &got), MODEL_OK);
@@ -871,8 +877,8 @@ START_TEST(plausible_nonfinite_and_null) {
 }
 END_TEST
 
-static const char *const kRocks[] = {"rock_1_even", "rock_1_uneven", "rock_2_even",
-                                     "rock_2_uneven", "rock_3_even", "rock_3_uneven"};
+static const char *const kRocks[] = {"rock_1_even",   "rock_1_uneven", "rock_2_even",
+                                     "rock_2_uneven", "rock_3_even",   "rock_3_uneven"};
 
 START_TEST(plausible_bundled_rocks) {
   char path[1024];
@@ -920,8 +926,7 @@ Suite *model_massprop_suite(void) {
   tcase_add_test(plaus, plausible_moment_upper_bound);
   tcase_add_test(plaus, plausible_moment_lower_bound);
   tcase_add_test(plaus, plausible_nonfinite_and_null);
-  tcase_add_loop_test(plaus, plausible_bundled_rocks, 0,
-                      (int)(sizeof kRocks / sizeof kRocks[0]));
+  tcase_add_loop_test(plaus, plausible_bundled_rocks, 0, (int)(sizeof kRocks / sizeof kRocks[0]));
   suite_add_tcase(s, plaus);
   return s;
 }

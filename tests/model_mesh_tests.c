@@ -2,9 +2,9 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "comlearn/math3d.h"
+#include "file_test_util.h"
 #include "model_suites.h"
 #include "model_test_util.h"
-#include "file_test_util.h"
 
 /* ---- helpers --------------------------------------------------------------------------------- */
 
@@ -56,12 +56,12 @@ static model_status_t load_mesh_quiet(const char *path) {
 /* ---- status ---------------------------------------------------------------------------------- */
 
 START_TEST(test_status_strings) {
-  const model_status_t all[] = {
-      MODEL_OK,           MODEL_E_ARG,      MODEL_E_NOFILE,   MODEL_E_PARSE,
-      MODEL_E_NOLINK,     MODEL_E_NOGEOM,   MODEL_E_OPEN,     MODEL_E_ORIENT,
-      MODEL_E_DEGENERATE, MODEL_E_NONFINITE, MODEL_E_INERTIAL, MODEL_E_INERTIA_TRIANGLE,
-      MODEL_E_NOMEM,      MODEL_E_UNSUPPORTED, MODEL_E_REGION, MODEL_E_HULL,
-      MODEL_E_CHAIN,      MODEL_E_IMPLAUSIBLE};
+  const model_status_t all[] = {MODEL_OK,          MODEL_E_ARG,         MODEL_E_NOFILE,
+                                MODEL_E_PARSE,     MODEL_E_NOLINK,      MODEL_E_NOGEOM,
+                                MODEL_E_OPEN,      MODEL_E_ORIENT,      MODEL_E_DEGENERATE,
+                                MODEL_E_NONFINITE, MODEL_E_INERTIAL,    MODEL_E_INERTIA_TRIANGLE,
+                                MODEL_E_NOMEM,     MODEL_E_UNSUPPORTED, MODEL_E_REGION,
+                                MODEL_E_HULL,      MODEL_E_CHAIN,       MODEL_E_IMPLAUSIBLE};
   const size_t n = sizeof all / sizeof all[0];
   ck_assert_uint_eq(n, 18);
   for (size_t i = 0; i < n; ++i) {
@@ -305,9 +305,12 @@ typedef struct {
 } format_case_t;
 
 static const format_case_t FORMATS[] = {
-    {"stl", "stl", "facet normal", 0},  {"stlb", "stl", NULL, 1},
-    {"obj", "obj", "\nf ", 0},          {"ply", "ply", "format ascii", 0},
-    {"plyb", "ply", "format binary", 1}, {"collada", "dae", "<COLLADA", 0},
+    {"stl", "stl", "facet normal", 0},
+    {"stlb", "stl", NULL, 1},
+    {"obj", "obj", "\nf ", 0},
+    {"ply", "ply", "format ascii", 0},
+    {"plyb", "ply", "format binary", 1},
+    {"collada", "dae", "<COLLADA", 0},
     {"glb2", "glb", NULL, 1},
 };
 
@@ -534,8 +537,9 @@ START_TEST(test_load_defective_files) {
   ck_assert_ptr_nonnull(strstr(err.msg, orient));
   model_mesh_free(&m);
 
-  mt_write_text(nan_obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\nf 1 3 2\nf 1 2 4\nf 1 4 3\n"
-                         "f 2 3 4\n");
+  mt_write_text(nan_obj,
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\nf 1 3 2\nf 1 2 4\nf 1 4 3\n"
+                "f 2 3 4\n");
   ck_assert_int_eq(model_mesh_load(nan_obj, NULL, &out, NULL, &err), MODEL_E_NONFINITE);
   ck_assert_ptr_nonnull(strstr(err.msg, nan_obj));
   ck_assert_ptr_nonnull(strstr(err.msg, "not finite"));
@@ -602,8 +606,8 @@ START_TEST(test_load_unreadable_files) {
   free(bytes);
   ck_assert_int_eq(model_mesh_load(path, NULL, &out, NULL, &err), MODEL_E_PARSE);
   ck_assert_ptr_nonnull(strstr(err.msg, path));
-  const char *names[] = {"empty.stl", "garbage.stl", "garbage.obj", "garbage.ply", "garbage.dae",
-                         "full.stl", "truncated.stl", "capture.txt"};
+  const char *names[] = {"empty.stl",   "garbage.stl", "garbage.obj",   "garbage.ply",
+                         "garbage.dae", "full.stl",    "truncated.stl", "capture.txt"};
   mt_tmpdir_remove(&d, names, 8);
 }
 END_TEST
@@ -672,8 +676,8 @@ START_TEST(test_rot_quat_round_trip) {
     model_rot_to_quat((const double(*)[3])r, q);
     ck_assert_double_eq_tol(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-14);
     ck_assert(q[0] >= 0.0);
-    const double sgn = (q[0] * qs[i][0] + q[1] * qs[i][1] + q[2] * qs[i][2] + q[3] * qs[i][3]) < 0.0
-                           ? -1.0 : 1.0;
+    const double sgn =
+        (q[0] * qs[i][0] + q[1] * qs[i][1] + q[2] * qs[i][2] + q[3] * qs[i][3]) < 0.0 ? -1.0 : 1.0;
     for (int k = 0; k < 4; ++k) ck_assert_double_eq_tol(q[k], sgn * qs[i][k], 1e-12);
     model_quat_to_rot(q, r2);
     for (int a = 0; a < 3; ++a)

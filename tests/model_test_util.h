@@ -55,7 +55,7 @@ static inline void mt_rock(model_mesh_t *m, unsigned rings, unsigned segs) {
     }
   }
   size_t t = 0;
-#define MT_RING(i, j) ((uint32_t)(2 + ((i) - 1) * segs + ((j) % segs)))
+#define MT_RING(i, j) ((uint32_t)(2 + ((i)-1) * segs + ((j) % segs)))
   for (unsigned j = 0; j < segs; ++j) {
     uint32_t *a = m->triangles[t++];
     a[0] = 0, a[1] = MT_RING(1, j), a[2] = MT_RING(1, j + 1);
@@ -128,8 +128,7 @@ static inline void mt_tmpdir_make(mt_tmpdir_t *d) {
 }
 
 /* d/name into out. */
-static inline const char *mt_join(const mt_tmpdir_t *d, const char *name, char *out,
-                                  size_t size) {
+static inline const char *mt_join(const mt_tmpdir_t *d, const char *name, char *out, size_t size) {
   int n = snprintf(out, size, "%s/%s", d->path, name);
   ck_assert(n > 0 && (size_t)n < size);
   return out;
@@ -156,7 +155,7 @@ static inline void mt_tmpdir_remove(mt_tmpdir_t *d, const char *const *names, si
 
 /* Run a loader with stdout and stderr sent to a file; return how many bytes it printed. */
 static inline long mt_printed_bytes(const char *capture_path, model_status_t (*fn)(const char *),
-                          const char *arg, model_status_t *status) {
+                                    const char *arg, model_status_t *status) {
   fflush(stdout);
   fflush(stderr);
   int saved_out = dup(1), saved_err = dup(2);

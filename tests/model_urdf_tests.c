@@ -38,7 +38,8 @@ static void write_urdf(const char *path, const char *link, const char *body) {
   char text[4096];
   int n = snprintf(text, sizeof text,
                    "<?xml version=\"1.0\"?>\n<robot name=\"testbot\">\n  <link name=\"%s\">\n%s\n"
-                   "  </link>\n</robot>\n", link, body);
+                   "  </link>\n</robot>\n",
+                   link, body);
   ck_assert(n > 0 && (size_t)n < sizeof text);
   mt_write_text(path, text);
 }
@@ -83,7 +84,8 @@ START_TEST(test_urdf_mesh_scale_origin) {
   mt_join(&d, "obj.urdf", urdf, sizeof urdf);
   save_tetra(mesh);
   write_urdf(urdf, "rock",
-             "<collision><origin xyz=\"0.1 0.2 0.3\" rpy=\"" HALF_PI " 0 " HALF_PI "\"/>"
+             "<collision><origin xyz=\"0.1 0.2 0.3\" rpy=\"" HALF_PI " 0 " HALF_PI
+             "\"/>"
              "<geometry><mesh filename=\"tetra.stl\" scale=\"2 0.5 0.25\"/></geometry>"
              "</collision>");
   model_object_t obj;
@@ -95,10 +97,10 @@ START_TEST(test_urdf_mesh_scale_origin) {
   ck_assert_uint_eq(obj.mesh.vertex_count, 4);
   ck_assert_uint_eq(obj.mesh.triangle_count, 4);
   const double tol = 1e-12;
-  ck_assert(has_vertex(&obj.mesh, 0.1, 0.2, 0.3, tol));   /* (0,0,0) */
-  ck_assert(has_vertex(&obj.mesh, 0.1, 2.2, 0.3, tol));   /* (1,0,0) -> (2,0,0) -> (0,2,0) */
-  ck_assert(has_vertex(&obj.mesh, 0.1, 0.2, 1.3, tol));   /* (0,2,0) -> (0,1,0) -> (0,0,1) */
-  ck_assert(has_vertex(&obj.mesh, 0.85, 0.2, 0.3, tol));  /* (0,0,3) -> (0,0,.75) -> (.75,0,0) */
+  ck_assert(has_vertex(&obj.mesh, 0.1, 0.2, 0.3, tol));  /* (0,0,0) */
+  ck_assert(has_vertex(&obj.mesh, 0.1, 2.2, 0.3, tol));  /* (1,0,0) -> (2,0,0) -> (0,2,0) */
+  ck_assert(has_vertex(&obj.mesh, 0.1, 0.2, 1.3, tol));  /* (0,2,0) -> (0,1,0) -> (0,0,1) */
+  ck_assert(has_vertex(&obj.mesh, 0.85, 0.2, 0.3, tol)); /* (0,0,3) -> (0,0,.75) -> (.75,0,0) */
   ck_assert_double_eq_tol(obj.aabb.min_m[0], 0.1, tol);
   ck_assert_double_eq_tol(obj.aabb.max_m[0], 0.85, tol);
   ck_assert_double_eq_tol(obj.aabb.max_m[1], 2.2, tol);
@@ -204,7 +206,8 @@ START_TEST(test_urdf_sphere_cylinder) {
   /* Cylinder along its z, turned by roll pi/2 onto -y: extents 0.05, 0.1, 0.05. The prism of
    * 64 sides has volume 32 r^2 sin(2 pi / 64) L exactly. */
   write_urdf(urdf, "can",
-             "<collision><origin rpy=\"" HALF_PI " 0 0\"/><geometry><cylinder radius=\"0.05\" "
+             "<collision><origin rpy=\"" HALF_PI
+             " 0 0\"/><geometry><cylinder radius=\"0.05\" "
              "length=\"0.2\"/></geometry></collision>");
   ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
   ck_assert_double_eq_tol(obj.aabb.max_m[0], 0.05, 1e-12);
@@ -224,8 +227,8 @@ END_TEST
 START_TEST(test_urdf_package_and_relative_paths) {
   mt_tmpdir_t d;
   mt_tmpdir_make(&d);
-  const char *dirs[] = {"ws", "ws/mypkg", "ws/mypkg/urdf", "ws/mypkg/meshes", "ws/other",
-                        "ws/other/meshes"};
+  const char *dirs[] = {"ws",       "ws/mypkg",       "ws/mypkg/urdf", "ws/mypkg/meshes",
+                        "ws/other", "ws/other/meshes"};
   char p[512], urdf[512], body[1024];
   for (int i = 0; i < 6; ++i) {
     ck_assert_int_eq(mkdir(mt_join(&d, dirs[i], p, sizeof p), 0700), 0);
@@ -262,8 +265,8 @@ START_TEST(test_urdf_package_and_relative_paths) {
                   err.msg);
     size_t len = strlen(obj.mesh_path), tail = strlen(cases[i].found);
     ck_assert_uint_ge(len, tail);
-    ck_assert_msg(strcmp(obj.mesh_path + len - tail, cases[i].found) == 0, "%s -> %s",
-                  cases[i].uri, obj.mesh_path);
+    ck_assert_msg(strcmp(obj.mesh_path + len - tail, cases[i].found) == 0, "%s -> %s", cases[i].uri,
+                  obj.mesh_path);
     ck_assert_double_eq_tol(mt_volume(&obj.mesh), 1.0, 1e-12);
     model_object_free(&obj);
   }
@@ -289,10 +292,16 @@ START_TEST(test_urdf_package_and_relative_paths) {
     ck_assert_ptr_nonnull(strstr(err.msg, "'rock'"));
     ck_assert_ptr_null(obj.mesh.vertices_m);
   }
-  const char *names[] = {"ws/mypkg/meshes/t.stl", "ws/other/meshes/o.stl",
-                         "ws/mypkg/urdf/here.stl", "ws/mypkg/urdf/obj.urdf",
-                         "ws/other/meshes", "ws/other", "ws/mypkg/meshes", "ws/mypkg/urdf",
-                         "ws/mypkg", "ws"};
+  const char *names[] = {"ws/mypkg/meshes/t.stl",
+                         "ws/other/meshes/o.stl",
+                         "ws/mypkg/urdf/here.stl",
+                         "ws/mypkg/urdf/obj.urdf",
+                         "ws/other/meshes",
+                         "ws/other",
+                         "ws/mypkg/meshes",
+                         "ws/mypkg/urdf",
+                         "ws/mypkg",
+                         "ws"};
   mt_tmpdir_remove(&d, names, 10);
 }
 END_TEST
@@ -366,13 +375,16 @@ START_TEST(test_urdf_bad_files) {
     const char *why; /* part of the message */
   } cases[] = {
       {"<robot name=\"r\"><link name=\"a\"><collision><geometry><box size=\"1 1 1\"/></geometry>"
-       "</collision></link>", "not valid"},                               /* unterminated XML */
+       "</collision></link>",
+       "not valid"}, /* unterminated XML */
       {"this is not XML at all", "not valid"},
-      {"<?xml version=\"1.0\"?><building name=\"r\"/>", "not valid"},     /* no <robot> */
+      {"<?xml version=\"1.0\"?><building name=\"r\"/>", "not valid"}, /* no <robot> */
       {"<robot name=\"r\"><link name=\"a\"><collision><origin xyz=\"nan 0 0\"/><geometry>"
-       "<box size=\"1 1 1\"/></geometry></collision></link></robot>", "nan"}, /* dropped */
+       "<box size=\"1 1 1\"/></geometry></collision></link></robot>",
+       "nan"}, /* dropped */
       {"<robot name=\"r\"><link name=\"a\"><collision><geometry><box size=\"1 x 1\"/></geometry>"
-       "</collision></link></robot>", "not valid"},
+       "</collision></link></robot>",
+       "not valid"},
       {"<robot name=\"r\"><link name=\"a\"/><link name=\"a\"/></robot>", "not valid"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
@@ -459,7 +471,8 @@ START_TEST(test_inertial_rotated_origin) {
   ck_assert_double_eq(m.com_m[0], 0.0);
 
   /* No rotation: the tensor as written. */
-  write_inertial(urdf, "", "1", "ixx=\"1\" iyy=\"1.5\" izz=\"2\" ixy=\"0.1\" ixz=\"-0.2\" "
+  write_inertial(urdf, "", "1",
+                 "ixx=\"1\" iyy=\"1.5\" izz=\"2\" ixy=\"0.1\" ixz=\"-0.2\" "
                  "iyz=\"0.05\"");
   ck_assert_msg(model_inertial_load(urdf, NULL, &m, &err) == MODEL_OK, "%s", err.msg);
   const double want3[3][3] = {{1, 0.1, -0.2}, {0.1, 1.5, 0.05}, {-0.2, 0.05, 2}};
@@ -487,8 +500,8 @@ START_TEST(test_inertial_invalid) {
        "not positive"},
       {"-1", "ixx=\"1\" iyy=\"1\" izz=\"1\" ixy=\"0\" ixz=\"0\" iyz=\"0\"", MODEL_E_INERTIAL,
        "not positive"},
-      {"1", "ixx=\"1\" iyy=\"1\" izz=\"3\" ixy=\"0\" ixz=\"0\" iyz=\"0\"",
-       MODEL_E_INERTIA_TRIANGLE, "triangle"},
+      {"1", "ixx=\"1\" iyy=\"1\" izz=\"3\" ixy=\"0\" ixz=\"0\" iyz=\"0\"", MODEL_E_INERTIA_TRIANGLE,
+       "triangle"},
       {"1", "ixx=\"-1\" iyy=\"1\" izz=\"1\" ixy=\"0\" ixz=\"0\" iyz=\"0\"", MODEL_E_INERTIAL,
        "positive definite"},
       {"1", "ixx=\"0\" iyy=\"0\" izz=\"0\" ixy=\"0\" ixz=\"0\" iyz=\"0\"", MODEL_E_INERTIAL,
@@ -500,7 +513,8 @@ START_TEST(test_inertial_invalid) {
     write_inertial(urdf, "", cases[i].mass, cases[i].inertia);
     ck_assert_int_eq(model_inertial_load(urdf, NULL, &m, &err), cases[i].status);
     ck_assert_msg(strstr(err.msg, cases[i].why) != NULL && strstr(err.msg, urdf) != NULL &&
-                      strstr(err.msg, "'rock'") != NULL, "case %zu: %s", i, err.msg);
+                      strstr(err.msg, "'rock'") != NULL,
+                  "case %zu: %s", i, err.msg);
     ck_assert_double_eq(m.mass_kg, 0.0); /* zeroed on error */
   }
   /* Unparseable numbers: urdfdom drops the element; we reject the file. */
@@ -520,7 +534,8 @@ START_TEST(test_inertial_invalid) {
 END_TEST
 
 static model_mass_t valid_mass(void) {
-  model_mass_t m = {.mass_kg = 0.3, .com_m = {0.01, 0.02, -0.03},
+  model_mass_t m = {.mass_kg = 0.3,
+                    .com_m = {0.01, 0.02, -0.03},
                     .inertia_kg_m2 = {{2e-4, 1e-5, 0}, {1e-5, 3e-4, -2e-5}, {0, -2e-5, 4e-4}}};
   return m;
 }
@@ -566,12 +581,11 @@ END_TEST
 START_TEST(test_inertia_principal) {
   /* A = R diag(1, 2, 3) R^T with R = Rz(0.3) Ry(-0.7) Rx(1.1). */
   const double r = 1.1, p = -0.7, y = 0.3;
-  const double R[3][3] = {
-      {cos(y) * cos(p), cos(y) * sin(p) * sin(r) - sin(y) * cos(r),
-       cos(y) * sin(p) * cos(r) + sin(y) * sin(r)},
-      {sin(y) * cos(p), sin(y) * sin(p) * sin(r) + cos(y) * cos(r),
-       sin(y) * sin(p) * cos(r) - cos(y) * sin(r)},
-      {-sin(p), cos(p) * sin(r), cos(p) * cos(r)}};
+  const double R[3][3] = {{cos(y) * cos(p), cos(y) * sin(p) * sin(r) - sin(y) * cos(r),
+                           cos(y) * sin(p) * cos(r) + sin(y) * sin(r)},
+                          {sin(y) * cos(p), sin(y) * sin(p) * sin(r) + cos(y) * cos(r),
+                           sin(y) * sin(p) * cos(r) - cos(y) * sin(r)},
+                          {-sin(p), cos(p) * sin(r), cos(p) * cos(r)}};
   const double d[3] = {1.0, 2.0, 3.0};
   double A[3][3];
   for (int i = 0; i < 3; ++i) {

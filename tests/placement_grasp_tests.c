@@ -16,10 +16,12 @@
 
 static void load_arms(placement_arm_t arms[2]) {
   placement_error_t err = {{0}};
-  ck_assert_msg(placement_arm_load_yumi(&arms[0], YUMI_URDF, PLACEMENT_ARM_LEFT, &err) ==
-                    PLACEMENT_OK, "left: %s", err.msg);
-  ck_assert_msg(placement_arm_load_yumi(&arms[1], YUMI_URDF, PLACEMENT_ARM_RIGHT, &err) ==
-                    PLACEMENT_OK, "right: %s", err.msg);
+  ck_assert_msg(
+      placement_arm_load_yumi(&arms[0], YUMI_URDF, PLACEMENT_ARM_LEFT, &err) == PLACEMENT_OK,
+      "left: %s", err.msg);
+  ck_assert_msg(
+      placement_arm_load_yumi(&arms[1], YUMI_URDF, PLACEMENT_ARM_RIGHT, &err) == PLACEMENT_OK,
+      "right: %s", err.msg);
 }
 
 static model_mesh_t box_mesh(double hx, double hy, double hz) {
@@ -37,8 +39,8 @@ static void lcm_plan_config(placement_plan_config_t *cfg) {
 
 /* A release pose: the box yawed by yaw_rad about block z, link origin at (x, y), touching B
  * (touch_depth_m into it, as the estimator's poses are). */
-static model_pose_t release_at(const model_mesh_t *m, const placement_plan_config_t *cfg,
-                               double x, double y, double yaw_rad) {
+static model_pose_t release_at(const model_mesh_t *m, const placement_plan_config_t *cfg, double x,
+                               double y, double yaw_rad) {
   placement_pose_t p;
   const double z_axis[3] = {0.0, 0.0, 1.0};
   placement_pose_identity(&p);
@@ -71,9 +73,9 @@ static void request_nominal(placement_grasp_request_t *req, const model_mesh_t *
 static void assert_reaches(const placement_arm_t arms[2], const placement_plan_config_t *cfg,
                            const model_pose_t *rel, const placement_grasp_t *g) {
   placement_pose_t tcp, grasp, got, want_b, want;
-  ck_assert_int_eq(placement_fk(&arms[g->side],
-                                g->plan.waypoints[PLACEMENT_WAYPOINT_PLACE].q_rad, &tcp),
-                   PLACEMENT_OK);
+  ck_assert_int_eq(
+      placement_fk(&arms[g->side], g->plan.waypoints[PLACEMENT_WAYPOINT_PLACE].q_rad, &tcp),
+      PLACEMENT_OK);
   ck_assert_int_eq(placement_pose_from_cl_pose(&g->object_in_tcp, &grasp), PLACEMENT_OK);
   placement_pose_mul(&tcp, &grasp, &got);
   ck_assert_int_eq(placement_pose_from_wxyz(rel->position_m, rel->orientation_wxyz, &want_b),
@@ -88,8 +90,7 @@ static void assert_reaches(const placement_arm_t arms[2], const placement_plan_c
   ck_assert_msg(dp <= 1e-8 && dr <= 1e-8, "G off the nominal grasp by %g m, %g rad", dp, dr);
   ck_assert(g->object_in_tcp.orientation_wxyz[0] >= 0.0);
   for (int w = 0; w < PLACEMENT_PLAN_WAYPOINTS; ++w)
-    ck_assert_int_eq(placement_arm_check(&arms[g->side], g->plan.waypoints[w].q_rad),
-                     PLACEMENT_OK);
+    ck_assert_int_eq(placement_arm_check(&arms[g->side], g->plan.waypoints[w].q_rad), PLACEMENT_OK);
 }
 
 /* The nominal grasp, rebuilt here from the documented rule: tcp = Rz(yaw) Rx(pi) at (centre of
@@ -136,8 +137,8 @@ START_TEST(grasp_reaches_release_pose) {
   placement_grasp_config_default(&gcfg);
   ck_assert_double_eq(gcfg.depth_m, 0.010);
   model_mesh_t m = box_mesh(0.015, 0.010, 0.025);
-  const double poses[][3] = {{0.0, -0.15, 0.0}, {0.0, 0.0, 0.0}, {0.15, -0.05, 0.0},
-                             {0.0, -0.15, CL_PI / 6.0}};
+  const double poses[][3] = {
+      {0.0, -0.15, 0.0}, {0.0, 0.0, 0.0}, {0.15, -0.05, 0.0}, {0.0, -0.15, CL_PI / 6.0}};
   for (size_t k = 0; k < sizeof poses / sizeof poses[0]; ++k) {
     const model_pose_t rel = release_at(&m, &cfg, poses[k][0], poses[k][1], poses[k][2]);
     ck_assert_double_eq_tol(rel.position_m[2], 0.025 - 1e-6, 1e-15);
@@ -158,8 +159,7 @@ START_TEST(grasp_reaches_release_pose) {
     assert_reaches(arms, &cfg, &rel, &g);
     /* the plan is placement_plan_build's for this grasp: PLACE puts the object at the request */
     ck_assert_double_eq_tol(g.plan.object_in_block.pos_m[2], rel.position_m[2], 1e-12);
-    ck_assert_double_eq(g.plan.waypoints[PLACEMENT_WAYPOINT_PLACE].gripper_width_m,
-                        g.grip_width_m);
+    ck_assert_double_eq(g.plan.waypoints[PLACEMENT_WAYPOINT_PLACE].gripper_width_m, g.grip_width_m);
   }
   model_mesh_free(&m);
 }
@@ -202,8 +202,7 @@ START_TEST(grasp_height_and_width_limits) {
   placement_plan_config_t cfg;
   lcm_plan_config(&cfg);
   const placement_grasp_config_t gcfg = PLACEMENT_GRASP_CONFIG_INIT;
-  const double dims[3][3] = {{0.015, 0.015, 0.005}, {0.050, 0.010, 0.025},
-                             {0.001, 0.010, 0.025}};
+  const double dims[3][3] = {{0.015, 0.015, 0.005}, {0.050, 0.010, 0.025}, {0.001, 0.010, 0.025}};
   const double width_want[3] = {0.030, 0.040, 0.005};
   for (int k = 0; k < 3; ++k) {
     model_mesh_t m = box_mesh(dims[k][0], dims[k][1], dims[k][2]);
@@ -241,11 +240,11 @@ START_TEST(grasp_refusals) {
   placement_grasp_t g, sentinel;
   memset(&sentinel, 0xA5, sizeof sentinel);
   placement_error_t err = {{0}};
-#define REFUSED(call, status)                                    \
-  do {                                                           \
-    g = sentinel;                                                \
-    ck_assert_int_eq((call), (status));                          \
-    ck_assert_mem_eq(&g, &sentinel, sizeof g);                   \
+#define REFUSED(call, status)                  \
+  do {                                         \
+    g = sentinel;                              \
+    ck_assert_int_eq((call), (status));        \
+    ck_assert_mem_eq(&g, &sentinel, sizeof g); \
   } while (0)
   placement_plan_config_t far = cfg;
   far.block_in_base.pos_m[0] = 1.5;

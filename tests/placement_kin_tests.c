@@ -23,16 +23,15 @@
 
 static void load_arm(placement_arm_t *arm, const char *tip) {
   placement_error_t err = {{0}};
-  ck_assert_msg(placement_arm_load(arm, YUMI_URDF, PLACEMENT_YUMI_BASE_LINK, tip, &err) ==
-                    PLACEMENT_OK, "%s", err.msg);
+  ck_assert_msg(
+      placement_arm_load(arm, YUMI_URDF, PLACEMENT_YUMI_BASE_LINK, tip, &err) == PLACEMENT_OK, "%s",
+      err.msg);
 }
 
 static void load_yumi(placement_arm_t *arm, placement_side_t side) {
   placement_error_t err = {{0}};
-  ck_assert_msg(placement_arm_load_yumi(arm, YUMI_URDF, side, &err) == PLACEMENT_OK, "%s",
-                err.msg);
+  ck_assert_msg(placement_arm_load_yumi(arm, YUMI_URDF, side, &err) == PLACEMENT_OK, "%s", err.msg);
 }
-
 
 static void random_q(const placement_arm_t *arm, uint64_t *s, double q[PLACEMENT_JOINTS]) {
   for (int k = 0; k < PLACEMENT_JOINTS; ++k) {
@@ -96,8 +95,9 @@ START_TEST(test_chain_yumi) {
   /* The gripper fingers are prismatic; a chain may end at one. */
   model_chain_t c;
   model_error_t err = {{0}};
-  ck_assert_msg(model_chain_load(YUMI_URDF, "yumi_tool0_l", "yumi_finger_a_l", &c, &err) ==
-                MODEL_OK, "%s", err.msg);
+  ck_assert_msg(
+      model_chain_load(YUMI_URDF, "yumi_tool0_l", "yumi_finger_a_l", &c, &err) == MODEL_OK, "%s",
+      err.msg);
   ck_assert_uint_eq(c.joint_count, 1);
   ck_assert_int_eq(c.joints[0].type, MODEL_JOINT_PRISMATIC);
   ck_assert_double_eq_tol(c.joints[0].axis[0], -1.0, 1e-15);
@@ -119,24 +119,25 @@ static void tmp_setup(void) {
 
 /* Write a three-link URDF whose second joint ("j2") has the given attributes, return its path. */
 static const char *write_chain_urdf(const char *name, const char *j2_type, const char *j2_origin,
-                                   const char *j2_axis, const char *j2_limit) {
+                                    const char *j2_axis, const char *j2_limit) {
   static char path[512];
   snprintf(path, sizeof path, "%s/%s.urdf", tmpdir, name);
   FILE *f = fopen(path, "w");
   ck_assert_ptr_nonnull(f);
-  fprintf(f,
-          "<?xml version=\"1.0\"?>\n<robot name=\"t\">\n"
-          "  <link name=\"a\"/><link name=\"b\"/><link name=\"c\"/><link name=\"lonely\"/>\n"
-          "  <link name=\"d\"/>\n"
-          "  <joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>\n"
-          "    <origin xyz=\"0 0 1\" rpy=\"0 0 0\"/><axis xyz=\"0 0 1\"/>\n"
-          "    <limit lower=\"-1\" upper=\"1\" velocity=\"2\" effort=\"1\"/></joint>\n"
-          "  <joint name=\"j2\" type=\"%s\"><parent link=\"b\"/><child link=\"c\"/>\n"
-          "    %s %s %s</joint>\n"
-          "  <joint name=\"j3\" type=\"fixed\"><parent link=\"a\"/><child link=\"lonely\"/></joint>\n"
-          "  <joint name=\"j4\" type=\"fixed\"><parent link=\"a\"/><child link=\"d\"/></joint>\n"
-          "</robot>\n",
-          j2_type, j2_origin, j2_axis, j2_limit);
+  fprintf(
+      f,
+      "<?xml version=\"1.0\"?>\n<robot name=\"t\">\n"
+      "  <link name=\"a\"/><link name=\"b\"/><link name=\"c\"/><link name=\"lonely\"/>\n"
+      "  <link name=\"d\"/>\n"
+      "  <joint name=\"j1\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/>\n"
+      "    <origin xyz=\"0 0 1\" rpy=\"0 0 0\"/><axis xyz=\"0 0 1\"/>\n"
+      "    <limit lower=\"-1\" upper=\"1\" velocity=\"2\" effort=\"1\"/></joint>\n"
+      "  <joint name=\"j2\" type=\"%s\"><parent link=\"b\"/><child link=\"c\"/>\n"
+      "    %s %s %s</joint>\n"
+      "  <joint name=\"j3\" type=\"fixed\"><parent link=\"a\"/><child link=\"lonely\"/></joint>\n"
+      "  <joint name=\"j4\" type=\"fixed\"><parent link=\"a\"/><child link=\"d\"/></joint>\n"
+      "</robot>\n",
+      j2_type, j2_origin, j2_axis, j2_limit);
   ck_assert_int_eq(fclose(f), 0);
   return path;
 }
@@ -151,8 +152,8 @@ static void expect_chain_error(const char *path, const char *base, const char *t
   model_chain_t c;
   model_error_t err = {{0}};
   model_status_t got = model_chain_load(path, base, tip, &c, &err);
-  ck_assert_msg(got == st, "expected %s, got %s: %s", model_status_str(st),
-                model_status_str(got), err.msg);
+  ck_assert_msg(got == st, "expected %s, got %s: %s", model_status_str(st), model_status_str(got),
+                err.msg);
   ck_assert_msg(strstr(err.msg, needle) != NULL, "'%s' not in '%s'", needle, err.msg);
   ck_assert_uint_eq(c.joint_count, 0);
 }
@@ -174,8 +175,7 @@ START_TEST(test_chain_errors) {
   expect_chain_error(good, "b", "lonely", MODEL_E_CHAIN, "does not descend");
   expect_chain_error(good, "c", "a", MODEL_E_CHAIN, "does not descend");
   expect_chain_error(good, "d", "c", MODEL_E_CHAIN, "'d'");
-  expect_chain_error(COMLEARN_ASSETS_DIR "/yumi/none.urdf", "a", "c", MODEL_E_NOFILE,
-                     "none.urdf");
+  expect_chain_error(COMLEARN_ASSETS_DIR "/yumi/none.urdf", "a", "c", MODEL_E_NOFILE, "none.urdf");
   expect_chain_error(good, "", "c", MODEL_E_ARG, "empty");
   const char *p;
   p = write_chain_urdf("zero_axis", "revolute", ORIGIN_OK, "<axis xyz=\"0 0 0\"/>", LIMIT_OK);
@@ -235,7 +235,8 @@ static const struct {
 START_TEST(test_fk_robotstudio) {
   const placement_side_t side = (placement_side_t)_i;
   placement_arm_t arm;
-  load_arm(&arm, side == PLACEMENT_ARM_LEFT ? PLACEMENT_YUMI_TOOL0_LEFT : PLACEMENT_YUMI_TOOL0_RIGHT);
+  load_arm(&arm,
+           side == PLACEMENT_ARM_LEFT ? PLACEMENT_YUMI_TOOL0_LEFT : PLACEMENT_YUMI_TOOL0_RIGHT);
   /* B = joint 1's frame at q1 = 0, turned by pi about z and moved 0.206 m down its axis. */
   placement_pose_t b = arm.origin[0], shift, b_inv;
   placement_pose_identity(&shift);
@@ -261,8 +262,8 @@ START_TEST(test_fk_robotstudio) {
     placement_pose_distance(&in_b, &ref, &dp, &dr);
     worst_mm = fmax(worst_mm, dp * 1e3);
     worst_deg = fmax(worst_deg, dr / DEG);
-    ck_assert_msg(dp <= 0.01e-3 && dr <= 0.01 * DEG, "case %d: %.4f mm %.4f deg", c + 1,
-                  dp * 1e3, dr / DEG);
+    ck_assert_msg(dp <= 0.01e-3 && dr <= 0.01 * DEG, "case %d: %.4f mm %.4f deg", c + 1, dp * 1e3,
+                  dr / DEG);
   }
   fprintf(stderr, "FK vs RobotStudio (%s arm): max %.4f mm, %.4f deg\n",
           side == PLACEMENT_ARM_LEFT ? "left" : "right", worst_mm, worst_deg);
@@ -421,8 +422,8 @@ START_TEST(test_ik_round_trip) {
   fprintf(stderr,
           "IK round trip (%s arm): %d poses, %u failures, worst %.2g m %.2g rad, "
           "%.1f iterations/pose, max seeds %u\n",
-          side == PLACEMENT_ARM_LEFT ? "left" : "right", PLACEMENT_TEST_IK_POSES, failures,
-          worst_p, worst_r, (double)iterations / PLACEMENT_TEST_IK_POSES, seeds_max);
+          side == PLACEMENT_ARM_LEFT ? "left" : "right", PLACEMENT_TEST_IK_POSES, failures, worst_p,
+          worst_r, (double)iterations / PLACEMENT_TEST_IK_POSES, seeds_max);
   ck_assert_uint_eq(failures, 0);
 }
 END_TEST
@@ -614,7 +615,8 @@ START_TEST(test_ik_unreachable) {
   cfg.max_seeds = 8;
   for (int n = 0; n < 5; ++n) {
     placement_pose_t t = target;
-    double dir[3] = {cl_rng_range(&rng, -1, 1), cl_rng_range(&rng, -1, 1), cl_rng_range(&rng, -1, 1)};
+    double dir[3] = {cl_rng_range(&rng, -1, 1), cl_rng_range(&rng, -1, 1),
+                     cl_rng_range(&rng, -1, 1)};
     double len = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
     for (int i = 0; i < 3; ++i) {
       t.pos_m[i] = arm.origin[0].pos_m[i] + radius * dir[i] / len;

@@ -45,16 +45,28 @@ static void grasp_top(placement_pose_t *object_in_tcp, double depth_below_top_m)
 
 /* The object point (link origin) over `edge` (0 +x, 1 -x, 2 +y, 3 -y) at `along`, box yawed by
  * yaw about the block z. */
-static void target_over_edge(const placement_plan_config_t *cfg, int edge, double along,
-                             double yaw, placement_pose_t *obj) {
+static void target_over_edge(const placement_plan_config_t *cfg, int edge, double along, double yaw,
+                             placement_pose_t *obj) {
   placement_pose_identity(obj);
   rot_z(yaw, obj->rot);
   const double hx = 0.5 * cfg->block_size_m[0], hy = 0.5 * cfg->block_size_m[1];
   switch (edge) {
-    case 0: obj->pos_m[0] = hx; obj->pos_m[1] = along; break;
-    case 1: obj->pos_m[0] = -hx; obj->pos_m[1] = along; break;
-    case 2: obj->pos_m[0] = along; obj->pos_m[1] = hy; break;
-    default: obj->pos_m[0] = along; obj->pos_m[1] = -hy; break;
+    case 0:
+      obj->pos_m[0] = hx;
+      obj->pos_m[1] = along;
+      break;
+    case 1:
+      obj->pos_m[0] = -hx;
+      obj->pos_m[1] = along;
+      break;
+    case 2:
+      obj->pos_m[0] = along;
+      obj->pos_m[1] = hy;
+      break;
+    default:
+      obj->pos_m[0] = along;
+      obj->pos_m[1] = -hy;
+      break;
   }
   obj->pos_m[2] = 0.123; /* replaced by the plan */
 }
@@ -90,7 +102,7 @@ static double lowest_vertex_z(const model_mesh_t *m, const placement_pose_t *p) 
 }
 
 static double expected_duration(const placement_arm_t *arm, const placement_plan_config_t *cfg,
-                                 const double *q0, const double *q1, double w0, double w1) {
+                                const double *q0, const double *q1, double w0, double w1) {
   double t = cfg->min_duration_s;
   for (int k = 0; k < 7; ++k) {
     t = fmax(t, fabs(q1[k] - q0[k]) / (cfg->velocity_fraction * arm->velocity_rad_s[k]));
@@ -132,10 +144,9 @@ START_TEST(plan_each_edge_fk_exact) {
           /* The planned pose: x, y, rot as asked, z touching (the box's half height). */
           ck_assert_double_eq_tol(plan.object_in_block.pos_m[2], BOX_HALF[2], 1e-12);
           placement_pose_t obj;
-          object_in_block_at(arm, &cfg, &req, plan.waypoints[PLACEMENT_WAYPOINT_PLACE].q_rad,
-                             &obj);
+          object_in_block_at(arm, &cfg, &req, plan.waypoints[PLACEMENT_WAYPOINT_PLACE].q_rad, &obj);
           const double over[4] = {obj.pos_m[0] - hx, -obj.pos_m[0] - hx, obj.pos_m[1] - hy,
-                                   -obj.pos_m[1] - hy};
+                                  -obj.pos_m[1] - hy};
           const double along_got = edge < 2 ? obj.pos_m[1] : obj.pos_m[0];
           ck_assert_msg(fabs(over[edge]) <= 1e-6, "point off the edge line by %g m", over[edge]);
           ck_assert_double_eq_tol(along_got, alongs[ia], 1e-6);
@@ -162,8 +173,7 @@ START_TEST(plan_each_edge_fk_exact) {
           ck_assert_double_eq(plan.waypoints[1].gripper_width_m, req.grip_width_m);
           ck_assert_double_eq_tol(plan.waypoints[2].gripper_width_m,
                                   req.grip_width_m + cfg.release_opening_m, 1e-15);
-          ck_assert_double_eq(plan.waypoints[3].gripper_width_m,
-                              plan.waypoints[2].gripper_width_m);
+          ck_assert_double_eq(plan.waypoints[3].gripper_width_m, plan.waypoints[2].gripper_width_m);
           for (int w = 0; w < 4; ++w) {
             ck_assert_int_eq(plan.waypoints[w].kind, w);
             ck_assert_int_eq(placement_arm_check(arm, plan.waypoints[w].q_rad), PLACEMENT_OK);
@@ -186,7 +196,8 @@ START_TEST(plan_rock_touches) {
   model_object_t rock;
   model_error_t merr;
   ck_assert_msg(model_object_load(COMLEARN_ASSETS_DIR "/rocks/rock_1_even.urdf", NULL, &rock,
-                                  &merr) == MODEL_OK, "%s", merr.msg);
+                                  &merr) == MODEL_OK,
+                "%s", merr.msg);
   placement_plan_config_t cfg;
   placement_plan_config_default(&cfg);
   const double hx = 0.5 * cfg.block_size_m[0], hy = 0.5 * cfg.block_size_m[1];
@@ -197,7 +208,8 @@ START_TEST(plan_rock_touches) {
   model_aabb_center(&rock.aabb, pl);
   const double along = 0.03;
   double rp[3];
-  for (int i = 0; i < 3; ++i) rp[i] = obj.rot[i][0] * pl[0] + obj.rot[i][1] * pl[1] + obj.rot[i][2] * pl[2];
+  for (int i = 0; i < 3; ++i)
+    rp[i] = obj.rot[i][0] * pl[0] + obj.rot[i][1] * pl[1] + obj.rot[i][2] * pl[2];
   obj.pos_m[0] = along - rp[0];
   obj.pos_m[1] = -hy - rp[1];
   obj.pos_m[2] = 0.2;
@@ -287,8 +299,7 @@ START_TEST(plan_durations_formula) {
   placement_plan_t slow;
   cfg.velocity_fraction = 0.15;
   ck_assert_int_eq(placement_plan_build(&arm, &cfg, &req, &slow, NULL), PLACEMENT_OK);
-  ck_assert_double_eq_tol(slow.waypoints[0].duration_s, 2.0 * plan.waypoints[0].duration_s,
-                          1e-9);
+  ck_assert_double_eq_tol(slow.waypoints[0].duration_s, 2.0 * plan.waypoints[0].duration_s, 1e-9);
   model_mesh_free(&mesh);
 }
 END_TEST
@@ -326,8 +337,7 @@ START_TEST(touch_z_analytic) {
   /* Entirely beside B: nothing over the top. */
   z = 7.0;
   pose.pos_m[0] = 0.5;
-  ck_assert_int_eq(placement_plan_touch_z(&mesh, &pose, size, 0.0, &z),
-                   PLACEMENT_E_GEOMETRY);
+  ck_assert_int_eq(placement_plan_touch_z(&mesh, &pose, size, 0.0, &z), PLACEMENT_E_GEOMETRY);
   ck_assert_double_eq(z, 7.0);
   model_mesh_free(&big);
   model_mesh_free(&mesh);
@@ -511,10 +521,9 @@ START_TEST(pose_cl_pose_round_trip) {
   double via_cl[3];
   cl_pose_apply(&c, x, via_cl);
   for (int i = 0; i < 3; ++i)
-    ck_assert_double_eq_tol(via_cl[i],
-                            a.rot[i][0] * x[0] + a.rot[i][1] * x[1] + a.rot[i][2] * x[2] +
-                                a.pos_m[i],
-                            1e-16);
+    ck_assert_double_eq_tol(
+        via_cl[i], a.rot[i][0] * x[0] + a.rot[i][1] * x[1] + a.rot[i][2] * x[2] + a.pos_m[i],
+        1e-16);
   c.orientation_wxyz[0] *= 1.1;
   ck_assert_int_eq(placement_pose_from_cl_pose(&c, &b), PLACEMENT_E_ROTATION);
   ck_assert_int_eq(placement_pose_from_cl_pose(NULL, &b), PLACEMENT_E_ARG);

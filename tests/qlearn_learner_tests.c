@@ -64,10 +64,10 @@ START_TEST(mlp_forward_by_hand) {
   double p[QLEARN_MLP_NPARAM];
   memset(p, 0, sizeof p);
   const int H = QLEARN_MLP_HIDDEN;
-  p[0] = 2.0;          /* W1[0] */
-  p[H + 0] = -0.5;     /* b1[0] */
-  p[2 * H + 0] = 1.5;  /* W2[0][0] */
-  p[2 * H + H] = -3.0; /* W2[1][0] */
+  p[0] = 2.0;                  /* W1[0] */
+  p[H + 0] = -0.5;             /* b1[0] */
+  p[2 * H + 0] = 1.5;          /* W2[0][0] */
+  p[2 * H + H] = -3.0;         /* W2[1][0] */
   p[2 * H + 2 * H] = 0.25;     /* b2[0] */
   p[2 * H + 2 * H + 1] = -1.0; /* b2[1] */
   double q[2], h[QLEARN_MLP_HIDDEN];

@@ -113,12 +113,13 @@ int main(void) {
   unsigned long during = alloc_calls - before;
   /* ---- end of measured section ---- */
 
-  printf("sizeof: qlearn_policy_config_t %zu, qlearn_bisect_t %zu, qlearn_pba_t %zu, "
-         "qlearn_paper_t %zu, qlearn_policy_t %zu, qlearn_solve_t %zu, "
-         "qlearn_solve_result_t %zu; estimator (policy + solve) %zu of 16384\n",
-         sizeof(qlearn_policy_config_t), sizeof(qlearn_bisect_t), sizeof(qlearn_pba_t),
-         sizeof(qlearn_paper_t), sizeof(qlearn_policy_t), sizeof(qlearn_solve_t),
-         sizeof(qlearn_solve_result_t), sizeof(estimator_state_t));
+  printf(
+      "sizeof: qlearn_policy_config_t %zu, qlearn_bisect_t %zu, qlearn_pba_t %zu, "
+      "qlearn_paper_t %zu, qlearn_policy_t %zu, qlearn_solve_t %zu, "
+      "qlearn_solve_result_t %zu; estimator (policy + solve) %zu of 16384\n",
+      sizeof(qlearn_policy_config_t), sizeof(qlearn_bisect_t), sizeof(qlearn_pba_t),
+      sizeof(qlearn_paper_t), sizeof(qlearn_policy_t), sizeof(qlearn_solve_t),
+      sizeof(qlearn_solve_result_t), sizeof(estimator_state_t));
   for (int p = 0; p < 4; ++p) {
     printf("%-12s trials %3d %3d %3d  solve %s  com [%.6f %.6f %.6f]\n", names[p], trials[p][0],
            trials[p][1], trials[p][2], qlearn_status_str(solve_st[p]), res[p].com_m[0],

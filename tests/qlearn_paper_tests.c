@@ -42,8 +42,9 @@ static void expect_sequence(qlearn_policy_kind_t kind, double c, const double *w
   const int n = walk(&p, &cfg, c, xs, 64);
   ck_assert_int_eq(n, nwant);
   for (int i = 0; i < n; i++) {
-    ck_assert_msg(fabs(xs[i] * 1e3 - want_mm[i]) < 1e-9, "kind %d c %g trial %d: x %.6f mm, want %.6f",
-                  (int)kind, c, i, xs[i] * 1e3, want_mm[i]);
+    ck_assert_msg(fabs(xs[i] * 1e3 - want_mm[i]) < 1e-9,
+                  "kind %d c %g trial %d: x %.6f mm, want %.6f", (int)kind, c, i, xs[i] * 1e3,
+                  want_mm[i]);
   }
   double e, h, xn;
   ck_assert_int_eq(qlearn_paper_estimate(&p, &cfg, &e, &h), QLEARN_OK);
@@ -64,8 +65,9 @@ static const double seq_neg_mm[] = {0, -10, -1, -2, -3, -4, -5, -6, -7, -8, -7.1
 static const double seq_zero_mm[] = {0, 10, 1, 0.1};
 /* c = 49.93 mm, the far end: 0 .. 40 T, 50 S; 41 .. 49 T, 50 S; 49.1 .. 49.9 T, 50 S
  * (placed again: the walk does not skip known states); 26 trials (the most possible). */
-static const double seq_far_mm[] = {0,  10, 20, 30, 40, 50,   41,   42,   43,   44,   45,   46,   47,
-                                    48, 49, 50, 49.1, 49.2, 49.3, 49.4, 49.5, 49.6, 49.7, 49.8, 49.9, 50};
+static const double seq_far_mm[] = {0,    10,   20,   30,   40,   50,   41,   42,   43,
+                                    44,   45,   46,   47,   48,   49,   50,   49.1, 49.2,
+                                    49.3, 49.4, 49.5, 49.6, 49.7, 49.8, 49.9, 50};
 
 START_TEST(qtable_matches_hand_traced_sequences) {
   expect_sequence(QLEARN_POLICY_PAPER_QTABLE, 23.47e-3, seq_pos_mm, 13, 23.45);
@@ -94,7 +96,6 @@ static int expected_trials(double c, double res) {
                10.0 * floor(d / 10.0));
 }
 
-
 static void many_thresholds(qlearn_policy_kind_t kind, int count) {
   static qlearn_paper_t p;
   const qlearn_policy_config_t cfg = paper_cfg(kind);
@@ -106,8 +107,8 @@ static void many_thresholds(qlearn_policy_kind_t kind, int count) {
     ck_assert(qlearn_paper_done(&p, &cfg));
     double e, h;
     ck_assert_int_eq(qlearn_paper_estimate(&p, &cfg, &e, &h), QLEARN_OK);
-    ck_assert_msg(e - h <= c && c <= e + h, "c %.6f mm not in [%.6f, %.6f]", c * 1e3,
-                  (e - h) * 1e3, (e + h) * 1e3);
+    ck_assert_msg(e - h <= c && c <= e + h, "c %.6f mm not in [%.6f, %.6f]", c * 1e3, (e - h) * 1e3,
+                  (e + h) * 1e3);
     ck_assert_double_le_tol(2.0 * h, cfg.resolution_m, 1e-12);
     ck_assert_double_ge(2.0 * h, cfg.resolution_m - 1e-12); /* adjacent 0.1 mm placements */
     if (kind == QLEARN_POLICY_PAPER_QTABLE) {
@@ -158,8 +159,10 @@ static void check_bracket(qlearn_policy_kind_t kind, const qlearn_policy_config_
                 (int)kind, c, cfg->prior_m, (int)st);
   ck_assert_msg(fabs(e - c) <= h, "kind %d c %.17g prior %.17g: not in [%.17g, %.17g]", (int)kind,
                 c, cfg->prior_m, e - h, e + h);
-  ck_assert_msg(2.0 * h <= cfg->resolution_m * (1.0 + 1e-9), "kind %d c %.17g prior %.17g: "
-                "width %.17g", (int)kind, c, cfg->prior_m, 2.0 * h);
+  ck_assert_msg(2.0 * h <= cfg->resolution_m * (1.0 + 1e-9),
+                "kind %d c %.17g prior %.17g: "
+                "width %.17g",
+                (int)kind, c, cfg->prior_m, 2.0 * h);
   ck_assert_int_le(n, 3 * 11); /* at most 11 placements per level */
 }
 
@@ -185,12 +188,13 @@ static void off_grid_priors(qlearn_policy_kind_t kind, int count) {
     for (int i = 0; i < count; i++) {
       double c;
       switch (i % 3) {
-      case 0: c = cfg.range_lo_m + span * unit(&s); break;
-      case 1: c = cfg.range_hi_m - cfg.resolution_m * unit(&s); break;
-      default: c = cfg.range_lo_m + cfg.resolution_m * unit(&s); break;
+        case 0: c = cfg.range_lo_m + span * unit(&s); break;
+        case 1: c = cfg.range_hi_m - cfg.resolution_m * unit(&s); break;
+        default: c = cfg.range_lo_m + cfg.resolution_m * unit(&s); break;
       }
       if (!(c > cfg.range_lo_m && c < cfg.range_hi_m)) continue;
-      const double prior = (i % 2) ? c + 0.008 * (unit(&s) - 0.5) : cfg.range_lo_m + span * unit(&s);
+      const double prior =
+          (i % 2) ? c + 0.008 * (unit(&s) - 0.5) : cfg.range_lo_m + span * unit(&s);
       cfg.prior_m = fmin(cfg.range_hi_m, fmax(cfg.range_lo_m, prior));
       check_bracket(kind, &cfg, c);
     }
@@ -315,9 +319,11 @@ START_TEST(state_sizes) {
   /* The whole estimator state stays within 16 KiB (issue 4). */
   ck_assert_uint_le(sizeof(qlearn_paper_t), 8192);
   ck_assert_uint_le(sizeof(qlearn_policy_t), 16384);
-  fprintf(stderr, "sizeof: qlearn_qtable_t %zu, qlearn_mlp_t %zu, qlearn_paper_t %zu, "
-          "qlearn_policy_t %zu\n", sizeof(qlearn_qtable_t), sizeof(qlearn_mlp_t),
-          sizeof(qlearn_paper_t), sizeof(qlearn_policy_t));
+  fprintf(stderr,
+          "sizeof: qlearn_qtable_t %zu, qlearn_mlp_t %zu, qlearn_paper_t %zu, "
+          "qlearn_policy_t %zu\n",
+          sizeof(qlearn_qtable_t), sizeof(qlearn_mlp_t), sizeof(qlearn_paper_t),
+          sizeof(qlearn_policy_t));
 }
 END_TEST
 

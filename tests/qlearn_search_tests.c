@@ -25,8 +25,7 @@ static qlearn_outcome_t oracle(oracle_kind_t kind, double c, double x, double p_
 }
 
 /* Run one search to the end; returns the trials used, -1 on an unexpected status. */
-static int run_search(qlearn_policy_t *pol, oracle_kind_t kind, double c, double noise,
-                      rng_t *r) {
+static int run_search(qlearn_policy_t *pol, oracle_kind_t kind, double c, double noise, rng_t *r) {
   for (int i = 0; i < QLEARN_MAX_TRIALS + 1; ++i) {
     double x = 0.0;
     qlearn_status_t st = qlearn_policy_next(pol, &x);

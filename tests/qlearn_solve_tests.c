@@ -127,8 +127,8 @@ START_TEST(test_underdetermined_in_plane) {
    * QLEARN_E_NOCONVERGE. */
   ck_assert_int_eq(qlearn_solve_init(&s), QLEARN_OK);
   const double n_obl[3] = {0.98773436025847106, -0.084403298622807016, -0.1313655843300604};
-  ck_assert_int_eq(qlearn_solve_add_plane(&s, n_obl, 0.00295201, 4.9999999999994493e-05 / sqrt(3.0)),
-                   QLEARN_OK);
+  ck_assert_int_eq(
+      qlearn_solve_add_plane(&s, n_obl, 0.00295201, 4.9999999999994493e-05 / sqrt(3.0)), QLEARN_OK);
   ck_assert_int_eq(qlearn_solve_compute(&s, 1.96, 1e-3, &r), QLEARN_E_SINGULAR);
   ck_assert_int_eq(r.rank, 1);
   ck_assert(!r.found[0] && !r.found[1] && !r.found[2]);
@@ -136,7 +136,8 @@ START_TEST(test_underdetermined_in_plane) {
   /* the minimum-norm solution lies on the plane, along its normal */
   ck_assert_double_eq_tol(r.com_m[0] * n_obl[0] + r.com_m[1] * n_obl[1] + r.com_m[2] * n_obl[2],
                           0.00295201, 1e-15);
-  for (int k = 0; k < 3; ++k) ck_assert_double_eq_tol(r.com_m[k], 0.00295201 * n_obl[k] / nl / nl, 1e-15);
+  for (int k = 0; k < 3; ++k)
+    ck_assert_double_eq_tol(r.com_m[k], 0.00295201 * n_obl[k] / nl / nl, 1e-15);
   /* Empty set. */
   ck_assert_int_eq(qlearn_solve_init(&s), QLEARN_OK);
   ck_assert_int_eq(qlearn_solve_compute(&s, 1.96, 1e-3, &r), QLEARN_E_SINGULAR);

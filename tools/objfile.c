@@ -7,9 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-int objfile_mkdir(const char *path) {
-  return mkdir(path, 0777) == 0 || errno == EEXIST ? 0 : -1;
-}
+int objfile_mkdir(const char *path) { return mkdir(path, 0777) == 0 || errno == EEXIST ? 0 : -1; }
 
 static void put_u32(unsigned char *b, uint32_t v) {
   for (int i = 0; i < 4; ++i) b[i] = (unsigned char)(v >> (8 * i));
@@ -53,8 +51,10 @@ int objfile_write_stl(const model_mesh_t *m, const char *path, const char *heade
     ok = fwrite(rec, 1, sizeof rec, f) == sizeof rec;
   }
   const int saved = errno;
-  if (fclose(f) != 0) ok = 0;
-  else if (!ok) errno = saved;
+  if (fclose(f) != 0)
+    ok = 0;
+  else if (!ok)
+    errno = saved;
   return ok ? 0 : -1;
 }
 
@@ -73,11 +73,13 @@ void objfile_put_inertial(FILE *f, const model_mass_t *m) {
 
 void objfile_put_mesh_geometry(FILE *f, const char *mesh_rel, const char *material,
                                const char *rgba) {
-  fprintf(f, "    <visual>\n      <geometry>\n        <mesh filename=\"%s\"/>\n"
-             "      </geometry>\n      <material name=\"%s\">\n"
-             "        <color rgba=\"%s\"/>\n      </material>\n    </visual>\n",
+  fprintf(f,
+          "    <visual>\n      <geometry>\n        <mesh filename=\"%s\"/>\n"
+          "      </geometry>\n      <material name=\"%s\">\n"
+          "        <color rgba=\"%s\"/>\n      </material>\n    </visual>\n",
           mesh_rel, material, rgba);
-  fprintf(f, "    <collision>\n      <geometry>\n        <mesh filename=\"%s\"/>\n"
-             "      </geometry>\n    </collision>\n",
+  fprintf(f,
+          "    <collision>\n      <geometry>\n        <mesh filename=\"%s\"/>\n"
+          "      </geometry>\n    </collision>\n",
           mesh_rel);
 }

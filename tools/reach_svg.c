@@ -28,9 +28,8 @@
 #define COMLEARN_ASSETS_DIR "assets"
 #endif
 
-
 enum { ALONG_N = 13, YAW_N = 24, EDGES = 4, ARMS = 2 };
-static const double kAlongStep_m = 0.02;  /* positions -0.12 .. +0.12 m */
+static const double kAlongStep_m = 0.02;         /* positions -0.12 .. +0.12 m */
 static const double kYawStep_rad = CL_PI / 12.0; /* 0 .. 345 degrees, 15 degree steps */
 static const char *const kEdgeName[EDGES] = {"+x (far)", "-x (near)", "+y (left)", "-y (right)"};
 static const char *const kArmName[ARMS] = {"left arm", "right arm"};
@@ -139,8 +138,8 @@ typedef struct {
   double share[SWEEP_N][ARMS][EDGES];
 } sweep_t;
 
-static int sweep(const placement_arm_t arms[ARMS], const placement_plan_config_t *base,
-                 int quiet, sweep_t *sw) {
+static int sweep(const placement_arm_t arms[ARMS], const placement_plan_config_t *base, int quiet,
+                 sweep_t *sw) {
   static reach_t r;
   for (int k = 0; k < SWEEP_N; ++k) {
     placement_plan_config_t cfg = *base;
@@ -167,8 +166,8 @@ static void svg_panel(FILE *f, double x0, double y0, const reach_t *r, int a, in
   const int count = r->counts[a][e];
   fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" class=\"t\">%s: %d/%d</text>\n", x0, y0 - 6.0, title,
           count, ALONG_N * YAW_N);
-  fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" class=\"no\"/>\n", x0,
-          y0, kPanelW - 1.0, kPanelH - 1.0);
+  fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" class=\"no\"/>\n", x0, y0,
+          kPanelW - 1.0, kPanelH - 1.0);
   for (int y = 0; y < YAW_N; ++y) {
     for (int i = 0; i < ALONG_N; ++i) {
       if (!r->ok[a][e][y][i]) continue;
@@ -186,7 +185,8 @@ static void svg_top(FILE *f, const placement_plan_config_t *cfg, const reach_t *
   const double hx = 0.5 * cfg->block_size_m[0], hy = 0.5 * cfg->block_size_m[1];
 #define PX(yy) (ox - s * (yy))
 #define PY(xx) (oy - s * (xx))
-  fprintf(f, "<text x=\"20\" y=\"24\" class=\"h\">Top view (yumi_body frame, x forward = "
+  fprintf(f,
+          "<text x=\"20\" y=\"24\" class=\"h\">Top view (yumi_body frame, x forward = "
           "up)</text>\n");
   /* body footprint from the coarse mesh: x in [-0.36, 0.135], y +-0.2; drawn to x = -0.06 */
   fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" class=\"body\"/>\n",
@@ -204,7 +204,8 @@ static void svg_top(FILE *f, const placement_plan_config_t *cfg, const reach_t *
   fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" class=\"o\"/>\n", PX(-0.0725), PY(0.05355));
   fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" class=\"blk\"/>\n",
           PX(by + hy), PY(bx + hx), 2.0 * s * hy, 2.0 * s * hx);
-  fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" class=\"s\" text-anchor=\"middle\">B, top centre</text>\n"
+  fprintf(f,
+          "<text x=\"%.1f\" y=\"%.1f\" class=\"s\" text-anchor=\"middle\">B, top centre</text>\n"
           "<text x=\"%.1f\" y=\"%.1f\" class=\"s\" text-anchor=\"middle\">(%.3f, %.3f, %.3f) m"
           "</text>\n<text x=\"%.1f\" y=\"%.1f\" class=\"s\" text-anchor=\"middle\">%.2f x %.2f m"
           "</text>\n",
@@ -235,7 +236,8 @@ static void svg_top(FILE *f, const placement_plan_config_t *cfg, const reach_t *
       }
     }
   }
-  fprintf(f, "<text x=\"20\" y=\"%.1f\" class=\"s\">Dots outside each edge, one per position "
+  fprintf(f,
+          "<text x=\"20\" y=\"%.1f\" class=\"s\">Dots outside each edge, one per position "
           "(every 2 cm): inner row left arm, outer row right arm;</text>\n<text x=\"20\" "
           "y=\"%.1f\" class=\"s\">green = plans completed at every yaw, red = at none.</text>\n",
           oy + 50.0, oy + 63.0);
@@ -250,29 +252,35 @@ static void svg_sweep(FILE *f, double x0, double y0, const placement_plan_config
   static const char *const colour[EDGES] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd"};
   const double w = 560.0, h = 150.0;
   const double xmin = kSweepX0, xmax = kSweepX0 + (SWEEP_N - 1) * kSweepStep;
-#define SX(v) (x0 + w * ((v) - xmin) / (xmax - xmin))
+#define SX(v) (x0 + w * ((v)-xmin) / (xmax - xmin))
 #define SY(v) (y0 + h * (1.0 - (v)))
-  fprintf(f, "<text x=\"20\" y=\"%.1f\" class=\"h\">Share of plans completed against B's "
+  fprintf(f,
+          "<text x=\"20\" y=\"%.1f\" class=\"h\">Share of plans completed against B's "
           "centre x</text>\n<text x=\"20\" y=\"%.1f\" class=\"s\">B's top at z = %.3f m; "
-          "every 4 cm along each edge, every 45 deg of yaw</text>\n", y0 - 30.0, y0 - 14.0,
-          cfg->block_in_base.pos_m[2]);
-  fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" "
-          "stroke=\"#999\"/>\n", x0, y0, w, h);
+          "every 4 cm along each edge, every 45 deg of yaw</text>\n",
+          y0 - 30.0, y0 - 14.0, cfg->block_in_base.pos_m[2]);
+  fprintf(f,
+          "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" "
+          "stroke=\"#999\"/>\n",
+          x0, y0, w, h);
   for (int k = 0; k < SWEEP_N; k += 2) {
     fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" class=\"s\" text-anchor=\"middle\">%.2f</text>\n",
             SX(sw->x_m[k]), y0 + h + 14.0, sw->x_m[k]);
   }
-  fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" class=\"s\" text-anchor=\"middle\">B centre x "
-          "(m, yumi_body)</text>\n", x0 + 0.5 * w, y0 + h + 28.0);
+  fprintf(f,
+          "<text x=\"%.1f\" y=\"%.1f\" class=\"s\" text-anchor=\"middle\">B centre x "
+          "(m, yumi_body)</text>\n",
+          x0 + 0.5 * w, y0 + h + 28.0);
   for (int p = 0; p <= 4; ++p) {
     fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" class=\"s\" text-anchor=\"end\">%d%%</text>\n",
             x0 - 4.0, SY(p / 4.0) + 3.0, p * 25);
   }
   const double xc = cfg->block_in_base.pos_m[0];
-  fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#000\" "
-          "stroke-dasharray=\"2,2\"/>\n", SX(xc), y0, SX(xc), y0 + h);
-  fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" class=\"s\">chosen</text>\n", SX(xc) + 3.0,
-          y0 + 10.0);
+  fprintf(f,
+          "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#000\" "
+          "stroke-dasharray=\"2,2\"/>\n",
+          SX(xc), y0, SX(xc), y0 + h);
+  fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" class=\"s\">chosen</text>\n", SX(xc) + 3.0, y0 + 10.0);
   for (int a = 0; a < ARMS; ++a) {
     for (int e = 0; e < EDGES; ++e) {
       fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"1.5\"%s points=\"",
@@ -285,8 +293,8 @@ static void svg_sweep(FILE *f, double x0, double y0, const placement_plan_config
     }
   }
   for (int e = 0; e < EDGES; ++e) {
-    fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" class=\"s\" fill=\"%s\">edge %s</text>\n",
-            x0 + w + 6.0, y0 + 12.0 + 14.0 * e, colour[e], kEdgeName[e]);
+    fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" class=\"s\" fill=\"%s\">edge %s</text>\n", x0 + w + 6.0,
+            y0 + 12.0 + 14.0 * e, colour[e], kEdgeName[e]);
   }
   fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" class=\"s\">solid: left arm</text>\n", x0 + w + 6.0,
           y0 + 12.0 + 14.0 * EDGES);
@@ -305,21 +313,25 @@ static int write_svg(const char *path, const placement_plan_config_t *cfg, const
   }
   const double w = 760.0;
   const double h = kTopY + ARMS * (kPanelH + kGapY) + kSweepH;
-  fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
-          "viewBox=\"0 0 %.0f %.0f\" font-family=\"sans-serif\">\n", w, h, w, h);
-  fprintf(f, "<style>.ok{fill:#2e9d4a}.no{fill:#d9d9d9}.t{font-size:11px}.s{font-size:10px}"
+  fprintf(f,
+          "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
+          "viewBox=\"0 0 %.0f %.0f\" font-family=\"sans-serif\">\n",
+          w, h, w, h);
+  fprintf(f,
+          "<style>.ok{fill:#2e9d4a}.no{fill:#d9d9d9}.t{font-size:11px}.s{font-size:10px}"
           ".h{font-size:13px;font-weight:bold}.body{fill:#bbb;stroke:#777}"
           ".blk{fill:#c29a6b;stroke:#7a5c36}.o{fill:#000}</style>\n");
   fprintf(f, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
   svg_top(f, cfg, r);
-  fprintf(f, "<text x=\"20\" y=\"%.1f\" class=\"h\">Plans completed (green) per arm and edge"
+  fprintf(f,
+          "<text x=\"20\" y=\"%.1f\" class=\"h\">Plans completed (green) per arm and edge"
           "</text>\n<text x=\"20\" y=\"%.1f\" class=\"s\">columns: position along the edge, "
           "-0.12 .. +0.12 m every 2 cm (block y or x increasing to the right); rows: object yaw "
-          "0 .. 345 deg every 15 deg</text>\n", kTopY - 44.0, kTopY - 28.0);
+          "0 .. 345 deg every 15 deg</text>\n",
+          kTopY - 44.0, kTopY - 28.0);
   for (int a = 0; a < ARMS; ++a) {
     const double y0 = kTopY + a * (kPanelH + kGapY);
-    fprintf(f, "<text x=\"8\" y=\"%.1f\" class=\"t\">%s</text>\n", y0 + kPanelH / 2.0,
-            kArmName[a]);
+    fprintf(f, "<text x=\"8\" y=\"%.1f\" class=\"t\">%s</text>\n", y0 + kPanelH / 2.0, kArmName[a]);
     for (int e = 0; e < EDGES; ++e) {
       svg_panel(f, kMarginL + e * (kPanelW + kGapX), y0, r, a, e, kEdgeName[e]);
     }
@@ -335,12 +347,15 @@ static int write_svg(const char *path, const placement_plan_config_t *cfg, const
 
 /* Options into o (defaults as usage() says). Returns -1 to go on, else the exit status. */
 static int parse_args(int argc, char **argv, options_t *o) {
-  static const struct option longopts[] = {
-      {"urdf", required_argument, NULL, 'u'},    {"out", required_argument, NULL, 'o'},
-      {"block-x", required_argument, NULL, 'x'}, {"block-y", required_argument, NULL, 'y'},
-      {"block-z", required_argument, NULL, 'z'}, {"quiet", no_argument, NULL, 'q'},
-      {"max-joint-step", required_argument, NULL, 's'},
-      {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
+  static const struct option longopts[] = {{"urdf", required_argument, NULL, 'u'},
+                                           {"out", required_argument, NULL, 'o'},
+                                           {"block-x", required_argument, NULL, 'x'},
+                                           {"block-y", required_argument, NULL, 'y'},
+                                           {"block-z", required_argument, NULL, 'z'},
+                                           {"quiet", no_argument, NULL, 'q'},
+                                           {"max-joint-step", required_argument, NULL, 's'},
+                                           {"help", no_argument, NULL, 'h'},
+                                           {NULL, 0, NULL, 0}};
   int c;
   while ((c = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
     switch (c) {
@@ -373,8 +388,7 @@ static int parse_args(int argc, char **argv, options_t *o) {
 }
 
 /* The summary on stdout: plans completed per arm and edge, failures by status, the cost. */
-static void print_summary(const placement_plan_config_t *cfg, const reach_t *reach,
-                          double wall_s) {
+static void print_summary(const placement_plan_config_t *cfg, const reach_t *reach, double wall_s) {
   printf("B top centre (%.3f, %.3f, %.3f) m in yumi_body; %d positions x %d yaws per edge\n",
          cfg->block_in_base.pos_m[0], cfg->block_in_base.pos_m[1], cfg->block_in_base.pos_m[2],
          ALONG_N, YAW_N);

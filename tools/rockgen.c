@@ -50,15 +50,15 @@ static double radius_at(const rockgen_spec_t *spec, const lobes_t *lobes, const 
 static const double kGolden = 1.6180339887498948482;
 
 static const uint32_t kIcoFaces[20][3] = {
-    {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+    {0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
     {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-    {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
 
 static void ico_vertex(uint32_t i, double v[3]) {
   const double g = kGolden;
-  const double table[12][3] = {{-1, g, 0}, {1, g, 0},  {-1, -g, 0}, {1, -g, 0},
-                               {0, -1, g}, {0, 1, g},  {0, -1, -g}, {0, 1, -g},
-                               {g, 0, -1}, {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
+  const double table[12][3] = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0},
+                               {0, -1, g}, {0, 1, g}, {0, -1, -g}, {0, 1, -g},
+                               {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
   for (int k = 0; k < 3; ++k) v[k] = table[i][k];
   (void)cl_vec3_normalize(v, v);
 }
@@ -232,8 +232,8 @@ static const double kMaxAngleCos = 0.93969262078590838;
  * nearer endpoint there, unless it moved already or the move would fold a triangle (every
  * triangle must keep a positive solid angle from the origin, which keeps the surface closed and
  * free of self-intersection). The rims then pass through vertices. */
-static model_status_t snap_to_rims(const surface_t *s, double (*d)[3], size_t nv,
-                                   uint32_t (*t)[3], size_t nt) {
+static model_status_t snap_to_rims(const surface_t *s, double (*d)[3], size_t nv, uint32_t (*t)[3],
+                                   size_t nt) {
   unsigned char *moved = calloc(nv, 1);
   int *label = malloc(nv * sizeof *label);
   if (moved == NULL || label == NULL) {

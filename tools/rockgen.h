@@ -45,21 +45,21 @@ typedef struct {
  * { x : n . (x - com_uniform) >= region_offset_m }, n = region_normal normalised, com_uniform the
  * uniform-density CoM of the generated mesh. */
 typedef struct {
-  char name[ROCKGEN_NAME_MAX];     /* file stem and URDF link name, e.g. "rock_1" (a value, so a
+  char name[ROCKGEN_NAME_MAX]; /* file stem and URDF link name, e.g. "rock_1" (a value, so a
                                      copied spec is self-contained) */
-  uint64_t seed;                  /* seeds the lobes */
-  unsigned frequency;             /* geodesic frequency f: 20 f^2 triangles, 10 f^2 + 2 vertices */
-  double semi_axes_m[3];          /* base ellipsoid */
-  unsigned lobe_count;            /* broad lobes: shape */
-  double lobe_amplitude;          /* relative radius change, +-, of each broad lobe */
-  double lobe_cos;                /* cosine of a broad lobe's angular radius */
-  unsigned bump_count;            /* small lobes: surface irregularity */
+  uint64_t seed;               /* seeds the lobes */
+  unsigned frequency;          /* geodesic frequency f: 20 f^2 triangles, 10 f^2 + 2 vertices */
+  double semi_axes_m[3];       /* base ellipsoid */
+  unsigned lobe_count;         /* broad lobes: shape */
+  double lobe_amplitude;       /* relative radius change, +-, of each broad lobe */
+  double lobe_cos;             /* cosine of a broad lobe's angular radius */
+  unsigned bump_count;         /* small lobes: surface irregularity */
   double bump_amplitude;
   double bump_cos;
   size_t fracture_count;
   rockgen_fracture_t fractures[ROCKGEN_MAX_FRACTURES];
-  double density_kg_m3;           /* the rock (even rock: everywhere) */
-  double region_normal[3];        /* uneven rock: dense half-space, see above */
+  double density_kg_m3;    /* the rock (even rock: everywhere) */
+  double region_normal[3]; /* uneven rock: dense half-space, see above */
   double region_offset_m;
   double region_density_kg_m3;
 } rockgen_spec_t;
@@ -120,16 +120,16 @@ model_status_t rockgen_mass(const rockgen_spec_t *spec, const model_mesh_t *mesh
 /* A maximal edge-connected group of coplanar triangles, and the polygon on which the body rests
  * when that plane is put on a table. */
 typedef struct {
-  double normal[3];            /* outward unit normal (area-weighted mean of its triangles) */
-  double offset_m;             /* plane: normal . x = offset_m (mean over its vertices) */
+  double normal[3]; /* outward unit normal (area-weighted mean of its triangles) */
+  double offset_m;  /* plane: normal . x = offset_m (mean over its vertices) */
   double area_m2;
   size_t triangle_count;
-  double width_m;              /* smallest width of the convex hull of the patch's vertices */
-  double diameter_m;           /* largest distance between two of its vertices */
-  double support_excess_m;     /* max over all mesh vertices of normal . v - offset_m: the plane
+  double width_m;          /* smallest width of the convex hull of the patch's vertices */
+  double diameter_m;       /* largest distance between two of its vertices */
+  double support_excess_m; /* max over all mesh vertices of normal . v - offset_m: the plane
                                   supports the body when this is <= the coplanarity tolerance */
-  double basis[2][3];          /* in-plane axes u, v (unit, u x v = normal) */
-  size_t support_count;        /* counter-clockwise convex polygon (u, v) of every mesh vertex on
+  double basis[2][3];      /* in-plane axes u, v (unit, u x v = normal) */
+  size_t support_count;    /* counter-clockwise convex polygon (u, v) of every mesh vertex on
                                   the plane: where the body touches the table */
   double support_uv[ROCKGEN_MAX_SUPPORT][2];
 } rockgen_patch_t;

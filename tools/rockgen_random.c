@@ -93,7 +93,8 @@ model_status_t rockgen_random_accept(const rockgen_spec_t *spec, int *accepted, 
   rockgen_patch_t patches[PATCHES_MAX];
   size_t count = 0;
   st = rockgen_mass(spec, &mesh, &even, &uneven, NULL);
-  if (st == MODEL_OK) st = rockgen_patches_find(&mesh, kMinPatchArea_m2, patches, PATCHES_MAX, &count);
+  if (st == MODEL_OK)
+    st = rockgen_patches_find(&mesh, kMinPatchArea_m2, patches, PATCHES_MAX, &count);
   model_mesh_free(&mesh);
   if (st == MODEL_E_DEGENERATE) return MODEL_OK; /* a zero-area triangle: not this shape */
   if (st != MODEL_OK) return st;

@@ -7,8 +7,8 @@
 #include <string.h>
 
 static const char *const kFamilyNames[SHAPEGEN_FAMILY_COUNT] = {
-    "box",    "domino", "feet2",  "feet3",   "feet4", "ring",  "rim",
-    "mug",    "pebble", "lumpy",  "scanned", "plate", "tilted"};
+    "box", "domino", "feet2", "feet3",   "feet4", "ring",  "rim",
+    "mug", "pebble", "lumpy", "scanned", "plate", "tilted"};
 
 const char *shapegen_family_name(shapegen_family_t family) {
   return (unsigned)family < SHAPEGEN_FAMILY_COUNT ? kFamilyNames[family] : NULL;
@@ -110,8 +110,8 @@ enum { REGION_NORMAL_TRIES = 32, REGION_SCAN = 32, REGION_BISECT = 48 };
 static const double kRegionMinMax_m = 0.0022;
 
 static model_status_t shift_at(const shapegen_spec_t *spec, const model_mesh_t *mesh,
-                               const model_mass_t *even, const double n[3], double t,
-                               double *shift, model_mass_t *mass) {
+                               const model_mass_t *even, const double n[3], double t, double *shift,
+                               model_mass_t *mass) {
   model_halfspace_t reg;
   memcpy(reg.normal, n, sizeof reg.normal);
   reg.offset_m = cl_vec3_dot(n, even->com_m) + t;
@@ -153,7 +153,8 @@ model_status_t shapegen_mass(const shapegen_spec_t *spec, const model_mesh_t *me
   }
   if (best < kRegionMinMax_m) return MODEL_E_REGION;
   const double top = 0.95 * best < SHAPEGEN_SHIFT_MAX_M ? 0.95 * best : SHAPEGEN_SHIFT_MAX_M;
-  const double target = SHAPEGEN_SHIFT_MIN_M + spec->region_shift_frac * (top - SHAPEGEN_SHIFT_MIN_M);
+  const double target =
+      SHAPEGEN_SHIFT_MIN_M + spec->region_shift_frac * (top - SHAPEGEN_SHIFT_MIN_M);
   double lo = best_t, hi = ext;
   for (int it = 0; it < REGION_BISECT; ++it) {
     const double mid = 0.5 * (lo + hi);
@@ -213,8 +214,8 @@ model_status_t shapegen_rest_margin(const model_mesh_t *mesh, const model_mesh_t
     /* a facet split into several hull triangles: evaluate its plane once */
     int dup = 0;
     for (size_t p = 0; p < seen && !dup; ++p) {
-      dup = cl_vec3_dot(n, planes[p]) > 1.0 - 1e-12 &&
-            fabs(h - planes[p][3]) < SHAPEGEN_PLANE_TOL_M;
+      dup =
+          cl_vec3_dot(n, planes[p]) > 1.0 - 1e-12 && fabs(h - planes[p][3]) < SHAPEGEN_PLANE_TOL_M;
     }
     if (dup) continue;
     memcpy(planes[seen], n, sizeof n);
@@ -291,7 +292,8 @@ static model_status_t accept_mesh(const shapegen_spec_t *spec, shapegen_object_t
   /* model_mass_check, and what the simulator side also demands (>= 1 g, ...) */
   if (st == MODEL_OK) st = model_mass_plausible(&o->even, &o->mesh, NULL);
   if (st == MODEL_OK) st = model_mass_plausible(&o->uneven, &o->mesh, NULL);
-  if (st == MODEL_OK) st = shapegen_rest_margin(&o->mesh, &hull, o->even.com_m, &o->margin_even_m, NULL);
+  if (st == MODEL_OK)
+    st = shapegen_rest_margin(&o->mesh, &hull, o->even.com_m, &o->margin_even_m, NULL);
   if (st == MODEL_OK) {
     st = shapegen_rest_margin(&o->mesh, &hull, o->uneven.com_m, &o->margin_uneven_m, NULL);
   }

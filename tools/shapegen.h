@@ -46,19 +46,19 @@ extern "C" {
 #endif
 
 typedef enum {
-  SHAPEGEN_BOX = 0,  /* box of random dimensions, 20-120 mm each */
-  SHAPEGEN_DOMINO,   /* 48 x 24 x 7.5 mm, each +-15 %: one pair of faces >= 10 mm wide */
-  SHAPEGEN_FEET2,    /* a slab on two separate coplanar feet (rails or pads), >= 10 mm apart */
-  SHAPEGEN_FEET3,    /* a slab on three small feet (round or square) */
-  SHAPEGEN_FEET4,    /* a slab on four small feet (round or square) */
-  SHAPEGEN_RING,     /* a torus lying flat: a ring of vertices at the bottom, no flat triangle */
-  SHAPEGEN_RIM,      /* a bowl or plate on a narrow foot ring; the top rim a flat annulus */
-  SHAPEGEN_MUG,      /* an open cup with a handle; a full bottom disk or a recessed foot ring */
-  SHAPEGEN_PEBBLE,   /* a smooth lumpy ellipsoid without any flat face */
-  SHAPEGEN_LUMPY,    /* a lumpy rock with one to three small, narrow or tilted flat faces */
-  SHAPEGEN_SCANNED,  /* a finely tessellated box or a rock with 1-20 um vertex noise */
-  SHAPEGEN_PLATE,    /* near-degenerate: thin plate, thin disk, long bar, 64-128-sided cylinder */
-  SHAPEGEN_TILTED,   /* a block whose bottom and top are facets at 0.1-1 degree to each other */
+  SHAPEGEN_BOX = 0, /* box of random dimensions, 20-120 mm each */
+  SHAPEGEN_DOMINO,  /* 48 x 24 x 7.5 mm, each +-15 %: one pair of faces >= 10 mm wide */
+  SHAPEGEN_FEET2,   /* a slab on two separate coplanar feet (rails or pads), >= 10 mm apart */
+  SHAPEGEN_FEET3,   /* a slab on three small feet (round or square) */
+  SHAPEGEN_FEET4,   /* a slab on four small feet (round or square) */
+  SHAPEGEN_RING,    /* a torus lying flat: a ring of vertices at the bottom, no flat triangle */
+  SHAPEGEN_RIM,     /* a bowl or plate on a narrow foot ring; the top rim a flat annulus */
+  SHAPEGEN_MUG,     /* an open cup with a handle; a full bottom disk or a recessed foot ring */
+  SHAPEGEN_PEBBLE,  /* a smooth lumpy ellipsoid without any flat face */
+  SHAPEGEN_LUMPY,   /* a lumpy rock with one to three small, narrow or tilted flat faces */
+  SHAPEGEN_SCANNED, /* a finely tessellated box or a rock with 1-20 um vertex noise */
+  SHAPEGEN_PLATE,   /* near-degenerate: thin plate, thin disk, long bar, 64-128-sided cylinder */
+  SHAPEGEN_TILTED,  /* a block whose bottom and top are facets at 0.1-1 degree to each other */
   SHAPEGEN_FAMILY_COUNT
 } shapegen_family_t;
 
@@ -168,14 +168,14 @@ typedef struct {
   shapegen_revolve_t rev;
   shapegen_handle_t handle;
   rockgen_spec_t rock;
-  int lay_on_side;                 /* revolve: (x, y, z) -> (z, y, -x), the axis along x */
-  double noise_m;                  /* scanned: every coordinate + uniform(-noise, noise) */
+  int lay_on_side; /* revolve: (x, y, z) -> (z, y, -x), the axis along x */
+  double noise_m;  /* scanned: every coordinate + uniform(-noise, noise) */
   uint64_t noise_seed;
   char material[24];
-  double density_kg_m3;            /* 700-2700 */
-  double region_ratio;             /* dense region density / density, 1.5-3 */
+  double density_kg_m3; /* 700-2700 */
+  double region_ratio;  /* dense region density / density, 1.5-3 */
   uint64_t region_seed;
-  double region_shift_frac;        /* target CoM shift = 2 mm + frac * (span up to 6 mm) */
+  double region_shift_frac; /* target CoM shift = 2 mm + frac * (span up to 6 mm) */
 } shapegen_spec_t;
 
 /* ---- the rule ------------------------------------------------------------------------------ */
@@ -222,16 +222,15 @@ model_status_t shapegen_mass(const shapegen_spec_t *spec, const model_mesh_t *me
  * outward normal of the best face into best_normal when non-NULL. -HUGE_VAL for an empty hull.
  * Allocates temporarily; MODEL_E_ARG, MODEL_E_NOMEM. */
 model_status_t shapegen_rest_margin(const model_mesh_t *mesh, const model_mesh_t *hull,
-                                    const double com_m[3], double *margin_m,
-                                    double best_normal[3]);
+                                    const double com_m[3], double *margin_m, double best_normal[3]);
 
 /* An accepted object. */
 typedef struct {
   shapegen_spec_t spec;
-  model_mesh_t mesh;               /* owned */
+  model_mesh_t mesh; /* owned */
   model_mass_t even, uneven;
   model_halfspace_t region;
-  double shift_m;                  /* |uneven CoM - even CoM| */
+  double shift_m;                        /* |uneven CoM - even CoM| */
   double margin_even_m, margin_uneven_m; /* shapegen_rest_margin of each CoM */
 } shapegen_object_t;
 

@@ -21,10 +21,10 @@ typedef struct {
 enum { WOOD = 1, PLASTIC = 2, CERAMIC = 4, STONE = 8, METAL = 16 };
 
 static const material_t kMaterials[] = {
-    {"beech", 720.0},      {"oak", 750.0},         {"maple", 705.0},  /* WOOD */
-    {"ABS", 1050.0},       {"nylon", 1150.0},      {"PLA", 1240.0},   {"acetal", 1410.0},
-    {"stoneware", 2300.0}, {"porcelain", 2400.0},  {"glass", 2500.0}, /* CERAMIC */
-    {"sandstone", 2300.0}, {"limestone", 2600.0},  {"granite", 2650.0}, {"marble", 2700.0},
+    {"beech", 720.0},      {"oak", 750.0},        {"maple", 705.0}, /* WOOD */
+    {"ABS", 1050.0},       {"nylon", 1150.0},     {"PLA", 1240.0},     {"acetal", 1410.0},
+    {"stoneware", 2300.0}, {"porcelain", 2400.0}, {"glass", 2500.0}, /* CERAMIC */
+    {"sandstone", 2300.0}, {"limestone", 2600.0}, {"granite", 2650.0}, {"marble", 2700.0},
     {"aluminium", 2700.0}};
 static const int kMaterialClass[] = {WOOD,    WOOD,    WOOD,    PLASTIC, PLASTIC,
                                      PLASTIC, PLASTIC, CERAMIC, CERAMIC, CERAMIC,
@@ -135,8 +135,8 @@ static int draw_plate(uint64_t *st, shapegen_spec_t *out) {
       out->lay_on_side = cl_rng_below(st, 2) == 1;
     }
     if (cylinder_profile(&out->rev, radius, length) != 0) return -1;
-    snprintf(out->variant, sizeof out->variant, "%s %u sides%s", kind == 1 ? "thin disk" : "cylinder",
-             n, out->lay_on_side ? ", lying" : "");
+    snprintf(out->variant, sizeof out->variant, "%s %u sides%s",
+             kind == 1 ? "thin disk" : "cylinder", n, out->lay_on_side ? ", lying" : "");
   }
   material_draw(st, WOOD | PLASTIC | CERAMIC | METAL, out);
   return 0;
@@ -200,7 +200,8 @@ static int draw_rim(uint64_t *st, shapegen_spec_t *out) {
   }
   shapegen_revolve_t *rev = &out->rev;
   rev->point_count = 0;
-  const unsigned n1 = 4 + (unsigned)(r_fi / (3 * MM)), n2 = 8 + (unsigned)((radius - r_fo) / (2 * MM));
+  const unsigned n1 = 4 + (unsigned)(r_fi / (3 * MM)),
+                 n2 = 8 + (unsigned)((radius - r_fo) / (2 * MM));
   int rc = profile_add(rev, 0.0, z0);
   for (unsigned k = 1; k <= n1; ++k) {
     const double r = r_fi * k / n1;
@@ -210,12 +211,14 @@ static int draw_rim(uint64_t *st, shapegen_spec_t *out) {
   rc |= profile_add(rev, r_fo, 0.0);
   for (unsigned k = 0; k <= n2; ++k) {
     const double r = r_fo + (radius - r_fo) * k / n2;
-    rc |= profile_add(rev, k == n2 ? radius : r, k == n2 ? height : bowl_z(z0, height - z0, alpha, r / radius));
+    rc |= profile_add(rev, k == n2 ? radius : r,
+                      k == n2 ? height : bowl_z(z0, height - z0, alpha, r / radius));
   }
   const unsigned n3 = 8 + (unsigned)(inner_r / (2.5 * MM));
   for (unsigned k = n3; k >= 1; --k) {
     const double r = inner_r * k / n3;
-    rc |= profile_add(rev, r, k == n3 ? height : bowl_z(z0 + floor_t, height - z0 - floor_t, alpha, r / inner_r));
+    rc |= profile_add(
+        rev, r, k == n3 ? height : bowl_z(z0 + floor_t, height - z0 - floor_t, alpha, r / inner_r));
   }
   rc |= profile_add(rev, 0.0, z0 + floor_t);
   if (rc != 0) return -1;
@@ -273,7 +276,8 @@ static int draw_mug(uint64_t *st, shapegen_spec_t *out) {
   h->present = 1;
   h->columns = clamp_u(cl_rng_range(st, 3.5 * MM, 6 * MM) / col_w + 0.5, 1, n / 8);
   h->rows = clamp_u(2.0 * cl_rng_range(st, 3.5 * MM, 6 * MM) / row_h + 0.5, 2, 8);
-  const double top_gap = cl_rng_range(st, 6 * MM, 14 * MM), low_gap = cl_rng_range(st, 8 * MM, 18 * MM);
+  const double top_gap = cl_rng_range(st, 6 * MM, 14 * MM),
+               low_gap = cl_rng_range(st, 8 * MM, 18 * MM);
   const long iu1 = (long)((height - top_gap - chamfer) / row_h);
   const long il0 = (long)((low_gap - chamfer) / row_h) + 1;
   const long iu0 = iu1 - (long)h->rows, il1 = il0 + (long)h->rows;
@@ -283,8 +287,8 @@ static int draw_mug(uint64_t *st, shapegen_spec_t *out) {
   h->lower_row = wall0 + (size_t)il0;
   h->radius_m = radius;
   h->center_z_m = 0.5 * (rev->rz_m[h->upper_row][1] + rev->rz_m[h->lower_row + h->rows][1]);
-  h->half_height_m = 0.5 * (rev->rz_m[h->upper_row][1] + rev->rz_m[h->upper_row + h->rows][1]) -
-                     h->center_z_m;
+  h->half_height_m =
+      0.5 * (rev->rz_m[h->upper_row][1] + rev->rz_m[h->upper_row + h->rows][1]) - h->center_z_m;
   /* keep the bend's radius of curvature (reach^2 / half height) >= 2.2 x the tube's half height */
   const double reach_lo = sqrt(2.2 * half_h * h->half_height_m);
   const double lo = reach_lo > 16 * MM ? reach_lo : 16 * MM;
@@ -394,7 +398,8 @@ static int draw_feet(uint64_t *st, unsigned feet, shapegen_spec_t *out) {
   for (int a = 0; a < 2; ++a) {
     double req[4 * SHAPEGEN_MAX_LINES];
     const size_t nreq = feet_lines(s, a, fine, req);
-    if (lines_make(s->half_m[a], req, nreq, coarse, s->lines_m[a], &s->line_count[a]) != 0) return -1;
+    if (lines_make(s->half_m[a], req, nreq, coarse, s->lines_m[a], &s->line_count[a]) != 0)
+      return -1;
     const double dome = a == 0 ? dome_x : dome_y;
     for (size_t i = 0; i < s->line_count[a]; ++i) {
       const double u = s->lines_m[a][i] / s->half_m[a];
@@ -477,8 +482,8 @@ static int draw_tilted(uint64_t *st, shapegen_spec_t *out) {
     }
   }
   s->top0_m = height;
-  snprintf(out->variant, sizeof out->variant, "%u x %u bottom facets, %u x %u top",
-           kinks[0][0] + 1, kinks[0][1] + 1, kinks[1][0] + 1, kinks[1][1] + 1);
+  snprintf(out->variant, sizeof out->variant, "%u x %u bottom facets, %u x %u top", kinks[0][0] + 1,
+           kinks[0][1] + 1, kinks[1][0] + 1, kinks[1][1] + 1);
   material_draw(st, WOOD | PLASTIC | STONE | METAL, out);
   return 0;
 }

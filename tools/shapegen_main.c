@@ -46,8 +46,7 @@ static int generate(const char *dir, int all, shapegen_family_t family, uint64_t
   }
   int rc = 0;
   for (uint64_t i = 0; i < count && rc == 0; ++i) {
-    const shapegen_family_t fam =
-        all ? (shapegen_family_t)(i % SHAPEGEN_FAMILY_COUNT) : family;
+    const shapegen_family_t fam = all ? (shapegen_family_t)(i % SHAPEGEN_FAMILY_COUNT) : family;
     const uint64_t s = seed + i;
     if (progress) {
       fprintf(stderr, "\r[%llu/%llu] %s seed %llu ", (unsigned long long)(i + 1),
@@ -55,20 +54,22 @@ static int generate(const char *dir, int all, shapegen_family_t family, uint64_t
     }
     const model_status_t st = shapegen_generate(fam, s, o);
     if (st != MODEL_OK) {
-      LOG_E("%s seed %llu: %s", shapegen_family_name(fam),
-              (unsigned long long)s, model_status_str(st));
+      LOG_E("%s seed %llu: %s", shapegen_family_name(fam), (unsigned long long)s,
+            model_status_str(st));
       rc = 1;
       break;
     }
     char path_failed[4096];
-    rc = shapegen_write(o, dir, path_failed, sizeof path_failed) == 0 ? 0
-                                                                    : fail("cannot write", path_failed);
+    rc = shapegen_write(o, dir, path_failed, sizeof path_failed) == 0
+             ? 0
+             : fail("cannot write", path_failed);
     if (rc == 0) {
-      printf("%s %s (%s): %zu triangles, %.3f cm^3, even %.4f kg, uneven %.4f kg, "
-             "uneven CoM %.3f mm from uniform\n",
-             shapegen_family_name(fam), o->spec.name, o->spec.variant, o->mesh.triangle_count,
-             1e6 * o->even.mass_kg / o->spec.density_kg_m3, o->even.mass_kg, o->uneven.mass_kg,
-             1e3 * o->shift_m);
+      printf(
+          "%s %s (%s): %zu triangles, %.3f cm^3, even %.4f kg, uneven %.4f kg, "
+          "uneven CoM %.3f mm from uniform\n",
+          shapegen_family_name(fam), o->spec.name, o->spec.variant, o->mesh.triangle_count,
+          1e6 * o->even.mass_kg / o->spec.density_kg_m3, o->even.mass_kg, o->uneven.mass_kg,
+          1e3 * o->shift_m);
       fflush(stdout);
     }
     shapegen_object_free(o);
@@ -79,28 +80,30 @@ static int generate(const char *dir, int all, shapegen_family_t family, uint64_t
 }
 
 static void usage(FILE *f) {
-  fprintf(f, "usage: comlearn-shapegen --family NAME|all --seed S [--count N] --out-dir DIR\n"
-             "Writes adversarial test objects (docs/assets.md, \"Adversarial shapes\"),\n"
-             "deterministically: for each object DIR/NAME_even.urdf, DIR/NAME_uneven.urdf and\n"
-             "DIR/meshes/NAME.stl, NAME = <family>_s<seed>, and one line per object on stdout.\n"
-             "Object i (i = 0 .. N-1) has seed S+i; with --family all its family is the (i mod %d)-th\n"
-             "of the list below, so N objects cover every family evenly.\n"
-             "  --family NAME   required (default: none); all, or one of\n"
-             "                 ",
-          SHAPEGEN_FAMILY_COUNT);
+  fprintf(
+      f,
+      "usage: comlearn-shapegen --family NAME|all --seed S [--count N] --out-dir DIR\n"
+      "Writes adversarial test objects (docs/assets.md, \"Adversarial shapes\"),\n"
+      "deterministically: for each object DIR/NAME_even.urdf, DIR/NAME_uneven.urdf and\n"
+      "DIR/meshes/NAME.stl, NAME = <family>_s<seed>, and one line per object on stdout.\n"
+      "Object i (i = 0 .. N-1) has seed S+i; with --family all its family is the (i mod %d)-th\n"
+      "of the list below, so N objects cover every family evenly.\n"
+      "  --family NAME   required (default: none); all, or one of\n"
+      "                 ",
+      SHAPEGEN_FAMILY_COUNT);
   for (unsigned i = 0; i < SHAPEGEN_FAMILY_COUNT; ++i) {
     fprintf(f, " %s", shapegen_family_name((shapegen_family_t)i));
   }
-  fprintf(f, "\n"
-             "  --seed S        required (default: none); first seed, 0 .. 2^64-1, decimal or 0x hex\n"
-             "  --count N       number of objects, 1 .. %d (default: 1)\n"
-             "  --out-dir DIR   required (default: none); folder to write, created if missing\n"
-             "  -h, --help      this text\n"
-             "  -V, --version   print the version\n"
-             "Exit status: 0 success, 1 runtime failure, 2 usage.\n",
+  fprintf(f,
+          "\n"
+          "  --seed S        required (default: none); first seed, 0 .. 2^64-1, decimal or 0x hex\n"
+          "  --count N       number of objects, 1 .. %d (default: 1)\n"
+          "  --out-dir DIR   required (default: none); folder to write, created if missing\n"
+          "  -h, --help      this text\n"
+          "  -V, --version   print the version\n"
+          "Exit status: 0 success, 1 runtime failure, 2 usage.\n",
           COUNT_MAX);
 }
-
 
 int main(int argc, char **argv) {
   cli_log_init("comlearn-shapegen");
@@ -149,8 +152,8 @@ int main(int argc, char **argv) {
     return 2;
   }
   if (count - 1 > UINT64_MAX - seed) {
-    LOG_E("--seed %llu --count %llu: seeds past 2^64-1",
-            (unsigned long long)seed, (unsigned long long)count);
+    LOG_E("--seed %llu --count %llu: seeds past 2^64-1", (unsigned long long)seed,
+          (unsigned long long)count);
     return 2;
   }
   return generate(out_dir, all, family, seed, count);

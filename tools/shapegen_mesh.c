@@ -116,10 +116,22 @@ void shapegen_cos_sin_turn(long j, long n, double *c, double *s) {
   }
   ss *= x;
   switch (q % 4) {
-    case 0: *c = cc; *s = ss; break;
-    case 1: *c = -ss; *s = cc; break;
-    case 2: *c = -cc; *s = -ss; break;
-    default: *c = ss; *s = -cc; break;
+    case 0:
+      *c = cc;
+      *s = ss;
+      break;
+    case 1:
+      *c = -ss;
+      *s = cc;
+      break;
+    case 2:
+      *c = -cc;
+      *s = -ss;
+      break;
+    default:
+      *c = ss;
+      *s = -cc;
+      break;
   }
   *c += 0.0;
   *s += 0.0;
@@ -226,8 +238,8 @@ model_status_t sg_slab_build(const shapegen_slab_t *s, sg_build_t *b) {
   if (!slab_valid(s)) return MODEL_E_ARG;
   const size_t nx = s->line_count[0], ny = s->line_count[1];
   const uint32_t base_bot = (uint32_t)b->nv, base_top = (uint32_t)(b->nv + nx * ny);
-#define BOT(i, j) (base_bot + (uint32_t)((j) * nx + (i)))
-#define TOP(i, j) (base_top + (uint32_t)((j) * nx + (i)))
+#define BOT(i, j) (base_bot + (uint32_t)((j)*nx + (i)))
+#define TOP(i, j) (base_top + (uint32_t)((j)*nx + (i)))
   for (size_t j = 0; j < ny; ++j) {
     for (size_t i = 0; i < nx; ++i) {
       (void)sg_vert(b, s->lines_m[0][i], s->lines_m[1][j], sg_slab_bottom(s, i, j));
@@ -265,14 +277,16 @@ model_status_t sg_slab_build(const shapegen_slab_t *s, sg_build_t *b) {
     }
   }
   /* walls along the outline, counter-clockwise seen from above: p -> q, quad (pb, qb, qt, pt) */
-  for (size_t i = 0; i + 1 < nx; ++i) sg_quad(b, BOT(i, 0), BOT(i + 1, 0), TOP(i + 1, 0), TOP(i, 0));
+  for (size_t i = 0; i + 1 < nx; ++i)
+    sg_quad(b, BOT(i, 0), BOT(i + 1, 0), TOP(i + 1, 0), TOP(i, 0));
   for (size_t j = 0; j + 1 < ny; ++j) {
     sg_quad(b, BOT(nx - 1, j), BOT(nx - 1, j + 1), TOP(nx - 1, j + 1), TOP(nx - 1, j));
   }
   for (size_t i = nx - 1; i > 0; --i) {
     sg_quad(b, BOT(i, ny - 1), BOT(i - 1, ny - 1), TOP(i - 1, ny - 1), TOP(i, ny - 1));
   }
-  for (size_t j = ny - 1; j > 0; --j) sg_quad(b, BOT(0, j), BOT(0, j - 1), TOP(0, j - 1), TOP(0, j));
+  for (size_t j = ny - 1; j > 0; --j)
+    sg_quad(b, BOT(0, j), BOT(0, j - 1), TOP(0, j - 1), TOP(0, j));
 #undef BOT
 #undef TOP
   return MODEL_OK;
@@ -347,7 +361,7 @@ static model_status_t handle_build(revolve_t *r, const shapegen_handle_t *h) {
   const unsigned n = r->rev->segments;
   const size_t k = h->columns, q = h->rows, len = 4 * k + 2 * q;
   const size_t i0 = h->upper_row, i1 = h->upper_row + q;
-  size_t (*ij)[2] = malloc(len * sizeof *ij);
+  size_t(*ij)[2] = malloc(len * sizeof *ij);
   double(*uv)[2] = malloc(len * sizeof *uv);
   uint32_t *loops = malloc((h->loops + 1) * len * sizeof *loops);
   if (ij == NULL || uv == NULL || loops == NULL) {
@@ -415,7 +429,8 @@ model_status_t sg_revolve_build(const shapegen_revolve_t *rev, const shapegen_ha
   }
   for (size_t i = 0; i < p * n; ++i) r.idx[i] = NONE;
   for (size_t i = 0; i < p; ++i) r.pole[i] = NONE;
-  for (size_t j = 0; j < n; ++j) shapegen_cos_sin_turn((long)j, (long)n, &r.cs[2 * j], &r.cs[2 * j + 1]);
+  for (size_t j = 0; j < n; ++j)
+    shapegen_cos_sin_turn((long)j, (long)n, &r.cs[2 * j], &r.cs[2 * j + 1]);
   for (size_t i = 0; i < p; ++i) {
     const size_t i2 = (i + 1) % p;
     const int axis_a = rev->rz_m[i][0] == 0.0, axis_b = rev->rz_m[i2][0] == 0.0;

@@ -18,14 +18,15 @@ static int write_urdf(const char *path, const shapegen_object_t *o, int uneven) 
           s->name, s->variant, s->attempt, o->mesh.triangle_count, o->mesh.vertex_count);
   fprintf(f, "     the center of the mesh's bounding box.\n");
   if (uneven) {
-    fprintf(f, "     Material: %s, %.17g kg/m^3, except the half-space n . x >= d at %.17g kg/m^3,\n",
+    fprintf(f,
+            "     Material: %s, %.17g kg/m^3, except the half-space n . x >= d at %.17g kg/m^3,\n",
             s->material, s->density_kg_m3, s->density_kg_m3 * s->region_ratio);
     fprintf(f, "     n = (%.17g, %.17g, %.17g), d = %.17g m\n", o->region.normal[0],
             o->region.normal[1], o->region.normal[2], o->region.offset_m);
     fprintf(f, "     (%.17g m beyond the uniform-density CoM along n; it moves the CoM %.17g m).\n",
-            o->region.offset_m - (o->region.normal[0] * o->even.com_m[0] +
-                                  o->region.normal[1] * o->even.com_m[1] +
-                                  o->region.normal[2] * o->even.com_m[2]),
+            o->region.offset_m -
+                (o->region.normal[0] * o->even.com_m[0] + o->region.normal[1] * o->even.com_m[1] +
+                 o->region.normal[2] * o->even.com_m[2]),
             o->shift_m);
   } else {
     fprintf(f, "     Material: %s, %.17g kg/m^3 throughout.\n", s->material, s->density_kg_m3);

@@ -12,20 +12,20 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "comlearn/balance_poses.h"
+#include "comlearn/cli_json.h"
+#include "comlearn/cli_log.h"
+#include "comlearn/cli_paths.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
-#include "comlearn/cli_json.h"
-#include "comlearn/cli_log.h"
-#include "comlearn/cli_paths.h"
-#include "comlearn/cli_time.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -109,8 +109,8 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
                        const model_mass_t *truth) {
   printf("{\"object\": ");
   cli_json_string(stdout, urdf, 0);
-  printf(", \"policy\": \"%s\", \"backend\": \"%s\", \"resolution_m\": ", estimate_policy_name(policy),
-         backend);
+  printf(", \"policy\": \"%s\", \"backend\": \"%s\", \"resolution_m\": ",
+         estimate_policy_name(policy), backend);
   cli_json_number(stdout, res_m);
   printf(", ");
   json_vec("com_m", r->com_m, 3);
@@ -120,8 +120,10 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
          r->found[1] ? "true" : "false", r->found[2] ? "true" : "false");
   for (int k = 0; k < 3; ++k) {
     printf("%s", k ? ", " : "");
-    if (r->found[k]) printf("null");
-    else cli_json_string(stdout, r->reason[k], 0);
+    if (r->found[k])
+      printf("null");
+    else
+      cli_json_string(stdout, r->reason[k], 0);
   }
   printf("], \"interval\": \"%s\", ", r->noisy ? "95%" : "bound");
   printf("\"trials\": %zu, \"stable_trials\": %zu, \"edge_trials\": %zu, \"flagged_trials\": %zu, ",
@@ -179,8 +181,10 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
     cli_json_number(stdout, s->bias_m);
     printf(", \"verified_margin_m\": ");
     cli_json_number(stdout, s->verified_margin_m);
-    printf(", \"trials\": %u, \"handover_trials\": %u, \"retest_of\": %d, \"fed\": %s, "
-           "\"note\": ", s->trials, s->handover_trials, s->retest_of, s->fed ? "true" : "false");
+    printf(
+        ", \"trials\": %u, \"handover_trials\": %u, \"retest_of\": %d, \"fed\": %s, "
+        "\"note\": ",
+        s->trials, s->handover_trials, s->retest_of, s->fed ? "true" : "false");
     cli_json_string(stdout, s->note, 0);
     printf("}");
   }
@@ -218,7 +222,9 @@ static void print_table(const char *urdf, qlearn_policy_kind_t policy, const est
     if (!r->found[k]) printf("%c not found: %s\n", axis[k], r->reason[k]);
 }
 
-static int exit_for_model(model_status_t s) { return s == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE; }
+static int exit_for_model(model_status_t s) {
+  return s == MODEL_E_NOMEM ? EXIT_FAILURE : EXIT_USAGE;
+}
 
 /* A length option in mm within [min_mm, max_mm], into metres; -1 (message logged) when it is
  * not. */
@@ -254,8 +260,10 @@ static int parse_option(int c, est_args_t *a) {
     case 'r':
       return parse_mm("resolution-mm", optarg, 0.001, 10.0, &a->cfg.resolution_m) ? EXIT_USAGE : 0;
     case 'S':
-      if (strcmp(optarg, "uniform") == 0) a->cfg.start = ESTIMATE_START_UNIFORM;
-      else if (strcmp(optarg, "bbox") == 0) a->cfg.start = ESTIMATE_START_BBOX;
+      if (strcmp(optarg, "uniform") == 0)
+        a->cfg.start = ESTIMATE_START_UNIFORM;
+      else if (strcmp(optarg, "bbox") == 0)
+        a->cfg.start = ESTIMATE_START_BBOX;
       else {
         LOG_E("--start: '%s' is not one of uniform, bbox", optarg);
         return EXIT_USAGE;
@@ -267,7 +275,7 @@ static int parse_option(int c, est_args_t *a) {
     case 'P':
       a->sim_noise = 1;
       return parse_mm("placement-noise-mm", optarg, 0.0, 100.0, &a->placement_noise_m) ? EXIT_USAGE
-                                                                                        : 0;
+                                                                                       : 0;
     case 'O':
       a->sim_noise = 1;
       return parse_mm("pose-noise-mm", optarg, 0.0, 100.0, &a->pose_noise_m) ? EXIT_USAGE : 0;
@@ -296,7 +304,10 @@ static int parse_option(int c, est_args_t *a) {
     case 'j': a->json = 1; return 0;
     case 't': a->truth = 1; return 0;
     case 'v': cli_log_set_level(CLI_LOG_DEBUG); return 0;
-    case 'q': a->quiet = 1; cli_log_set_level(CLI_LOG_ERROR); return 0;
+    case 'q':
+      a->quiet = 1;
+      cli_log_set_level(CLI_LOG_ERROR);
+      return 0;
     case 'h': usage(stdout); return -1; /* done: exit 0 */
     default: usage(stderr); return EXIT_USAGE;
   }
@@ -304,17 +315,23 @@ static int parse_option(int c, est_args_t *a) {
 
 /* The command line into *a: 0 to go on, -1 for exit 0 (--help), else an exit status. */
 static int parse_args(int argc, char **argv, est_args_t *a) {
-  static const struct option opts[] = {
-      {"policy", required_argument, NULL, 'p'}, {"resolution-mm", required_argument, NULL, 'r'},
-      {"direct", no_argument, NULL, 'd'},       {"lcm-url", required_argument, NULL, 'u'},
-      {"spawn-sim", no_argument, NULL, 's'},    {"link", required_argument, NULL, 'l'},
-      {"json", no_argument, NULL, 'j'},         {"truth", no_argument, NULL, 't'},
-      {"verbose", no_argument, NULL, 'v'},      {"quiet", no_argument, NULL, 'q'},
-      {"start", required_argument, NULL, 'S'},  {"noise-mm", required_argument, NULL, 'n'},
-      {"placement-noise-mm", required_argument, NULL, 'P'},
-      {"pose-noise-mm", required_argument, NULL, 'O'},
-      {"seed", required_argument, NULL, 'e'},   {"help", no_argument, NULL, 'h'},
-      {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"policy", required_argument, NULL, 'p'},
+                                       {"resolution-mm", required_argument, NULL, 'r'},
+                                       {"direct", no_argument, NULL, 'd'},
+                                       {"lcm-url", required_argument, NULL, 'u'},
+                                       {"spawn-sim", no_argument, NULL, 's'},
+                                       {"link", required_argument, NULL, 'l'},
+                                       {"json", no_argument, NULL, 'j'},
+                                       {"truth", no_argument, NULL, 't'},
+                                       {"verbose", no_argument, NULL, 'v'},
+                                       {"quiet", no_argument, NULL, 'q'},
+                                       {"start", required_argument, NULL, 'S'},
+                                       {"noise-mm", required_argument, NULL, 'n'},
+                                       {"placement-noise-mm", required_argument, NULL, 'P'},
+                                       {"pose-noise-mm", required_argument, NULL, 'O'},
+                                       {"seed", required_argument, NULL, 'e'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
   memset(a, 0, sizeof *a);
   estimate_config_default(&a->cfg);
   a->seed = 1;
@@ -335,8 +352,9 @@ static int parse_args(int argc, char **argv, est_args_t *a) {
     return EXIT_USAGE;
   }
   if (a->sim_noise && !a->direct) {
-    LOG_E("--placement-noise-mm, --pose-noise-mm and --seed perturb the --direct trials; over LCM "
-          "the simulator's own options set the noise (comlearn-sim --placement-noise-mm ...)");
+    LOG_E(
+        "--placement-noise-mm, --pose-noise-mm and --seed perturb the --direct trials; over LCM "
+        "the simulator's own options set the noise (comlearn-sim --placement-noise-mm ...)");
     return EXIT_USAGE;
   }
   if (!a->noise_given) a->cfg.noise_sigma_m = a->placement_noise_m; /* the trials' noise */
@@ -421,12 +439,13 @@ static void lcm_report(estimate_lcm_t *lcmb, estimate_status_t es, const estimat
     LOG_W("publishing COM_ESTIMATE failed");
   estimate_lcm_stats_t ls;
   estimate_lcm_stats(lcmb, &ls);
-  LOG_D("lcm: %llu trials, %llu commands (%llu resent), %llu sim controls, %llu trial "
-        "restarts, %llu statuses, %llu object states, %llu undecodable",
-        (unsigned long long)ls.trials, (unsigned long long)ls.commands_sent,
-        (unsigned long long)ls.commands_resent, (unsigned long long)ls.controls_sent,
-        (unsigned long long)ls.trial_restarts, (unsigned long long)ls.statuses,
-        (unsigned long long)ls.object_states, (unsigned long long)ls.undecodable);
+  LOG_D(
+      "lcm: %llu trials, %llu commands (%llu resent), %llu sim controls, %llu trial "
+      "restarts, %llu statuses, %llu object states, %llu undecodable",
+      (unsigned long long)ls.trials, (unsigned long long)ls.commands_sent,
+      (unsigned long long)ls.commands_resent, (unsigned long long)ls.controls_sent,
+      (unsigned long long)ls.trial_restarts, (unsigned long long)ls.statuses,
+      (unsigned long long)ls.object_states, (unsigned long long)ls.undecodable);
 }
 
 /* Print the result (the truth read now, after the estimate, when asked): the exit status. */
@@ -434,8 +453,10 @@ static int report(const est_args_t *a, const char *backend_name, const estimate_
                   double wall_s) {
   int found = 0;
   for (int k = 0; k < 3; ++k) {
-    if (res->found[k]) ++found;
-    else LOG_W("component %c not found: %s", "xyz"[k], res->reason[k]);
+    if (res->found[k])
+      ++found;
+    else
+      LOG_W("component %c not found: %s", "xyz"[k], res -> reason[k]);
   }
   model_mass_t tm;
   const model_mass_t *tp = NULL;
@@ -450,7 +471,8 @@ static int report(const est_args_t *a, const char *backend_name, const estimate_
   }
   if (a->json)
     print_json(a->urdf, a->cfg.policy, a->cfg.resolution_m, backend_name, res, wall_s, tp);
-  else print_table(a->urdf, a->cfg.policy, res, wall_s, tp);
+  else
+    print_table(a->urdf, a->cfg.policy, res, wall_s, tp);
   if (found == 0) {
     LOG_E("%s: no component could be estimated", a->urdf);
     return EXIT_FAILURE;

@@ -92,11 +92,11 @@ typedef struct {
   size_t rock;
   qlearn_policy_kind_t policy;
   run_kind_t kind;
-  int noisy;                   /* kind == RUN_NOISY */
-  uint64_t seed;               /* noisy runs: the noise seed (and the MLP's) */
-  const char *backend;         /* "direct" / "lcm" */
-  double resolution_m;         /* what the estimator ran with */
-  double noise_sigma_m;        /* estimate_config_t.noise_sigma_m */
+  int noisy;            /* kind == RUN_NOISY */
+  uint64_t seed;        /* noisy runs: the noise seed (and the MLP's) */
+  const char *backend;  /* "direct" / "lcm" */
+  double resolution_m;  /* what the estimator ran with */
+  double noise_sigma_m; /* estimate_config_t.noise_sigma_m */
   estimate_status_t status;
   char note[512];
   size_t trials, stable_trials, flagged_trials;
@@ -104,9 +104,9 @@ typedef struct {
   uint32_t search_trials[ESTIMATE_MAX_SEARCHES]; /* edge trials of each search */
   double com_m[3], halfwidth_m[3];
   int found[3];
-  double error_m[3];           /* com - truth; NAN when not found or no truth */
+  double error_m[3]; /* com - truth; NAN when not found or no truth */
   double wall_s;
-  exp_step_t *steps;           /* nsteps, heap */
+  exp_step_t *steps; /* nsteps, heap */
   size_t nsteps;
 } exp_run_t;
 
@@ -117,7 +117,7 @@ typedef struct {
   double uniform_com_m[3];
   int have_truth;
   double truth_m[3];
-  int uniform_density;         /* truth within 1 um of the uniform-density CoM (like the paper's) */
+  int uniform_density; /* truth within 1 um of the uniform-density CoM (like the paper's) */
 } exp_rock_t;
 
 typedef struct {
@@ -131,37 +131,38 @@ typedef struct {
 } exp_opts_t;
 
 static void usage(FILE *out) {
-  fprintf(out,
-          "usage: comlearn experiments OBJECT.urdf... [options]\n"
-          "\n"
-          "Reproduces the paper's Table I and Fig. 2: estimates every object's CoM with every\n"
-          "policy, noiseless and with placement / pose noise, and compares with the URDF\n"
-          "<inertial> (read after each estimate, for the report only). docs/experiments.md.\n"
-          "\n"
-          "options:\n"
-          "  --policies LIST          comma list of paper-qtable, paper-mlp, bisect, pba\n"
-          "                           (default: paper-qtable,paper-mlp,bisect,pba)\n"
-          "  --seeds N                noisy runs per object and policy, seeds 1..N, 0..%d;\n"
-          "                           0: noiseless only (default: 5)\n"
-          "  --placement-noise-mm S   std. dev. of the horizontal release offset of noisy runs,\n"
-          "                           0..100 (default: 0.5)\n"
-          "  --pose-noise-mm S        std. dev. of the perceived settled position of noisy runs,\n"
-          "                           0..100 (default: 0.2)\n"
-          "  --resolution-mm R        search resolution in mm, 0.001..10 (default: 0.1); noisy\n"
-          "                           runs use max(R, placement noise)\n"
-          "  --lcm-url URL            run the noiseless estimates over LCM with YuMi placement\n"
-          "                           against a comlearn-sim already running there (default:\n"
-          "                           in-process, as `estimate --direct`); noisy runs are\n"
-          "                           always in-process\n"
-          "  --out DIR                write DIR/table.md, DIR/experiments.json and\n"
-          "                           DIR/fig2_<object>.svg (default: no files)\n"
-          "  --json                   print the JSON on stdout instead of the table (default: off)\n"
-          "  -v, --verbose            log debug messages on stderr (default: info)\n"
-          "  -q, --quiet              log errors only; no progress (default: one line per run)\n"
-          "  -h, --help               show this help\n"
-          "\n"
-          "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n",
-          MAX_SEEDS);
+  fprintf(
+      out,
+      "usage: comlearn experiments OBJECT.urdf... [options]\n"
+      "\n"
+      "Reproduces the paper's Table I and Fig. 2: estimates every object's CoM with every\n"
+      "policy, noiseless and with placement / pose noise, and compares with the URDF\n"
+      "<inertial> (read after each estimate, for the report only). docs/experiments.md.\n"
+      "\n"
+      "options:\n"
+      "  --policies LIST          comma list of paper-qtable, paper-mlp, bisect, pba\n"
+      "                           (default: paper-qtable,paper-mlp,bisect,pba)\n"
+      "  --seeds N                noisy runs per object and policy, seeds 1..N, 0..%d;\n"
+      "                           0: noiseless only (default: 5)\n"
+      "  --placement-noise-mm S   std. dev. of the horizontal release offset of noisy runs,\n"
+      "                           0..100 (default: 0.5)\n"
+      "  --pose-noise-mm S        std. dev. of the perceived settled position of noisy runs,\n"
+      "                           0..100 (default: 0.2)\n"
+      "  --resolution-mm R        search resolution in mm, 0.001..10 (default: 0.1); noisy\n"
+      "                           runs use max(R, placement noise)\n"
+      "  --lcm-url URL            run the noiseless estimates over LCM with YuMi placement\n"
+      "                           against a comlearn-sim already running there (default:\n"
+      "                           in-process, as `estimate --direct`); noisy runs are\n"
+      "                           always in-process\n"
+      "  --out DIR                write DIR/table.md, DIR/experiments.json and\n"
+      "                           DIR/fig2_<object>.svg (default: no files)\n"
+      "  --json                   print the JSON on stdout instead of the table (default: off)\n"
+      "  -v, --verbose            log debug messages on stderr (default: info)\n"
+      "  -q, --quiet              log errors only; no progress (default: one line per run)\n"
+      "  -h, --help               show this help\n"
+      "\n"
+      "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n",
+      MAX_SEEDS);
 }
 
 /* A number in [lo, hi] or -1 with a message naming the option. */
@@ -346,8 +347,8 @@ typedef struct {
   size_t runs, failed;
   size_t comps, found, errs; /* components asked, found, found with a truth to compare */
   double err_sum, err_sq, err_max;
-  double *err;               /* |error| of each found component (for the 95th percentile) */
-  size_t covered;            /* found components whose |error| <= reported half width */
+  double *err;    /* |error| of each found component (for the 95th percentile) */
+  size_t covered; /* found components whose |error| <= reported half width */
   double hw_sum;
   double trials_sum, trials_sq;
   double wall_sum;
@@ -409,8 +410,10 @@ static double pct_of(const double *v, size_t n, double p) {
 /* ---- the table (markdown) --------------------------------------------------------------------- */
 
 static void md_mm(FILE *f, double v_m, int digits) {
-  if (isfinite(v_m)) fprintf(f, " %.*f |", digits, 1e3 * v_m);
-  else fprintf(f, " N/A |");
+  if (isfinite(v_m))
+    fprintf(f, " %.*f |", digits, 1e3 * v_m);
+  else
+    fprintf(f, " N/A |");
 }
 
 /* The Table I run of object ri with policy, or NULL. */
@@ -442,14 +445,16 @@ static void table_noiseless(FILE *f, const exp_opts_t *o, const exp_rock_t *rock
                             const exp_run_t *runs, size_t nruns) {
   const char *backend = o->lcm_url ? "LCM (YuMi placement, comlearn-sim)" : "direct (in-process)";
   fprintf(f, "## Table I: noiseless, %s\n\n", backend);
-  fprintf(f, "Every policy starts where the paper starts: at the bounding-box center (state 0). "
-             "CoM in mm relative to the bounding-box center (the paper's reference); learned value, "
-             "|error| against the URDF <inertial>. N/A: the component was not found. `trials`: "
-             "every placement of the run (edge trials of each search + stable-pose checks); the "
-             "searches run along oblique directions of the object, so a component's trials are "
-             "not separable.\n\n");
+  fprintf(f,
+          "Every policy starts where the paper starts: at the bounding-box center (state 0). "
+          "CoM in mm relative to the bounding-box center (the paper's reference); learned value, "
+          "|error| against the URDF <inertial>. N/A: the component was not found. `trials`: "
+          "every placement of the run (edge trials of each search + stable-pose checks); the "
+          "searches run along oblique directions of the object, so a component's trials are "
+          "not separable.\n\n");
   fprintf(f, "| object | axis | true |");
-  for (int p = 0; p < o->npolicies; ++p) fprintf(f, " %s | \\|err\\| |", estimate_policy_name(o->policy[p]));
+  for (int p = 0; p < o->npolicies; ++p)
+    fprintf(f, " %s | \\|err\\| |", estimate_policy_name(o->policy[p]));
   fprintf(f, "\n|---|---|---:|");
   for (int p = 0; p < o->npolicies; ++p) fprintf(f, "---:|---:|");
   fprintf(f, "\n");
@@ -473,9 +478,10 @@ static void table_noiseless(FILE *f, const exp_opts_t *o, const exp_rock_t *rock
 static void table_summary(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks,
                           const exp_run_t *runs, size_t nruns, double *scratch) {
   fprintf(f, "\n### Summary, noiseless\n\n");
-  fprintf(f, "| policy | start | objects | mean \\|err\\| (mm) | max \\|err\\| (mm) | found | "
-             "coverage | trials per object (mean) | wall per object (s) |\n"
-             "|---|---|---|---:|---:|---:|---:|---:|---:|\n");
+  fprintf(f,
+          "| policy | start | objects | mean \\|err\\| (mm) | max \\|err\\| (mm) | found | "
+          "coverage | trials per object (mean) | wall per object (s) |\n"
+          "|---|---|---|---:|---:|---:|---:|---:|---:|\n");
   for (int kind = RUN_TABLE; kind <= RUN_PRIOR; ++kind) {
     for (int pass = 0; pass < 2; ++pass) {
       for (int p = 0; p < o->npolicies; ++p) {
@@ -491,58 +497,68 @@ static void table_summary(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks,
       }
     }
   }
-  fprintf(f, "| paper (McGovern et al., Table I; Gazebo + ODE + YuMi) | bounding-box center | "
-             "even: %d | %.1f | %.1f (min %.1f) | %d of %d (%d N/A) | no intervals | not given | "
-             "not given |\n",
+  fprintf(f,
+          "| paper (McGovern et al., Table I; Gazebo + ODE + YuMi) | bounding-box center | "
+          "even: %d | %.1f | %.1f (min %.1f) | %d of %d (%d N/A) | no intervals | not given | "
+          "not given |\n",
           PAPER_ROCKS, PAPER_ERR_MEAN_MM, PAPER_ERR_MAX_MM, PAPER_ERR_MIN_MM,
           PAPER_COMPONENTS - PAPER_NA, PAPER_COMPONENTS, PAPER_NA);
-  fprintf(f, "\nThe paper's numbers are its summary as docs/design.md states it (\"What is being "
-             "reproduced\"; per-cell values are not given there). `uniform-density`: objects whose true CoM is within 1 um of the "
-             "mesh's uniform-density CoM, like the paper's even rocks. `mesh prior`: the same "
-             "runs started at the mesh's uniform-density CoM, which is the truth for an even "
-             "object (so a walk from there needs few trials): information the paper does not "
-             "use. Coverage: found components whose |error| is within the reported bound.\n");
+  fprintf(f,
+          "\nThe paper's numbers are its summary as docs/design.md states it (\"What is being "
+          "reproduced\"; per-cell values are not given there). `uniform-density`: objects whose "
+          "true CoM is within 1 um of the "
+          "mesh's uniform-density CoM, like the paper's even rocks. `mesh prior`: the same "
+          "runs started at the mesh's uniform-density CoM, which is the truth for an even "
+          "object (so a walk from there needs few trials): information the paper does not "
+          "use. Coverage: found components whose |error| is within the reported bound.\n");
 }
 
 /* The noisy runs (o->seeds > 0): per policy over objects x seeds, and the targets. */
 static void table_noisy(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks,
                         const exp_run_t *runs, size_t nruns, double *scratch) {
-  fprintf(f, "\n## With noise: placement %.3g mm, pose %.3g mm (std. dev.), seeds 1..%d, in-process\n\n",
-          1e3 * o->placement_noise_m, 1e3 * o->pose_noise_m, o->seeds);
-  fprintf(f, "Over objects x seeds per policy. |err| statistics over the found components; "
-             "coverage: fraction of found components whose |error| is within the reported half "
-             "width. Every policy is told the noise model (probit outcomes, sigma = the placement "
-             "noise) and reports 95 %% intervals: bisect and the paper walks hand over to PBA "
-             "after their walk; searches stop at resolution max(R, sigma). Started at the "
-             "bounding-box center.\n\n");
-  fprintf(f, "| policy | runs | resolution (mm) | mean \\|err\\| +- sd (mm) | p95 \\|err\\| (mm) | "
-             "worst (mm) | found | mean half width (mm) | coverage | trials per object | "
-             "failed runs |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+  fprintf(
+      f,
+      "\n## With noise: placement %.3g mm, pose %.3g mm (std. dev.), seeds 1..%d, in-process\n\n",
+      1e3 * o->placement_noise_m, 1e3 * o->pose_noise_m, o->seeds);
+  fprintf(f,
+          "Over objects x seeds per policy. |err| statistics over the found components; "
+          "coverage: fraction of found components whose |error| is within the reported half "
+          "width. Every policy is told the noise model (probit outcomes, sigma = the placement "
+          "noise) and reports 95 %% intervals: bisect and the paper walks hand over to PBA "
+          "after their walk; searches stop at resolution max(R, sigma). Started at the "
+          "bounding-box center.\n\n");
+  fprintf(f,
+          "| policy | runs | resolution (mm) | mean \\|err\\| +- sd (mm) | p95 \\|err\\| (mm) | "
+          "worst (mm) | found | mean half width (mm) | coverage | trials per object | "
+          "failed runs |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int p = 0; p < o->npolicies; ++p) {
     exp_stats_t st;
     stats_of(runs, nruns, rocks, o->policy[p], RUN_NOISY, 0, scratch, &st);
     if (!st.runs) continue;
     const double res = fmax(o->resolution_m, o->placement_noise_m);
-    fprintf(f, "| %s | %zu | %.3g | %.3f +- %.3f | %.3f | %.3f | %.0f %% (%zu of %zu) | %.3f | "
-               "%.0f %% (%zu of %zu) | %.1f +- %.1f | %zu |\n",
-            estimate_policy_name(o->policy[p]), st.runs, 1e3 * res, 1e3 * mean_of(st.err_sum, st.errs),
-            1e3 * sd_of(st.err_sum, st.err_sq, st.errs), 1e3 * pct_of(st.err, st.errs, 0.95),
-            1e3 * st.err_max, st.comps ? 100.0 * (double)st.found / (double)st.comps : 0.0,
-            st.found, st.comps, 1e3 * mean_of(st.hw_sum, st.errs),
-            st.errs ? 100.0 * (double)st.covered / (double)st.errs : 0.0, st.covered, st.errs,
-            mean_of(st.trials_sum, st.runs), sd_of(st.trials_sum, st.trials_sq, st.runs),
-            st.failed);
+    fprintf(
+        f,
+        "| %s | %zu | %.3g | %.3f +- %.3f | %.3f | %.3f | %.0f %% (%zu of %zu) | %.3f | "
+        "%.0f %% (%zu of %zu) | %.1f +- %.1f | %zu |\n",
+        estimate_policy_name(o->policy[p]), st.runs, 1e3 * res, 1e3 * mean_of(st.err_sum, st.errs),
+        1e3 * sd_of(st.err_sum, st.err_sq, st.errs), 1e3 * pct_of(st.err, st.errs, 0.95),
+        1e3 * st.err_max, st.comps ? 100.0 * (double)st.found / (double)st.comps : 0.0, st.found,
+        st.comps, 1e3 * mean_of(st.hw_sum, st.errs),
+        st.errs ? 100.0 * (double)st.covered / (double)st.errs : 0.0, st.covered, st.errs,
+        mean_of(st.trials_sum, st.runs), sd_of(st.trials_sum, st.trials_sq, st.runs), st.failed);
   }
-  fprintf(f, "\nTargets (docs/design.md, \"Targets and where they stand\"): 95 %% of errors "
-             "<= 1 mm; the reported 95 %% intervals contain the truth >= 90 %% of the time "
-             "(second wave: >= 95 %%).\n");
+  fprintf(f,
+          "\nTargets (docs/design.md, \"Targets and where they stand\"): 95 %% of errors "
+          "<= 1 mm; the reported 95 %% intervals contain the truth >= 90 %% of the time "
+          "(second wave: >= 95 %%).\n");
 }
 
 static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
                         const exp_run_t *runs, size_t nruns, double *scratch, double wall_s) {
   fprintf(f, "# comlearn experiments\n\n");
   fprintf(f, "%zu objects, policies:", nrocks);
-  for (int p = 0; p < o->npolicies; ++p) fprintf(f, "%s %s", p ? "," : "", estimate_policy_name(o->policy[p]));
+  for (int p = 0; p < o->npolicies; ++p)
+    fprintf(f, "%s %s", p ? "," : "", estimate_policy_name(o->policy[p]));
   fprintf(f, "; resolution %.3g mm; %.1f s wall.\n\n", 1e3 * o->resolution_m, wall_s);
   table_noiseless(f, o, rocks, nrocks, runs, nruns);
   table_summary(f, o, rocks, runs, nruns, scratch);
@@ -557,8 +573,9 @@ static void js_vec(FILE *f, const char *key, const double v[3]) {
 }
 
 static void js_stats(FILE *f, const exp_stats_t *st) {
-  fprintf(f, "{\"runs\": %zu, \"failed_runs\": %zu, \"components\": %zu, \"found\": %zu, "
-             "\"mean_abs_error_m\": ",
+  fprintf(f,
+          "{\"runs\": %zu, \"failed_runs\": %zu, \"components\": %zu, \"found\": %zu, "
+          "\"mean_abs_error_m\": ",
           st->runs, st->failed, st->comps, st->found);
   cli_json_number(f, mean_of(st->err_sum, st->errs));
   fputs(", \"sd_abs_error_m\": ", f);
@@ -596,12 +613,15 @@ static void json_head(FILE *f, const exp_opts_t *o, double wall_s) {
   fputs(", \"noiseless_backend\": ", f);
   cli_json_string(f, o->lcm_url ? "lcm" : "direct", 0);
   fputs(", \"lcm_url\": ", f);
-  if (o->lcm_url) cli_json_string(f, o->lcm_url, 0);
-  else fputs("null", f);
-  fprintf(f, "}, \"wall_s\": %.3f, \"paper\": {\"rocks\": %d, \"components\": %d, \"not_found\": %d, "
-             "\"min_abs_error_m\": %.4g, \"max_abs_error_m\": %.4g, \"mean_abs_error_m\": %.4g, "
-             "\"source\": \"McGovern, Mao & Xiao, IROS 2019, Table I (summary in docs/design.md, "
-             "What is being reproduced)\"}",
+  if (o->lcm_url)
+    cli_json_string(f, o->lcm_url, 0);
+  else
+    fputs("null", f);
+  fprintf(f,
+          "}, \"wall_s\": %.3f, \"paper\": {\"rocks\": %d, \"components\": %d, \"not_found\": %d, "
+          "\"min_abs_error_m\": %.4g, \"max_abs_error_m\": %.4g, \"mean_abs_error_m\": %.4g, "
+          "\"source\": \"McGovern, Mao & Xiao, IROS 2019, Table I (summary in docs/design.md, "
+          "What is being reproduced)\"}",
           wall_s, PAPER_ROCKS, PAPER_COMPONENTS, PAPER_NA, 1e-3 * PAPER_ERR_MIN_MM,
           1e-3 * PAPER_ERR_MAX_MM, 1e-3 * PAPER_ERR_MEAN_MM);
 }
@@ -648,9 +668,11 @@ static void json_summary(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks,
 }
 
 static const char *outcome_name(int oc) {
-  return oc == BALANCE_STAYS ? "stays" : oc == BALANCE_TIPS ? "tips"
-                                       : oc == BALANCE_SLIDES ? "slides"
-                                       : oc == BALANCE_INVALID ? "invalid" : "failed";
+  return oc == BALANCE_STAYS     ? "stays"
+         : oc == BALANCE_TIPS    ? "tips"
+         : oc == BALANCE_SLIDES  ? "slides"
+         : oc == BALANCE_INVALID ? "invalid"
+                                 : "failed";
 }
 
 /* The run's "trace" object: one entry per recorded trial in each array. */
@@ -689,8 +711,10 @@ static void json_run(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, cons
   fprintf(f, ", \"policy\": \"%s\", \"noisy\": %s, \"start\": \"%s\", \"seed\": ",
           estimate_policy_name(r->policy), r->noisy ? "true" : "false",
           r->kind == RUN_PRIOR ? "uniform" : "bbox");
-  if (r->noisy) fprintf(f, "%llu", (unsigned long long)r->seed);
-  else fputs("null", f);
+  if (r->noisy)
+    fprintf(f, "%llu", (unsigned long long)r->seed);
+  else
+    fputs("null", f);
   fputs(", \"placement_noise_m\": ", f);
   cli_json_number(f, r->noisy ? o->placement_noise_m : 0.0);
   fputs(", \"pose_noise_m\": ", f);
@@ -705,8 +729,9 @@ static void json_run(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, cons
   cli_json_string(f, estimate_status_str(r->status), 0);
   fputs(", \"note\": ", f);
   cli_json_string(f, r->note, 0);
-  fprintf(f, ", \"trials\": %zu, \"stable_trials\": %zu, \"flagged_trials\": %zu, "
-             "\"search_trials\": [",
+  fprintf(f,
+          ", \"trials\": %zu, \"stable_trials\": %zu, \"flagged_trials\": %zu, "
+          "\"search_trials\": [",
           r->trials, r->stable_trials, r->flagged_trials);
   for (size_t t = 0; t < r->nsearch; ++t) fprintf(f, "%s%u", t ? ", " : "", r->search_trials[t]);
   fputs("], ", f);
@@ -769,7 +794,8 @@ static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *r
           r->status == ESTIMATE_OK ? 1e3 * (r->com_m[k] - rock->bbox_center_m[k]) : NAN;
       ser[ns].value_mm[k] = vals[ns][k];
     }
-    snprintf(labels[ns], sizeof labels[ns], "%s (%zu trials)", estimate_policy_name(r->policy), r->trials);
+    snprintf(labels[ns], sizeof labels[ns], "%s (%zu trials)", estimate_policy_name(r->policy),
+             r->trials);
     ser[ns].label = labels[ns];
     ser[ns].n = n;
     ++ns;
@@ -780,7 +806,9 @@ static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *r
       truth_mm[k] = rock->have_truth ? 1e3 * (rock->truth_m[k] - rock->bbox_center_m[k]) : NAN;
     char title[256];
     snprintf(title, sizeof title,
-             "%s: CoM estimate per trial (point placed over the edge; mm from the bbox center), noiseless", rock->stem);
+             "%s: CoM estimate per trial (point placed over the edge; mm from the bbox center), "
+             "noiseless",
+             rock->stem);
     FILE *f = fopen(path, "w");
     if (!f) {
       LOG_E("%s: %s", path, strerror(errno));
@@ -810,8 +838,10 @@ static int write_file(const char *dir, const char *name, int json, const exp_opt
     LOG_E("%s: %s", path, strerror(errno));
     return -1;
   }
-  if (json) write_json(f, o, rocks, nrocks, runs, nruns, scratch, wall_s);
-  else write_table(f, o, rocks, nrocks, runs, nruns, scratch, wall_s);
+  if (json)
+    write_json(f, o, rocks, nrocks, runs, nruns, scratch, wall_s);
+  else
+    write_table(f, o, rocks, nrocks, runs, nruns, scratch, wall_s);
   int bad = ferror(f);
   if (fclose(f) != 0 || bad) {
     LOG_E("%s: write failed", path);
@@ -836,19 +866,18 @@ static int parse_seeds(const char *arg, int *out) {
 /* Options into o (defaults as usage() says). Returns -1 to go on, else the exit status (0 after
  * --help, EXIT_USAGE). */
 static int parse_args(int argc, char **argv, exp_opts_t *o) {
-  static const struct option opts[] = {
-      {"policies", required_argument, NULL, 'P'},
-      {"seeds", required_argument, NULL, 'S'},
-      {"placement-noise-mm", required_argument, NULL, 'n'},
-      {"pose-noise-mm", required_argument, NULL, 'N'},
-      {"resolution-mm", required_argument, NULL, 'r'},
-      {"lcm-url", required_argument, NULL, 'u'},
-      {"out", required_argument, NULL, 'o'},
-      {"json", no_argument, NULL, 'j'},
-      {"verbose", no_argument, NULL, 'v'},
-      {"quiet", no_argument, NULL, 'q'},
-      {"help", no_argument, NULL, 'h'},
-      {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"policies", required_argument, NULL, 'P'},
+                                       {"seeds", required_argument, NULL, 'S'},
+                                       {"placement-noise-mm", required_argument, NULL, 'n'},
+                                       {"pose-noise-mm", required_argument, NULL, 'N'},
+                                       {"resolution-mm", required_argument, NULL, 'r'},
+                                       {"lcm-url", required_argument, NULL, 'u'},
+                                       {"out", required_argument, NULL, 'o'},
+                                       {"json", no_argument, NULL, 'j'},
+                                       {"verbose", no_argument, NULL, 'v'},
+                                       {"quiet", no_argument, NULL, 'q'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
   memset(o, 0, sizeof *o);
   o->npolicies = MAX_POLICIES;
   memcpy(o->policy, all_policies, sizeof all_policies);
@@ -895,7 +924,10 @@ static int parse_args(int argc, char **argv, exp_opts_t *o) {
         break;
       case 'j': o->json = 1; break;
       case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
-      case 'q': o->quiet = 1; cli_log_set_level(CLI_LOG_ERROR); break;
+      case 'q':
+        o->quiet = 1;
+        cli_log_set_level(CLI_LOG_ERROR);
+        break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
       default: usage(stderr); return EXIT_USAGE;
     }
@@ -927,8 +959,10 @@ static int inputs_check(char *const *paths, size_t n, const char *out_dir) {
  * the noise seed. */
 static void progress_line(const exp_rock_t *rk, const exp_run_t *run, int s) {
   char what[32];
-  if (run->noisy) snprintf(what, sizeof what, "seed %d", s);
-  else snprintf(what, sizeof what, s < 0 ? "mesh prior" : "noiseless");
+  if (run->noisy)
+    snprintf(what, sizeof what, "seed %d", s);
+  else
+    snprintf(what, sizeof what, s < 0 ? "mesh prior" : "noiseless");
   int all = run->found[0] && run->found[1] && run->found[2];
   fprintf(stderr, "comlearn experiments: %-16s %-12s %-9s %3zu trials  %.3f s  %s%s\n", rk->stem,
           estimate_policy_name(run->policy), what, run->trials, run->wall_s,
@@ -993,8 +1027,10 @@ static int rock_runs(const exp_opts_t *o, exp_rock_t *rk, size_t ri, recorder_t 
  * Returns an exit status. */
 static int report_write(const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
                         const exp_run_t *runs, size_t nruns, double *scratch, double wall) {
-  if (o->json) write_json(stdout, o, rocks, nrocks, runs, nruns, scratch, wall);
-  else write_table(stdout, o, rocks, nrocks, runs, nruns, scratch, wall);
+  if (o->json)
+    write_json(stdout, o, rocks, nrocks, runs, nruns, scratch, wall);
+  else
+    write_table(stdout, o, rocks, nrocks, runs, nruns, scratch, wall);
   fflush(stdout);
   if (!o->out_dir) return EXIT_SUCCESS;
   int rc = EXIT_SUCCESS;

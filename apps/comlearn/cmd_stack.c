@@ -19,8 +19,8 @@
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_paths.h"
-#include "comlearn/math3d.h"
 #include "comlearn/cli_time.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "comlearn/stack.h"
@@ -31,46 +31,47 @@
 
 enum { EXIT_USAGE = 2 };
 
-static const double kDensity = 2650.0;      /* nominal rock density for the mass guesses */
+static const double kDensity = 2650.0; /* nominal rock density for the mass guesses */
 static const double kMissingHalfwidth = 3e-3;
 
 static void usage(FILE *out) {
-  fprintf(out,
-          "usage: comlearn stack OBJECT.urdf... [options]   (2..%d objects)\n"
-          "\n"
-          "Plans a stack of the objects on their believed CoMs from geometry only (each object\n"
-          "resting with a hull face on a facet of the one below, the CoM of everything above\n"
-          "each contact over its support polygon), then simulates it with the true mass\n"
-          "properties and reports whether it stands (docs/stack.md).\n"
-          "\n"
-          "options:\n"
-          "  --com SRC          where the believed CoMs come from (default: learned):\n"
-          "                       learned  estimate each CoM first (comlearn estimate); its half\n"
-          "                                widths are the planner's uncertainty\n"
-          "                       bbox     the mesh's bounding-box center (what a camera gives)\n"
-          "                       true     the URDF <inertial> CoM: the oracle, for comparison\n"
-          "  --lcm-url URL      learned: run the trials over LCM against a running comlearn-sim\n"
-          "                     (default: in-process, as `comlearn estimate --direct`)\n"
-          "  --policy P         learned: bisect | pba | paper-qtable | paper-mlp (default: bisect)\n"
-          "  --mass-uncertainty U  relative mass uncertainty; plans hold for masses in\n"
-          "                     m*[1/(1+U), 1+U], m = mesh volume x 2650 kg/m^3 (default: 0.3)\n"
-          "  --max-tilt-deg D   steepest contact plane of the first plan, 1..45 (default: 20);\n"
-          "                     a plan that falls in rehearsal is replaced by one with\n"
-          "                     contacts at most 4 degrees flatter, down to 4 degrees;\n"
-          "                     with no plan at all at D, steeper ones, up to D + 12\n"
-          "  --no-rehearse      build the first plan without rehearsing it on the beliefs\n"
-          "                     (default: rehearse each plan in simulation on the believed\n"
-          "                     CoMs and mass guesses before the real run)\n"
-          "  --duration-s S     simulated time the stack must stand, 0.01..600 (default: 5)\n"
-          "  --svg FILE         write a side view of the stack after the simulation\n"
-          "  --json             print one JSON object on stdout (default: a table)\n"
-          "  -v, --verbose      log debug messages on stderr (default: info)\n"
-          "  -q, --quiet        log errors only (default: info, progress lines on stderr)\n"
-          "  -h, --help         show this help\n"
-          "\n"
-          "exit status: 0 planned and simulated (standing or not), 1 runtime failure (e.g. no\n"
-          "stable plan), 2 usage or bad input\n",
-          STACK_MAX_OBJECTS);
+  fprintf(
+      out,
+      "usage: comlearn stack OBJECT.urdf... [options]   (2..%d objects)\n"
+      "\n"
+      "Plans a stack of the objects on their believed CoMs from geometry only (each object\n"
+      "resting with a hull face on a facet of the one below, the CoM of everything above\n"
+      "each contact over its support polygon), then simulates it with the true mass\n"
+      "properties and reports whether it stands (docs/stack.md).\n"
+      "\n"
+      "options:\n"
+      "  --com SRC          where the believed CoMs come from (default: learned):\n"
+      "                       learned  estimate each CoM first (comlearn estimate); its half\n"
+      "                                widths are the planner's uncertainty\n"
+      "                       bbox     the mesh's bounding-box center (what a camera gives)\n"
+      "                       true     the URDF <inertial> CoM: the oracle, for comparison\n"
+      "  --lcm-url URL      learned: run the trials over LCM against a running comlearn-sim\n"
+      "                     (default: in-process, as `comlearn estimate --direct`)\n"
+      "  --policy P         learned: bisect | pba | paper-qtable | paper-mlp (default: bisect)\n"
+      "  --mass-uncertainty U  relative mass uncertainty; plans hold for masses in\n"
+      "                     m*[1/(1+U), 1+U], m = mesh volume x 2650 kg/m^3 (default: 0.3)\n"
+      "  --max-tilt-deg D   steepest contact plane of the first plan, 1..45 (default: 20);\n"
+      "                     a plan that falls in rehearsal is replaced by one with\n"
+      "                     contacts at most 4 degrees flatter, down to 4 degrees;\n"
+      "                     with no plan at all at D, steeper ones, up to D + 12\n"
+      "  --no-rehearse      build the first plan without rehearsing it on the beliefs\n"
+      "                     (default: rehearse each plan in simulation on the believed\n"
+      "                     CoMs and mass guesses before the real run)\n"
+      "  --duration-s S     simulated time the stack must stand, 0.01..600 (default: 5)\n"
+      "  --svg FILE         write a side view of the stack after the simulation\n"
+      "  --json             print one JSON object on stdout (default: a table)\n"
+      "  -v, --verbose      log debug messages on stderr (default: info)\n"
+      "  -q, --quiet        log errors only (default: info, progress lines on stderr)\n"
+      "  -h, --help         show this help\n"
+      "\n"
+      "exit status: 0 planned and simulated (standing or not), 1 runtime failure (e.g. no\n"
+      "stable plan), 2 usage or bad input\n",
+      STACK_MAX_OBJECTS);
 }
 
 static int com_parse(const char *s, stack_com_source_t *out) {
@@ -147,7 +148,8 @@ static int learn(belief_t *b, const char *lcm_url, qlearn_policy_kind_t policy,
     return EXIT_FAILURE;
   }
   const estimate_status_t es = estimate_run(&b->geo.mesh, &backend, &cfg, res);
-  if (lcmb && es == ESTIMATE_OK && estimate_lcm_publish_estimate(lcmb, res, cfg.resolution_m, 1) != 0)
+  if (lcmb && es == ESTIMATE_OK &&
+      estimate_lcm_publish_estimate(lcmb, res, cfg.resolution_m, 1) != 0)
     LOG_W("publishing COM_ESTIMATE failed");
   estimate_direct_close(sim);
   estimate_lcm_close(lcmb);
@@ -166,10 +168,11 @@ static int learn(belief_t *b, const char *lcm_url, qlearn_policy_kind_t policy,
     } else {
       b->com_m[k] = res->uniform_com_m[k];
       b->halfwidth_m[k] = kMissingHalfwidth;
-      LOG_W("%s: CoM component %c not found (%s): planning with the uniform-density value "
-            "%.2f mm +- %.1f mm",
-            b->urdf, "xyz"[k], res->msg[0] ? res->msg : "no usable plane", 1e3 * b->com_m[k],
-            1e3 * kMissingHalfwidth);
+      LOG_W(
+          "%s: CoM component %c not found (%s): planning with the uniform-density value "
+          "%.2f mm +- %.1f mm",
+          b->urdf, "xyz"[k], res -> msg[0] ? res -> msg : "no usable plane", 1e3 * b->com_m[k],
+          1e3 * kMissingHalfwidth);
     }
   }
   LOG_I("%s: learned CoM (%.2f, %.2f, %.2f) mm +- (%.3f, %.3f, %.3f) mm in %zu trials", b->urdf,
@@ -181,15 +184,16 @@ static int learn(belief_t *b, const char *lcm_url, qlearn_policy_kind_t policy,
 
 /* What rehearsing the plans on the beliefs gave. */
 typedef struct {
-  int tried;        /* rehearsals run */
-  int stood;        /* the built plan stood in rehearsal */
-  double tilt_deg;  /* the contact-slope limit of the built plan */
-  double seconds;   /* wall time of the rehearsals */
+  int tried;       /* rehearsals run */
+  int stood;       /* the built plan stood in rehearsal */
+  double tilt_deg; /* the contact-slope limit of the built plan */
+  double seconds;  /* wall time of the rehearsals */
 } rehearsal_t;
 
-static void print_json(const belief_t *bel, size_t n, stack_com_source_t src, const stack_plan_t *plan,
-                       const stack_sim_result_t *sim, const rehearsal_t *reh, double learn_s,
-                       double plan_s, double sim_s, double duration_s) {
+static void print_json(const belief_t *bel, size_t n, stack_com_source_t src,
+                       const stack_plan_t *plan, const stack_sim_result_t *sim,
+                       const rehearsal_t *reh, double learn_s, double plan_s, double sim_s,
+                       double duration_s) {
   size_t level[STACK_MAX_OBJECTS] = {0};
   for (size_t k = 0; k < n; ++k) level[plan->order[k]] = k;
   printf("{\"stands\": %s, \"seconds_standing\": ", sim->run.stands ? "true" : "false");
@@ -236,9 +240,10 @@ static void print_json(const belief_t *bel, size_t n, stack_com_source_t src, co
   printf("], \"rehearsals\": %d, \"rehearsal_stands\": %s, \"max_tilt_deg\": ", reh->tried,
          reh->stood ? "true" : "false");
   cli_json_number(stdout, reh->tilt_deg);
-  printf(", \"learn_seconds\": %.6f, \"plan_seconds\": %.6f, \"rehearse_seconds\": %.6f, "
-         "\"sim_seconds\": %.6f, \"sim_time_s\": ",
-         learn_s, plan_s, reh->seconds, sim_s);
+  printf(
+      ", \"learn_seconds\": %.6f, \"plan_seconds\": %.6f, \"rehearse_seconds\": %.6f, "
+      "\"sim_seconds\": %.6f, \"sim_time_s\": ",
+      learn_s, plan_s, reh->seconds, sim_s);
   cli_json_number(stdout, sim->run.sim_time_s);
   printf("}\n");
 }
@@ -252,21 +257,22 @@ static void print_table(const belief_t *bel, size_t n, stack_com_source_t src,
   printf("order (bottom first):");
   for (size_t k = 0; k < n; ++k) printf(" %s", bel[plan->order[k]].urdf);
   printf("\n");
-  printf("level  object                         believed CoM (mm)           +- (mm)"
-         "               margin (mm)  tilt (deg)  position (mm)                   "
-         "orientation (w x y z)\n");
+  printf(
+      "level  object                         believed CoM (mm)           +- (mm)"
+      "               margin (mm)  tilt (deg)  position (mm)                   "
+      "orientation (w x y z)\n");
   for (size_t k = 0; k < n; ++k) {
     const size_t i = plan->order[k];
     const belief_t *b = &bel[i];
     const model_pose_t *p = &plan->pose[i];
-    printf("%5zu  %-30s (%6.2f %6.2f %6.2f)  (%6.3f %6.3f %6.3f)  %11.2f  %10.1f  "
-           "(%7.2f %7.2f %7.2f)  (%.4f %.4f %.4f %.4f)\n",
-           k, b->urdf, 1e3 * b->com_m[0], 1e3 * b->com_m[1], 1e3 * b->com_m[2],
-           1e3 * b->halfwidth_m[0], 1e3 * b->halfwidth_m[1], 1e3 * b->halfwidth_m[2],
-           1e3 * plan->margin_m[k], plan->tilt_rad[k] * 180.0 / CL_PI,
-           1e3 * p->position_m[0], 1e3 * p->position_m[1], 1e3 * p->position_m[2],
-           p->orientation_wxyz[0], p->orientation_wxyz[1], p->orientation_wxyz[2],
-           p->orientation_wxyz[3]);
+    printf(
+        "%5zu  %-30s (%6.2f %6.2f %6.2f)  (%6.3f %6.3f %6.3f)  %11.2f  %10.1f  "
+        "(%7.2f %7.2f %7.2f)  (%.4f %.4f %.4f %.4f)\n",
+        k, b->urdf, 1e3 * b->com_m[0], 1e3 * b->com_m[1], 1e3 * b->com_m[2],
+        1e3 * b->halfwidth_m[0], 1e3 * b->halfwidth_m[1], 1e3 * b->halfwidth_m[2],
+        1e3 * plan->margin_m[k], plan->tilt_rad[k] * 180.0 / CL_PI, 1e3 * p->position_m[0],
+        1e3 * p->position_m[1], 1e3 * p->position_m[2], p->orientation_wxyz[0],
+        p->orientation_wxyz[1], p->orientation_wxyz[2], p->orientation_wxyz[3]);
   }
   for (size_t i = 0; i < n; ++i)
     if (sim->object[i].moved_at_s >= 0.0)
@@ -275,11 +281,15 @@ static void print_table(const belief_t *bel, size_t n, stack_com_source_t src,
              sim->object[i].rotation_rad);
   printf("contacts up to %.0f deg; %d rehearsal(s) on the beliefs, the built plan %s\n",
          reh->tilt_deg, reh->tried,
-         reh->tried == 0 ? "not rehearsed" : reh->stood ? "stood" : "fell there too");
+         reh->tried == 0 ? "not rehearsed"
+         : reh->stood    ? "stood"
+                         : "fell there too");
   printf("learn %.2f s, plan %.2f s, rehearse %.2f s, simulation %.2f s wall\n", learn_s, plan_s,
          reh->seconds, sim_s);
-  if (sim->run.stands) printf("STANDS for %.2f s\n", duration_s);
-  else printf("FELL after %.3f s\n", sim->run.seconds_standing);
+  if (sim->run.stands)
+    printf("STANDS for %.2f s\n", duration_s);
+  else
+    printf("FELL after %.3f s\n", sim->run.seconds_standing);
 }
 
 /* The command line of `comlearn stack`. */
@@ -294,17 +304,26 @@ typedef struct {
 /* Options into a (defaults as usage() says). Returns -1 to go on, else the exit status (0 after
  * --help, EXIT_USAGE). */
 static int parse_args(int argc, char **argv, stack_args_t *a) {
-  static const struct option opts[] = {
-      {"com", required_argument, NULL, 'c'},        {"lcm-url", required_argument, NULL, 'u'},
-      {"policy", required_argument, NULL, 'p'},     {"svg", required_argument, NULL, 'S'},
-      {"duration-s", required_argument, NULL, 'D'}, {"mass-uncertainty", required_argument, NULL, 'M'},
-      {"max-tilt-deg", required_argument, NULL, 'T'}, {"json", no_argument, NULL, 'j'},
-      {"no-rehearse", no_argument, NULL, 'N'},
-      {"verbose", no_argument, NULL, 'v'},          {"quiet", no_argument, NULL, 'q'},
-      {"help", no_argument, NULL, 'h'},             {NULL, 0, NULL, 0}};
-  *a = (stack_args_t){.src = STACK_COM_LEARNED, .policy = QLEARN_POLICY_BISECT,
-                      .policy_name = "bisect", .duration_s = 5.0, .mass_u = 0.3,
-                      .tilt_deg = 20.0, .rehearse = 1};
+  static const struct option opts[] = {{"com", required_argument, NULL, 'c'},
+                                       {"lcm-url", required_argument, NULL, 'u'},
+                                       {"policy", required_argument, NULL, 'p'},
+                                       {"svg", required_argument, NULL, 'S'},
+                                       {"duration-s", required_argument, NULL, 'D'},
+                                       {"mass-uncertainty", required_argument, NULL, 'M'},
+                                       {"max-tilt-deg", required_argument, NULL, 'T'},
+                                       {"json", no_argument, NULL, 'j'},
+                                       {"no-rehearse", no_argument, NULL, 'N'},
+                                       {"verbose", no_argument, NULL, 'v'},
+                                       {"quiet", no_argument, NULL, 'q'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
+  *a = (stack_args_t){.src = STACK_COM_LEARNED,
+                      .policy = QLEARN_POLICY_BISECT,
+                      .policy_name = "bisect",
+                      .duration_s = 5.0,
+                      .mass_u = 0.3,
+                      .tilt_deg = 20.0,
+                      .rehearse = 1};
   int c;
   optind = 1;
   while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
@@ -434,10 +453,9 @@ typedef struct {
 
 /* One slope of the search: plan on contacts up to tilt_deg, keep it when it is the first plan or
  * it stands in rehearsal. Returns 1 when the search is over, 0 to try the next slope. */
-static int plan_at_slope(const stack_object_t *in, size_t n, const stack_args_t *a,
-                         double tilt_deg, stack_plan_config_t *pc,
-                         const balance_stack_config_t *rsc, slope_search_t *ss,
-                         stack_plan_t *plan, rehearsal_t *reh) {
+static int plan_at_slope(const stack_object_t *in, size_t n, const stack_args_t *a, double tilt_deg,
+                         stack_plan_config_t *pc, const balance_stack_config_t *rsc,
+                         slope_search_t *ss, stack_plan_t *plan, rehearsal_t *reh) {
   pc->max_tilt_rad = tilt_deg * CL_PI / 180.0;
   LOG_I("planning a stack of %zu objects (%s CoMs, contacts up to %.0f deg)", n,
         stack_com_source_str(a->src), tilt_deg);
@@ -518,9 +536,10 @@ static int report_no_plan(const stack_args_t *a, stack_status_t st, const stack_
   const char *why = plan->msg[0] ? plan->msg : stack_status_str(st);
   LOG_E("plan: %s: %s", stack_status_str(st), why);
   if (a->json) {
-    printf("{\"stands\": false, \"planned\": false, \"seconds_standing\": 0, \"com_source\": "
-           "\"%s\", \"error\": ",
-           stack_com_source_str(a->src));
+    printf(
+        "{\"stands\": false, \"planned\": false, \"seconds_standing\": 0, \"com_source\": "
+        "\"%s\", \"error\": ",
+        stack_com_source_str(a->src));
     cli_json_string(stdout, why, 0);
     printf(", \"learn_seconds\": %.6f, \"plan_seconds\": %.6f}\n", learn_s, plan_s);
   }
@@ -611,8 +630,10 @@ int cmd_stack(int argc, char **argv) {
   /* a failed picture still prints the result; the exit status says the picture failed */
   const int svg_failed = rc == 0 && a.svg && write_picture(&a, bel, n, plan, sim) != 0;
   if (rc == 0) {
-    if (a.json) print_json(bel, n, a.src, plan, sim, &reh, learn_s, plan_s, sim_s, a.duration_s);
-    else print_table(bel, n, a.src, plan, sim, &reh, learn_s, plan_s, sim_s, a.duration_s);
+    if (a.json)
+      print_json(bel, n, a.src, plan, sim, &reh, learn_s, plan_s, sim_s, a.duration_s);
+    else
+      print_table(bel, n, a.src, plan, sim, &reh, learn_s, plan_s, sim_s, a.duration_s);
     if (svg_failed) rc = EXIT_FAILURE;
   }
   free(plan);

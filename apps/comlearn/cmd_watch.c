@@ -46,7 +46,8 @@ static void usage(FILE *out) {
           "printed.\n"
           "\n"
           "options:\n"
-          "  --lcm-url URL      LCM URL to listen on (default: " COMLEARN_MSG_LCM_URL_DEFAULT ")\n"
+          "  --lcm-url URL      LCM URL to listen on (default: " COMLEARN_MSG_LCM_URL_DEFAULT
+          ")\n"
           "  --once             exit 0 after the first final estimate (COM_ESTIMATE with\n"
           "                     done = true) (default: off: until SIGINT / SIGTERM)\n"
           "  --timeout-s T      stop after T seconds of wall time, 0 = never; with --once a\n"
@@ -132,8 +133,7 @@ static void table_header(watch_t *w, int64_t run_id, const char *object, const c
          "comp", "outcome", "offset(mm)", "released x y z (mm)", "tilt deg", "rot deg", "flat");
 }
 
-static void on_trial(const lcm_recv_buf_t *rbuf, const char *channel, const void *msg,
-                     void *user) {
+static void on_trial(const lcm_recv_buf_t *rbuf, const char *channel, const void *msg, void *user) {
   (void)rbuf;
   (void)channel;
   watch_t *w = user;
@@ -149,10 +149,10 @@ static void on_trial(const lcm_recv_buf_t *rbuf, const char *channel, const void
     printf("{\"type\": \"trial\", \"run_id\": %" PRId64 ", ", t->run_id);
     json_str("object", t->object_id);
     json_str("policy", t->policy);
-    printf("\"trial_index\": %" PRId32 ", \"kind\": \"%s\", \"component\": \"%s\", "
+    printf("\"trial_index\": %" PRId32
+           ", \"kind\": \"%s\", \"component\": \"%s\", "
            "\"direction\": %d, \"outcome\": \"%s\", ",
-           t->trial_index, kind_name(t->kind), comp, (int)t->direction,
-           outcome_name(t->outcome));
+           t->trial_index, kind_name(t->kind), comp, (int)t->direction, outcome_name(t->outcome));
     json_vec("edge_normal_world", t->edge_normal_world, 3);
     printf("\"edge_offset_m\": ");
     cli_json_number(stdout, t->edge_offset_m);
@@ -182,15 +182,18 @@ static void on_trial(const lcm_recv_buf_t *rbuf, const char *channel, const void
   } else {
     table_header(w, t->run_id, t->object_id, t->policy);
     /* flat: the planned edge trial was in the flat-patch regime; "no": approximate. */
-    printf("%06" PRId64 " %-14.14s %5" PRId32 " %4s %4s %-7s %10.4f %8.2f %8.2f %8.2f %8.2f "
-           "%8.2f %4s\n",
-           (t->run_id % 1000000 + 1000000) % 1000000, t->object_id, t->trial_index,
-           kind_name(t->kind),
-           comp,
-           outcome_name(t->outcome), 1e3 * t->target_offset_m, 1e3 * t->released_position_m[0],
-           1e3 * t->released_position_m[1], 1e3 * t->released_position_m[2],
-           quat_angle(t->released_orientation_wxyz) * 180.0 / CL_PI,
-           t->rotation_rad * 180.0 / CL_PI, !edge ? "-" : !known ? "?" : t->flat_patch ? "yes" : "no");
+    printf(
+        "%06" PRId64 " %-14.14s %5" PRId32
+        " %4s %4s %-7s %10.4f %8.2f %8.2f %8.2f %8.2f "
+        "%8.2f %4s\n",
+        (t->run_id % 1000000 + 1000000) % 1000000, t->object_id, t->trial_index, kind_name(t->kind),
+        comp, outcome_name(t->outcome), 1e3 * t->target_offset_m, 1e3 * t->released_position_m[0],
+        1e3 * t->released_position_m[1], 1e3 * t->released_position_m[2],
+        quat_angle(t->released_orientation_wxyz) * 180.0 / CL_PI, t->rotation_rad * 180.0 / CL_PI,
+        !edge           ? "-"
+        : !known        ? "?"
+        : t->flat_patch ? "yes"
+                        : "no");
   }
   fflush(stdout);
 }
@@ -215,14 +218,13 @@ static void on_estimate(const lcm_recv_buf_t *rbuf, const char *channel, const v
     printf("\"trials\": %" PRId32 ", \"done\": %s}\n", e->trials, e->done ? "true" : "false");
   } else {
     table_header(w, e->run_id, e->object_id, e->policy);
-    printf("%s estimate after %" PRId32 " trials (mm):", e->done ? "final" : "running",
-           e->trials);
+    printf("%s estimate after %" PRId32 " trials (mm):", e->done ? "final" : "running", e->trials);
     for (int k = 0; k < 3; ++k) {
       if (e->found[k])
-        printf("  %c %.4f +- %.4f", "xyz"[k], 1e3 * e->com_estimated_m[k],
-               1e3 * e->halfwidth_m[k]);
+        printf("  %c %.4f +- %.4f", "xyz"[k], 1e3 * e -> com_estimated_m[k],
+               1e3 * e -> halfwidth_m[k]);
       else
-        printf("  %c %s", "xyz"[k], e->done ? "N/A" : "searching");
+        printf("  %c %s", "xyz"[k], e -> done ? "N/A" : "searching");
     }
     printf("\n");
   }
@@ -240,11 +242,14 @@ static void on_reject(const lcm_recv_buf_t *rbuf, const char *channel, comlearn_
 /* Options into *url, *timeout_s and w (defaults as usage() says). Returns -1 to go on, else the
  * exit status (0 after --help, EXIT_USAGE). */
 static int parse_args(int argc, char **argv, const char **url, double *timeout_s, watch_t *w) {
-  static const struct option opts[] = {
-      {"lcm-url", required_argument, NULL, 'u'}, {"once", no_argument, NULL, 'o'},
-      {"timeout-s", required_argument, NULL, 't'}, {"json", no_argument, NULL, 'j'},
-      {"verbose", no_argument, NULL, 'v'},       {"quiet", no_argument, NULL, 'q'},
-      {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"lcm-url", required_argument, NULL, 'u'},
+                                       {"once", no_argument, NULL, 'o'},
+                                       {"timeout-s", required_argument, NULL, 't'},
+                                       {"json", no_argument, NULL, 'j'},
+                                       {"verbose", no_argument, NULL, 'v'},
+                                       {"quiet", no_argument, NULL, 'q'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
   int c;
   optind = 1;
   while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
@@ -288,15 +293,22 @@ static int parse_args(int argc, char **argv, const char **url, double *timeout_s
 static int watch_subscribe(lcm_t *lcm, const char *url, watch_t *w, comlearn_msg_stats_t *stats,
                            comlearn_msg_subscription_t **ts, comlearn_msg_subscription_t **es) {
   comlearn_msg_sub_config_t tc = {.type = comlearn_com_trial_t_get_type_info(),
-                         .on_message = on_trial, .on_reject = on_reject, .user = w,
-                         .stats = stats};
+                                  .on_message = on_trial,
+                                  .on_reject = on_reject,
+                                  .user = w,
+                                  .stats = stats};
   comlearn_msg_sub_config_t ec = {.type = comlearn_com_estimate_t_get_type_info(),
-                         .on_message = on_estimate, .on_reject = on_reject, .user = w,
-                         .stats = stats};
+                                  .on_message = on_estimate,
+                                  .on_reject = on_reject,
+                                  .user = w,
+                                  .stats = stats};
   *ts = NULL;
   *es = NULL;
   comlearn_msg_status_t s1 = comlearn_msg_subscribe(lcm, COMLEARN_MSG_CHANNEL_COM_TRIAL, &tc, ts);
-  comlearn_msg_status_t s2 = s1 == COMLEARN_MSG_OK ? comlearn_msg_subscribe(lcm, COMLEARN_MSG_CHANNEL_COM_ESTIMATE, &ec, es) : s1;
+  comlearn_msg_status_t s2 =
+      s1 == COMLEARN_MSG_OK
+          ? comlearn_msg_subscribe(lcm, COMLEARN_MSG_CHANNEL_COM_ESTIMATE, &ec, es)
+          : s1;
   if (s1 != COMLEARN_MSG_OK || s2 != COMLEARN_MSG_OK) {
     LOG_E("subscribing on %s: %s", url, comlearn_msg_status_str(s1 != COMLEARN_MSG_OK ? s1 : s2));
     comlearn_msg_unsubscribe(lcm, *ts);
@@ -323,7 +335,8 @@ static int watch_loop(lcm_t *lcm, const char *url, double timeout_s, watch_t *w)
   sigaction(SIGTERM, &sa, &old_term);
 
   /* Tests and scripts wait for this line before they start publishing. */
-  LOG_I("listening on %s for %s and %s", url, COMLEARN_MSG_CHANNEL_COM_TRIAL, COMLEARN_MSG_CHANNEL_COM_ESTIMATE);
+  LOG_I("listening on %s for %s and %s", url, COMLEARN_MSG_CHANNEL_COM_TRIAL,
+        COMLEARN_MSG_CHANNEL_COM_ESTIMATE);
   const double t0 = cli_time_now_s();
   int rc = EXIT_SUCCESS;
   while (!g_stop && !(w->once && w->done_seen)) {
@@ -359,8 +372,10 @@ int cmd_watch(int argc, char **argv) {
 
   lcm_t *lcm = lcm_create(url);
   if (!lcm) {
-    LOG_E("cannot open LCM on %s (udpm needs a multicast route: `ip route add 224.0.0.0/4 dev "
-          "lo` as root)", url);
+    LOG_E(
+        "cannot open LCM on %s (udpm needs a multicast route: `ip route add 224.0.0.0/4 dev "
+        "lo` as root)",
+        url);
     return EXIT_FAILURE;
   }
   comlearn_msg_stats_t stats = {0};

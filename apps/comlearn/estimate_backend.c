@@ -23,8 +23,9 @@ estimate_status_t estimate_run(const model_mesh_t *mesh_link, const estimate_bac
   estimate_t *est = NULL;
   estimate_status_t s = estimate_create(mesh_link, backend->base_size_m, cfg, &est);
   if (s != ESTIMATE_OK) {
-    snprintf(out->msg, sizeof out->msg, "%s", s == ESTIMATE_E_ARG ?
-             "bad estimator setting, or the backend reports a bad size of B" : estimate_status_str(s));
+    snprintf(out->msg, sizeof out->msg, "%s",
+             s == ESTIMATE_E_ARG ? "bad estimator setting, or the backend reports a bad size of B"
+                                 : estimate_status_str(s));
     return s;
   }
   estimate_trial_request_t req;

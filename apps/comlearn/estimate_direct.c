@@ -14,9 +14,9 @@
 struct estimate_direct {
   balance_world_t *world;
   balance_object_t *obj;
-  int noisy;            /* estimate_direct_set_noise with a non-zero value */
+  int noisy;             /* estimate_direct_set_noise with a non-zero value */
   balance_noise_t noise; /* its seed and std. devs. */
-  uint64_t trial_count; /* trials since open / set_noise: seeds the per-trial draws */
+  uint64_t trial_count;  /* trials since open / set_noise: seeds the per-trial draws */
 };
 
 /* comlearn-sim's per-trial seed (daemon/sim.c, object_release): the Weyl increment of splitmix64
@@ -61,8 +61,10 @@ int estimate_direct_open(const char *urdf_path, const char *link_name, const bal
   *out = NULL;
   memset(backend, 0, sizeof *backend);
   balance_config_t bc;
-  if (cfg) bc = *cfg;
-  else balance_config_default(&bc);
+  if (cfg)
+    bc = *cfg;
+  else
+    balance_config_default(&bc);
   model_error_t merr = {{0}};
   model_object_t obj = {0};
   model_mass_t truth;

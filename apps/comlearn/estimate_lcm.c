@@ -13,11 +13,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "comlearn/balance.h" /* its trial settings: the outcome horizon and the slide rule */
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+#include "comlearn/balance.h" /* its trial settings: the outcome horizon and the slide rule */
 
 #include <lcm/lcm.h>
 
@@ -124,8 +124,10 @@ static void block_to_world(const estimate_lcm_t *l, const model_pose_t *in, doub
   for (int i = 0; i < 3; ++i)
     p_w[i] = b->pos_m[i] + b->rot[i][0] * in->position_m[0] + b->rot[i][1] * in->position_m[1] +
              b->rot[i][2] * in->position_m[2];
-  if (rot_is_identity(b->rot)) memcpy(q_w, in->orientation_wxyz, 4 * sizeof(double));
-  else cl_quat_mul(l->bib_wxyz, in->orientation_wxyz, q_w);
+  if (rot_is_identity(b->rot))
+    memcpy(q_w, in->orientation_wxyz, 4 * sizeof(double));
+  else
+    cl_quat_mul(l->bib_wxyz, in->orientation_wxyz, q_w);
 }
 
 /* ---- LCM handlers and waits ---------------------------------------------------------------- */
@@ -185,8 +187,8 @@ static int seq_accepted(const estimate_lcm_t *l, const void *arg) {
  * controller starts again at -1), so waiting for the motion timeout would be in vain. */
 static int seq_in_position(const estimate_lcm_t *l, const void *arg) {
   const int64_t seq = *(const int64_t *)arg;
-  return l->n_st > 0 && ((l->st.last_accepted_seq == seq && l->st.in_position) ||
-                         l->st.last_accepted_seq < seq);
+  return l->n_st > 0 &&
+         ((l->st.last_accepted_seq == seq && l->st.in_position) || l->st.last_accepted_seq < seq);
 }
 
 /* An object state newer than utime *arg. */
@@ -210,8 +212,8 @@ static int outcome_ready(const estimate_lcm_t *l, const void *arg) {
 /* ---- messages ------------------------------------------------------------------------------ */
 
 /* SIM_CONTROL with resends; returns the simulator's result, or -1 on a timeout (err filled). */
-static int sim_control(estimate_lcm_t *l, int8_t action, int arm, const double g_pos[3], const double g_wxyz[4], double width, char *err,
-                       size_t err_size) {
+static int sim_control(estimate_lcm_t *l, int8_t action, int arm, const double g_pos[3],
+                       const double g_wxyz[4], double width, char *err, size_t err_size) {
   comlearn_sim_control_t sc;
   memset(&sc, 0, sizeof sc);
   sc.action = action;
@@ -237,18 +239,20 @@ static int sim_control(estimate_lcm_t *l, int8_t action, int arm, const double g
       return -1;
     }
     if (w == 1) return l->os.sim_control_result;
-    logf_(l, "SIM_CONTROL seq %lld not acknowledged within %.2f s; resending",
-          (long long)sc.seq, l->cfg.ack_timeout_s);
+    logf_(l, "SIM_CONTROL seq %lld not acknowledged within %.2f s; resending", (long long)sc.seq,
+          l->cfg.ack_timeout_s);
   }
-  snprintf(err, err_size, "SIM_CONTROL not acknowledged on %s after %d sends (is comlearn-sim "
-           "running on %s?)", COMLEARN_MSG_CHANNEL_OBJECT_STATE, l->cfg.max_resends + 1, l->url);
+  snprintf(err, err_size,
+           "SIM_CONTROL not acknowledged on %s after %d sends (is comlearn-sim "
+           "running on %s?)",
+           COMLEARN_MSG_CHANNEL_OBJECT_STATE, l->cfg.max_resends + 1, l->url);
   return -1;
 }
 
 /* Send one waypoint (arm `arm` to q / width, the other arm held where it is) and wait until it
  * is accepted and reached; resend with a new seq on a timeout or a refusal. 0 ok, -1 (err). */
-static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t *wp,
-                         char *err, size_t err_size) {
+static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t *wp, char *err,
+                         size_t err_size) {
   const double scale = l->plan_cfg.velocity_fraction;
   for (int k = 0; k <= l->cfg.max_resends; ++k) {
     comlearn_yumi_command_t c;
@@ -263,7 +267,8 @@ static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t 
     c.utime = wall_us();
     /* The sim times joints at scale x their limits and the gripper at scale x 25 mm/s: the
      * planned duration / scale bounds the motion on the controller's clock. */
-    c.expire_utime = l->st.utime + (int64_t)llround(wp->duration_s / scale * 1e6) + EXPIRE_MARGIN_US;
+    c.expire_utime =
+        l->st.utime + (int64_t)llround(wp->duration_s / scale * 1e6) + EXPIRE_MARGIN_US;
     c.mode = CMD(MODE_POSITION);
     c.velocity_scale = scale;
     if (comlearn_yumi_command_t_publish(l->lcm, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, &c) != 0) {
@@ -276,8 +281,10 @@ static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t 
     if (w == 1 && l->st.last_accepted_seq == c.seq) {
       w = wait_for(l, seq_in_position, &c.seq, l->cfg.motion_timeout_s);
       if (w == 1 && l->st.last_accepted_seq < c.seq) {
-        logf_(l, "%s waypoint seq %lld: the controller lost it (accepted seq now %lld: "
-              "restarted?)", placement_waypoint_kind_str(wp->kind), (long long)c.seq,
+        logf_(l,
+              "%s waypoint seq %lld: the controller lost it (accepted seq now %lld: "
+              "restarted?)",
+              placement_waypoint_kind_str(wp->kind), (long long)c.seq,
               (long long)l->st.last_accepted_seq);
         continue; /* resend at once */
       }
@@ -288,8 +295,10 @@ static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t 
       return -1;
     }
     if (w == 1) return 0;
-    logf_(l, "%s waypoint seq %lld: no %s within the timeout (status seq %lld, error %d); "
-          "resending", placement_waypoint_kind_str(wp->kind), (long long)c.seq,
+    logf_(l,
+          "%s waypoint seq %lld: no %s within the timeout (status seq %lld, error %d); "
+          "resending",
+          placement_waypoint_kind_str(wp->kind), (long long)c.seq,
           l->st.last_accepted_seq >= c.seq ? "in_position" : "acceptance",
           (long long)l->st.last_accepted_seq, (int)l->st.error_code);
   }
@@ -315,8 +324,8 @@ static int plan_trial(estimate_lcm_t *l, const model_pose_t *rel, placement_gras
   const placement_status_t ps = placement_grasp_plan(l->arm, &l->plan_cfg, &gcfg, &req, g, &pe);
   if (ps == PLACEMENT_OK) return 0;
   snprintf(err, err_size, "no placement plan for the release pose (%.4f, %.4f, %.4f): %s %s",
-           rel->position_m[0], rel->position_m[1], rel->position_m[2],
-           placement_status_str(ps), pe.msg);
+           rel->position_m[0], rel->position_m[1], rel->position_m[2], placement_status_str(ps),
+           pe.msg);
   return -1;
 }
 
@@ -437,16 +446,18 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
   /* 4. the outcome, on the controller's clock */
   balance_config_t bc;
   balance_config_default(&bc);
-  outcome_arg_t oa = {.t_release_us = l->st.utime - (int64_t)llround(
-                          l->plan_cfg.release_opening_m / (l->plan_cfg.gripper_speed_m_s *
-                                                           l->plan_cfg.velocity_fraction) * 1e6),
-                      .horizon_us = (int64_t)llround(bc.horizon_s * 1e6) + 200000};
+  outcome_arg_t oa = {
+      .t_release_us =
+          l->st.utime -
+          (int64_t)llround(l->plan_cfg.release_opening_m /
+                           (l->plan_cfg.gripper_speed_m_s * l->plan_cfg.velocity_fraction) * 1e6),
+      .horizon_us = (int64_t)llround(bc.horizon_s * 1e6) + 200000};
   /* release happened when the opening started; the status at in_position is later */
   const int64_t t_now = l->st.utime;
   if (wait_for(l, os_after, &t_now, l->cfg.ack_timeout_s) != 1 ||
       wait_for(l, outcome_ready, &oa, l->cfg.outcome_timeout_s) != 1) {
-    snprintf(err, err_size, "no trial outcome on %s within %.1f s", COMLEARN_MSG_CHANNEL_OBJECT_STATE,
-             l->cfg.outcome_timeout_s);
+    snprintf(err, err_size, "no trial outcome on %s within %.1f s",
+             COMLEARN_MSG_CHANNEL_OBJECT_STATE, l->cfg.outcome_timeout_s);
     return 1;
   }
   if (!l->os.tracked || strcmp(l->os.object_id, l->object_id) != 0) {
@@ -455,20 +466,22 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
     return 1;
   }
   world_to_block(l, l->os.position_measured_m, l->os.orientation_measured_wxyz, &reply->settled);
-  if (l->os.at_rest && l->os.on_base) reply->outcome = ESTIMATE_STAYS;
+  if (l->os.at_rest && l->os.on_base)
+    reply->outcome = ESTIMATE_STAYS;
   else if (!l->os.on_base) {
     /* off B: tipped, unless it clearly slid (lib/balance's slide rule, on the link origin
      * since the CoM is unknown). A tip is often called early, after little motion. */
-    const double rot = cl_quat_angle(reply->released.orientation_wxyz,
-                                     reply->settled.orientation_wxyz);
-    reply->outcome = balance_trial_slid(&bc, reply->released.position_m,
-                                        reply->settled.position_m, rot)
-                         ? ESTIMATE_SLIDES
-                         : ESTIMATE_TIPS;
+    const double rot =
+        cl_quat_angle(reply->released.orientation_wxyz, reply->settled.orientation_wxyz);
+    reply->outcome =
+        balance_trial_slid(&bc, reply->released.position_m, reply->settled.position_m, rot)
+            ? ESTIMATE_SLIDES
+            : ESTIMATE_TIPS;
   } else
     reply->outcome = ESTIMATE_INVALID;
   /* 5. retreat (the object is no longer held) */
-  if (send_waypoint(l, (int)tp.side, &tp.plan.waypoints[PLACEMENT_WAYPOINT_RETREAT], err, err_size) != 0)
+  if (send_waypoint(l, (int)tp.side, &tp.plan.waypoints[PLACEMENT_WAYPOINT_RETREAT], err,
+                    err_size) != 0)
     return 1;
   return 0;
 }
@@ -551,7 +564,8 @@ int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
   l->plan_cfg.touch_depth_m = 1e-6;
   model_rot_to_quat((const double(*)[3])l->plan_cfg.block_in_base.rot, l->bib_wxyz);
   placement_error_t pe = {{0}};
-  placement_status_t ps = placement_arm_load_yumi(&l->arm[0], cfg->yumi_urdf, PLACEMENT_ARM_LEFT, &pe);
+  placement_status_t ps =
+      placement_arm_load_yumi(&l->arm[0], cfg->yumi_urdf, PLACEMENT_ARM_LEFT, &pe);
   if (ps == PLACEMENT_OK)
     ps = placement_arm_load_yumi(&l->arm[1], cfg->yumi_urdf, PLACEMENT_ARM_RIGHT, &pe);
   if (ps != PLACEMENT_OK) {
@@ -561,25 +575,34 @@ int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
   }
   l->lcm = lcm_create(l->url);
   if (!l->lcm) {
-    snprintf(err, err_size, "lcm_create(%s) failed (udpm needs a multicast route: "
-             "`ip route add 224.0.0.0/4 dev lo` as root, see scripts/setup.sh)", l->url);
+    snprintf(err, err_size,
+             "lcm_create(%s) failed (udpm needs a multicast route: "
+             "`ip route add 224.0.0.0/4 dev lo` as root, see scripts/setup.sh)",
+             l->url);
     free(l);
     return 1;
   }
-  comlearn_msg_sub_config_t c1 = {.type = comlearn_yumi_status_t_get_type_info(), .on_message = on_status,
-                         .user = l, .stats = &l->stats};
+  comlearn_msg_sub_config_t c1 = {.type = comlearn_yumi_status_t_get_type_info(),
+                                  .on_message = on_status,
+                                  .user = l,
+                                  .stats = &l->stats};
   comlearn_msg_sub_config_t c2 = {.type = comlearn_object_state_t_get_type_info(),
-                         .on_message = on_object, .user = l, .stats = &l->stats};
-  if (comlearn_msg_subscribe(l->lcm, COMLEARN_MSG_CHANNEL_YUMI_STATUS, &c1, &l->sub_st) != COMLEARN_MSG_OK ||
-      comlearn_msg_subscribe(l->lcm, COMLEARN_MSG_CHANNEL_OBJECT_STATE, &c2, &l->sub_os) != COMLEARN_MSG_OK) {
+                                  .on_message = on_object,
+                                  .user = l,
+                                  .stats = &l->stats};
+  if (comlearn_msg_subscribe(l->lcm, COMLEARN_MSG_CHANNEL_YUMI_STATUS, &c1, &l->sub_st) !=
+          COMLEARN_MSG_OK ||
+      comlearn_msg_subscribe(l->lcm, COMLEARN_MSG_CHANNEL_OBJECT_STATE, &c2, &l->sub_os) !=
+          COMLEARN_MSG_OK) {
     snprintf(err, err_size, "subscribing on %s failed", l->url);
     estimate_lcm_close(l);
     return 1;
   }
   if (wait_for(l, have_both, NULL, cfg->startup_timeout_s) != 1) {
-    snprintf(err, err_size, "no YUMI_STATUS / OBJECT_STATE on %s within %.1f s: is comlearn-sim "
-             "(or a YuMi driver) running there? (--spawn-sim starts one)", l->url,
-             cfg->startup_timeout_s);
+    snprintf(err, err_size,
+             "no YUMI_STATUS / OBJECT_STATE on %s within %.1f s: is comlearn-sim "
+             "(or a YuMi driver) running there? (--spawn-sim starts one)",
+             l->url, cfg->startup_timeout_s);
     estimate_lcm_close(l);
     return 1;
   }
@@ -612,7 +635,8 @@ int estimate_lcm_publish_estimate(estimate_lcm_t *l, const estimate_result_t *r,
   }
   e.trials = r->trial_count > INT32_MAX ? INT32_MAX : (int32_t)r->trial_count;
   e.done = (int8_t)(done != 0);
-  return comlearn_com_estimate_t_publish(l->lcm, COMLEARN_MSG_CHANNEL_COM_ESTIMATE, &e) == 0 ? 0 : -1;
+  return comlearn_com_estimate_t_publish(l->lcm, COMLEARN_MSG_CHANNEL_COM_ESTIMATE, &e) == 0 ? 0
+                                                                                             : -1;
 }
 
 void estimate_lcm_stats(const estimate_lcm_t *l, estimate_lcm_stats_t *out) {

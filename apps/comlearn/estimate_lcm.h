@@ -40,19 +40,19 @@
 typedef struct estimate_lcm estimate_lcm_t;
 
 typedef struct {
-  const char *lcm_url;          /* NULL: COMLEARN_MSG_LCM_URL_DEFAULT */
-  const char *urdf_path;        /* sent in ACTION_LOAD (made absolute when it exists here) */
-  const char *object_id;        /* NULL: the URDF file name without ".urdf" */
-  const model_mesh_t *mesh_link;/* the object's geometry, link frame (borrowed), for planning */
-  const char *yumi_urdf;        /* the arm model for planning (required) */
-  const char *policy;           /* for COM_TRIAL / COM_ESTIMATE ("bisect", ...); NULL: "" */
-  double ack_timeout_s;         /* wall time to wait for an acknowledgement; default 0.5 */
-  double motion_timeout_s;      /* wall time for a waypoint to be reached; default 10 */
-  double outcome_timeout_s;     /* wall time for the trial outcome; default 10 */
-  double startup_timeout_s;     /* wall time for the first YUMI_STATUS / OBJECT_STATE; default 3 */
-  int max_resends;              /* resends of one message (new seq each); default 10 */
-  int max_trial_attempts;       /* whole-trial attempts; default 3 */
-  int publish_records;          /* publish COM_TRIAL per trial; default 1 */
+  const char *lcm_url;           /* NULL: COMLEARN_MSG_LCM_URL_DEFAULT */
+  const char *urdf_path;         /* sent in ACTION_LOAD (made absolute when it exists here) */
+  const char *object_id;         /* NULL: the URDF file name without ".urdf" */
+  const model_mesh_t *mesh_link; /* the object's geometry, link frame (borrowed), for planning */
+  const char *yumi_urdf;         /* the arm model for planning (required) */
+  const char *policy;            /* for COM_TRIAL / COM_ESTIMATE ("bisect", ...); NULL: "" */
+  double ack_timeout_s;          /* wall time to wait for an acknowledgement; default 0.5 */
+  double motion_timeout_s;       /* wall time for a waypoint to be reached; default 10 */
+  double outcome_timeout_s;      /* wall time for the trial outcome; default 10 */
+  double startup_timeout_s;      /* wall time for the first YUMI_STATUS / OBJECT_STATE; default 3 */
+  int max_resends;               /* resends of one message (new seq each); default 10 */
+  int max_trial_attempts;        /* whole-trial attempts; default 3 */
+  int publish_records;           /* publish COM_TRIAL per trial; default 1 */
   void (*log)(void *ctx, const char *msg); /* optional diagnostics (retries, ...) */
   void *log_ctx;
 } estimate_lcm_config_t;
@@ -72,14 +72,14 @@ int estimate_lcm_publish_estimate(estimate_lcm_t *l, const estimate_result_t *r,
 
 /* Counters of the run (for reports and tests). */
 typedef struct {
-  uint64_t trials;          /* trial requests answered */
-  uint64_t commands_sent;   /* YUMI_COMMAND messages, resends included */
+  uint64_t trials;        /* trial requests answered */
+  uint64_t commands_sent; /* YUMI_COMMAND messages, resends included */
   uint64_t commands_resent;
-  uint64_t controls_sent;   /* SIM_CONTROL messages, resends included */
-  uint64_t trial_restarts;  /* whole trials run again */
-  uint64_t statuses;        /* YUMI_STATUS received */
-  uint64_t object_states;   /* OBJECT_STATE received */
-  uint64_t undecodable;     /* buffers on the subscribed channels that did not decode */
+  uint64_t controls_sent;  /* SIM_CONTROL messages, resends included */
+  uint64_t trial_restarts; /* whole trials run again */
+  uint64_t statuses;       /* YUMI_STATUS received */
+  uint64_t object_states;  /* OBJECT_STATE received */
+  uint64_t undecodable;    /* buffers on the subscribed channels that did not decode */
 } estimate_lcm_stats_t;
 
 void estimate_lcm_stats(const estimate_lcm_t *l, estimate_lcm_stats_t *out);

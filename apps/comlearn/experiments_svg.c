@@ -40,9 +40,9 @@ static double nice_step(double span, double want) {
 }
 
 typedef struct {
-  double x0, y0;         /* top-left of the plot area */
-  double tmax;           /* trial axis: 0 .. tmax */
-  double vlo, vhi;       /* value axis */
+  double x0, y0;   /* top-left of the plot area */
+  double tmax;     /* trial axis: 0 .. tmax */
+  double vlo, vhi; /* value axis */
 } panel_t;
 
 static double px(const panel_t *p, double t) { return p->x0 + PLOT_W * t / p->tmax; }
@@ -51,8 +51,9 @@ static double py(const panel_t *p, double v) {
 }
 
 static void panel_axes(FILE *f, const panel_t *p, char axis) {
-  fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" "
-             "stroke=\"#444\"/>\n",
+  fprintf(f,
+          "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" "
+          "stroke=\"#444\"/>\n",
           p->x0, p->y0, PLOT_W, PLOT_H);
   double ts = nice_step(p->tmax, 5.0);
   if (ts < 1.0) ts = 1.0;
@@ -60,8 +61,9 @@ static void panel_axes(FILE *f, const panel_t *p, char axis) {
     double t = i * ts;
     if (t > p->tmax + 1e-9) break;
     double x = px(p, t);
-    fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#444\"/>"
-               "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">%g</text>\n",
+    fprintf(f,
+            "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#444\"/>"
+            "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">%g</text>\n",
             x, p->y0 + PLOT_H, x, p->y0 + PLOT_H + 4, x, p->y0 + PLOT_H + 16, t);
   }
   double vs = nice_step(p->vhi - p->vlo, 5.0);
@@ -71,14 +73,16 @@ static void panel_axes(FILE *f, const panel_t *p, char axis) {
     if (v > p->vhi + 1e-9 * vs) break;
     if (fabs(v) < 1e-9 * vs) v = 0.0;
     double y = py(p, v);
-    fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>"
-               "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%g</text>\n",
+    fprintf(f,
+            "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>"
+            "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%g</text>\n",
             p->x0, y, p->x0 + PLOT_W, y, p->x0 - 4, y + 4, v);
   }
   fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">trial</text>\n",
           p->x0 + PLOT_W / 2, p->y0 + PLOT_H + 32);
-  fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" transform=\"rotate(-90 %.1f "
-             "%.1f)\">%c estimate (mm)</text>\n",
+  fprintf(f,
+          "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" transform=\"rotate(-90 %.1f "
+          "%.1f)\">%c estimate (mm)</text>\n",
           p->x0 - 42, p->y0 + PLOT_H / 2, p->x0 - 42, p->y0 + PLOT_H / 2, axis);
   fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" font-weight=\"bold\">%c</text>\n",
           p->x0 + PLOT_W / 2, p->y0 - 6, axis);
@@ -95,11 +99,13 @@ int experiments_svg_fig2(FILE *f, const char *title, const double truth_mm[3], s
     if (series[s].n > tmax) tmax = series[s].n;
   }
   const double width = 3 * PANEL_W + 2 * GAP + 20, height = MARGIN_T + PANEL_H + LEGEND_H + 10;
-  fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
-             "viewBox=\"0 0 %.0f %.0f\" font-family=\"sans-serif\" font-size=\"11\">\n",
+  fprintf(f,
+          "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
+          "viewBox=\"0 0 %.0f %.0f\" font-family=\"sans-serif\" font-size=\"11\">\n",
           width, height, width, height);
-  fprintf(f, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n<text x=\"%.1f\" y=\"18\" "
-             "text-anchor=\"middle\" font-size=\"14\">",
+  fprintf(f,
+          "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n<text x=\"%.1f\" y=\"18\" "
+          "text-anchor=\"middle\" font-size=\"14\">",
           width / 2);
   text_escaped(f, title);
   fprintf(f, "</text>\n");
@@ -120,14 +126,16 @@ int experiments_svg_fig2(FILE *f, const char *title, const double truth_mm[3], s
     p.vhi = mid + half;
     panel_axes(f, &p, "xyz"[k]);
     if (isfinite(truth_mm[k]))
-      fprintf(f, "<line x1=\"%.1f\" y1=\"%.2f\" x2=\"%.1f\" y2=\"%.2f\" stroke=\"#000\" "
-                 "stroke-width=\"1.2\" stroke-dasharray=\"6 4\"/>\n",
+      fprintf(f,
+              "<line x1=\"%.1f\" y1=\"%.2f\" x2=\"%.1f\" y2=\"%.2f\" stroke=\"#000\" "
+              "stroke-width=\"1.2\" stroke-dasharray=\"6 4\"/>\n",
               p.x0, py(&p, truth_mm[k]), p.x0 + PLOT_W, py(&p, truth_mm[k]));
     for (size_t s = 0; s < nseries; ++s) {
       const experiments_svg_series_t *sr = &series[s];
       /* earlier series wider, so identical runs (the two paper policies often are) stay visible */
-      fprintf(f, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"%.1f\" "
-                 "stroke-opacity=\"0.85\" points=\"",
+      fprintf(f,
+              "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"%.1f\" "
+              "stroke-opacity=\"0.85\" points=\"",
               colors[s], 1.2 + 0.9 * (double)(nseries - 1 - s));
       int any = 0;
       for (size_t i = 0; i < sr->n; ++i) {
@@ -147,13 +155,15 @@ int experiments_svg_fig2(FILE *f, const char *title, const double truth_mm[3], s
   }
   /* legend */
   double lx = 10 + MARGIN_L, ly = MARGIN_T + PANEL_H + 12;
-  fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#000\" "
-             "stroke-dasharray=\"6 4\"/><text x=\"%.1f\" y=\"%.1f\">true CoM</text>\n",
+  fprintf(f,
+          "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#000\" "
+          "stroke-dasharray=\"6 4\"/><text x=\"%.1f\" y=\"%.1f\">true CoM</text>\n",
           lx, ly, lx + 24, ly, lx + 28, ly + 4);
   lx += 100;
   for (size_t s = 0; s < nseries; ++s) {
-    fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" "
-               "stroke-width=\"2\"/><text x=\"%.1f\" y=\"%.1f\">",
+    fprintf(f,
+            "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" "
+            "stroke-width=\"2\"/><text x=\"%.1f\" y=\"%.1f\">",
             lx, ly, lx + 24, ly, colors[s], lx + 28, ly + 4);
     text_escaped(f, series[s].label);
     fprintf(f, "</text>\n");

@@ -19,8 +19,8 @@ enum { EXPERIMENTS_SVG_MAX_SERIES = 8 };
  * (the estimate holds until the next trial). Arrays are borrowed; non-finite values are not
  * drawn. */
 typedef struct {
-  const char *label;          /* legend text, e.g. "bisect (22 trials)" */
-  size_t n;                   /* points per component (trials + 1), >= 1 */
+  const char *label; /* legend text, e.g. "bisect (22 trials)" */
+  size_t n;          /* points per component (trials + 1), >= 1 */
   const double *value_mm[3];
 } experiments_svg_series_t;
 

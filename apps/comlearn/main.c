@@ -18,15 +18,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cmd_estimate.h"
+#include "cmd_experiments.h"
+#include "cmd_stack.h"
+#include "cmd_watch.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
-#include "cmd_estimate.h"
-#include "cmd_experiments.h"
-#include "cmd_stack.h"
-#include "cmd_watch.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -34,7 +34,7 @@ enum { EXIT_USAGE = 2 };
 typedef struct {
   const char *urdf_path;
   model_object_t object;
-  model_mass_t uniform;       /* density 1: mass_kg is the volume in m^3 */
+  model_mass_t uniform; /* density 1: mass_kg is the volume in m^3 */
   size_t hull_triangles;
   double hull_volume_m3;
   int have_truth;
@@ -141,8 +141,7 @@ static void print_json(const inspect_result_t *results, size_t n) {
     json_str("robot", o->robot_name, 1);
     json_str("link", o->link_name, 1);
     json_str("mesh", o->mesh_path, 1);
-    printf("\"triangles\": %zu, \"vertices\": %zu, ", o->mesh.triangle_count,
-           o->mesh.vertex_count);
+    printf("\"triangles\": %zu, \"vertices\": %zu, ", o->mesh.triangle_count, o->mesh.vertex_count);
     json_vec("aabb_min_m", o->aabb.min_m, 1);
     json_vec("aabb_max_m", o->aabb.max_m, 1);
     json_vec("size_m", size, 1);
@@ -186,11 +185,13 @@ static void print_table(const inspect_result_t *results, size_t n, int truth) {
 }
 
 static int cmd_inspect(int argc, char **argv) {
-  static const struct option opts[] = {
-      {"link", required_argument, NULL, 'l'}, {"json", no_argument, NULL, 'j'},
-      {"truth", no_argument, NULL, 't'},      {"verbose", no_argument, NULL, 'v'},
-      {"quiet", no_argument, NULL, 'q'},      {"help", no_argument, NULL, 'h'},
-      {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"link", required_argument, NULL, 'l'},
+                                       {"json", no_argument, NULL, 'j'},
+                                       {"truth", no_argument, NULL, 't'},
+                                       {"verbose", no_argument, NULL, 'v'},
+                                       {"quiet", no_argument, NULL, 'q'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
   const char *link = NULL;
   int json = 0, truth = 0, c;
   optind = 1;
@@ -228,8 +229,10 @@ static int cmd_inspect(int argc, char **argv) {
       if (code == EXIT_FAILURE || rc == EXIT_SUCCESS) rc = code;
     }
   }
-  if (json) print_json(results, ok);
-  else print_table(results, ok, truth);
+  if (json)
+    print_json(results, ok);
+  else
+    print_table(results, ok, truth);
   for (size_t i = 0; i < ok; ++i) model_object_free(&results[i].object);
   free(results);
   return rc;

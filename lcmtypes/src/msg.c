@@ -32,14 +32,17 @@ static const union {
 
 const char *comlearn_msg_status_str(comlearn_msg_status_t status) {
   switch (status) {
-  case COMLEARN_MSG_OK: return "success";
-  case COMLEARN_MSG_E_ARG: return "invalid argument";
-  case COMLEARN_MSG_E_TRUNCATED: return "buffer truncated: it ends before the message does";
-  case COMLEARN_MSG_E_FINGERPRINT: return "wrong fingerprint: the buffer holds another message type";
-  case COMLEARN_MSG_E_MALFORMED: return "malformed buffer: bad string length or NUL, or trailing bytes";
-  case COMLEARN_MSG_E_NOMEM: return "out of memory";
-  case COMLEARN_MSG_E_LCM: return "LCM call failed";
-  case COMLEARN_MSG_E_UNSUPPORTED: return "type not supported (nested type or variable-length array)";
+    case COMLEARN_MSG_OK: return "success";
+    case COMLEARN_MSG_E_ARG: return "invalid argument";
+    case COMLEARN_MSG_E_TRUNCATED: return "buffer truncated: it ends before the message does";
+    case COMLEARN_MSG_E_FINGERPRINT:
+      return "wrong fingerprint: the buffer holds another message type";
+    case COMLEARN_MSG_E_MALFORMED:
+      return "malformed buffer: bad string length or NUL, or trailing bytes";
+    case COMLEARN_MSG_E_NOMEM: return "out of memory";
+    case COMLEARN_MSG_E_LCM: return "LCM call failed";
+    case COMLEARN_MSG_E_UNSUPPORTED:
+      return "type not supported (nested type or variable-length array)";
   }
   return "unknown status";
 }
@@ -62,16 +65,16 @@ static uint32_t read_be32(const unsigned char *p) {
 /* Encoded bytes of one element of a primitive field; 0 for a string, -1 if not supported. */
 static int element_bytes(lcm_field_type_t type) {
   switch (type) {
-  case LCM_FIELD_INT8_T:
-  case LCM_FIELD_BYTE:
-  case LCM_FIELD_BOOLEAN: return 1;
-  case LCM_FIELD_INT16_T: return 2;
-  case LCM_FIELD_INT32_T:
-  case LCM_FIELD_FLOAT: return 4;
-  case LCM_FIELD_INT64_T:
-  case LCM_FIELD_DOUBLE: return 8;
-  case LCM_FIELD_STRING: return 0;
-  case LCM_FIELD_USER_TYPE: return -1;
+    case LCM_FIELD_INT8_T:
+    case LCM_FIELD_BYTE:
+    case LCM_FIELD_BOOLEAN: return 1;
+    case LCM_FIELD_INT16_T: return 2;
+    case LCM_FIELD_INT32_T:
+    case LCM_FIELD_FLOAT: return 4;
+    case LCM_FIELD_INT64_T:
+    case LCM_FIELD_DOUBLE: return 8;
+    case LCM_FIELD_STRING: return 0;
+    case LCM_FIELD_USER_TYPE: return -1;
   }
   return -1;
 }
@@ -79,7 +82,7 @@ static int element_bytes(lcm_field_type_t type) {
 /* Field i of the schema, with its element count (product of its fixed dimensions; SIZE_MAX when
  * the product overflows). */
 static comlearn_msg_status_t schema_field(const lcm_type_info_t *type, const void *scratch, int i,
-                                 lcm_field_t *f, size_t *count, int *elem_bytes) {
+                                          lcm_field_t *f, size_t *count, int *elem_bytes) {
   memset(f, 0, sizeof *f);
   if (type->get_field(scratch, i, f) != 0) return COMLEARN_MSG_E_UNSUPPORTED;
   *elem_bytes = element_bytes(f->type);
@@ -110,7 +113,7 @@ static comlearn_msg_status_t schema_supported(const lcm_type_info_t *type, const
 
 /* The walk itself: fingerprint, then every field in order, then nothing after the end. */
 static comlearn_msg_status_t walk(const lcm_type_info_t *type, const void *scratch,
-                         const unsigned char *buf, size_t len) {
+                                  const unsigned char *buf, size_t len) {
   if (len < FINGERPRINT_BYTES) return COMLEARN_MSG_E_TRUNCATED;
   if (read_be64(buf) != (uint64_t)type->get_hash()) return COMLEARN_MSG_E_FINGERPRINT;
   size_t pos = FINGERPRINT_BYTES;
@@ -169,19 +172,19 @@ static void count(comlearn_msg_stats_t *stats, comlearn_msg_status_t st) {
   if (stats == NULL) return;
   stats->received++;
   switch (st) {
-  case COMLEARN_MSG_OK: stats->decoded++; break;
-  case COMLEARN_MSG_E_FINGERPRINT: stats->rejected_fingerprint++; break;
-  case COMLEARN_MSG_E_TRUNCATED: stats->rejected_truncated++; break;
-  case COMLEARN_MSG_E_MALFORMED: stats->rejected_malformed++; break;
-  case COMLEARN_MSG_E_ARG:
-  case COMLEARN_MSG_E_NOMEM:
-  case COMLEARN_MSG_E_LCM:
-  case COMLEARN_MSG_E_UNSUPPORTED: stats->failed++; break;
+    case COMLEARN_MSG_OK: stats->decoded++; break;
+    case COMLEARN_MSG_E_FINGERPRINT: stats->rejected_fingerprint++; break;
+    case COMLEARN_MSG_E_TRUNCATED: stats->rejected_truncated++; break;
+    case COMLEARN_MSG_E_MALFORMED: stats->rejected_malformed++; break;
+    case COMLEARN_MSG_E_ARG:
+    case COMLEARN_MSG_E_NOMEM:
+    case COMLEARN_MSG_E_LCM:
+    case COMLEARN_MSG_E_UNSUPPORTED: stats->failed++; break;
   }
 }
 
-comlearn_msg_status_t comlearn_msg_decode(const lcm_type_info_t *type, const void *buf, size_t len, void *msg,
-                        comlearn_msg_stats_t *stats) {
+comlearn_msg_status_t comlearn_msg_decode(const lcm_type_info_t *type, const void *buf, size_t len,
+                                          void *msg, comlearn_msg_stats_t *stats) {
   if (type == NULL || msg == NULL) {
     count(stats, COMLEARN_MSG_E_ARG);
     return COMLEARN_MSG_E_ARG;
@@ -224,8 +227,9 @@ static void on_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) 
   }
 }
 
-comlearn_msg_status_t comlearn_msg_subscribe(lcm_t *lcm, const char *channel, const comlearn_msg_sub_config_t *cfg,
-                           comlearn_msg_subscription_t **out) {
+comlearn_msg_status_t comlearn_msg_subscribe(lcm_t *lcm, const char *channel,
+                                             const comlearn_msg_sub_config_t *cfg,
+                                             comlearn_msg_subscription_t **out) {
   if (out != NULL) *out = NULL;
   if (lcm == NULL || channel == NULL || channel[0] == '\0' || cfg == NULL || cfg->type == NULL ||
       cfg->on_message == NULL || out == NULL)
@@ -256,9 +260,11 @@ comlearn_msg_status_t comlearn_msg_subscribe(lcm_t *lcm, const char *channel, co
   return COMLEARN_MSG_OK;
 }
 
-comlearn_msg_status_t comlearn_msg_subscription_set_queue_capacity(comlearn_msg_subscription_t *sub, int capacity) {
+comlearn_msg_status_t comlearn_msg_subscription_set_queue_capacity(comlearn_msg_subscription_t *sub,
+                                                                   int capacity) {
   if (sub == NULL || capacity < 0) return COMLEARN_MSG_E_ARG;
-  return lcm_subscription_set_queue_capacity(sub->lcm_sub, capacity) == 0 ? COMLEARN_MSG_OK : COMLEARN_MSG_E_LCM;
+  return lcm_subscription_set_queue_capacity(sub->lcm_sub, capacity) == 0 ? COMLEARN_MSG_OK
+                                                                          : COMLEARN_MSG_E_LCM;
 }
 
 comlearn_msg_status_t comlearn_msg_unsubscribe(lcm_t *lcm, comlearn_msg_subscription_t *sub) {

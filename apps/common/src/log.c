@@ -11,7 +11,9 @@ void cli_log_init(const char *program) { log_program = program ? program : "coml
 
 void cli_log_set_level(cli_log_level_t level) {
   const int v = (int)level;
-  log_level = v < (int)CLI_LOG_ERROR ? CLI_LOG_ERROR : v > (int)CLI_LOG_DEBUG ? CLI_LOG_DEBUG : level;
+  log_level = v < (int)CLI_LOG_ERROR   ? CLI_LOG_ERROR
+              : v > (int)CLI_LOG_DEBUG ? CLI_LOG_DEBUG
+                                       : level;
 }
 
 cli_log_level_t cli_log_get_level(void) { return log_level; }

@@ -47,23 +47,27 @@ extern "C" {
 #define COMLEARN_MSG_LCM_URL_DEFAULT "udpm://239.255.76.67:7667?ttl=0"
 
 /* Default channel names (overridable by programs). Type and direction of each: */
-#define COMLEARN_MSG_CHANNEL_YUMI_COMMAND "YUMI_COMMAND" /* comlearn_yumi_command_t, estimator -> robot */
-#define COMLEARN_MSG_CHANNEL_YUMI_STATUS "YUMI_STATUS"   /* comlearn_yumi_status_t, robot -> all */
-#define COMLEARN_MSG_CHANNEL_OBJECT_STATE "OBJECT_STATE" /* comlearn_object_state_t, perception -> all */
-#define COMLEARN_MSG_CHANNEL_SIM_CONTROL "SIM_CONTROL"   /* comlearn_sim_control_t, estimator -> sim only */
-#define COMLEARN_MSG_CHANNEL_COM_TRIAL "COM_TRIAL"       /* comlearn_com_trial_t, estimator -> logs */
-#define COMLEARN_MSG_CHANNEL_COM_ESTIMATE "COM_ESTIMATE" /* comlearn_com_estimate_t, estimator -> logs */
+#define COMLEARN_MSG_CHANNEL_YUMI_COMMAND \
+  "YUMI_COMMAND" /* comlearn_yumi_command_t, estimator -> robot */
+#define COMLEARN_MSG_CHANNEL_YUMI_STATUS "YUMI_STATUS" /* comlearn_yumi_status_t, robot -> all */
+#define COMLEARN_MSG_CHANNEL_OBJECT_STATE \
+  "OBJECT_STATE" /* comlearn_object_state_t, perception -> all */
+#define COMLEARN_MSG_CHANNEL_SIM_CONTROL \
+  "SIM_CONTROL" /* comlearn_sim_control_t, estimator -> sim only */
+#define COMLEARN_MSG_CHANNEL_COM_TRIAL "COM_TRIAL" /* comlearn_com_trial_t, estimator -> logs */
+#define COMLEARN_MSG_CHANNEL_COM_ESTIMATE \
+  "COM_ESTIMATE" /* comlearn_com_estimate_t, estimator -> logs */
 
 /* One status enum for the module: 0 is success, negative values are errors. */
 typedef enum {
   COMLEARN_MSG_OK = 0,
-  COMLEARN_MSG_E_ARG = -1,         /* NULL pointer, empty channel, length over INT_MAX, bad capacity */
+  COMLEARN_MSG_E_ARG = -1, /* NULL pointer, empty channel, length over INT_MAX, bad capacity */
   COMLEARN_MSG_E_TRUNCATED = -2,   /* the buffer ends before the message does */
   COMLEARN_MSG_E_FINGERPRINT = -3, /* the buffer's 8-byte fingerprint is another type's */
-  COMLEARN_MSG_E_MALFORMED = -4,   /* bad string length or NUL (missing, or inside), trailing bytes */
-  COMLEARN_MSG_E_NOMEM = -5,       /* allocation failed */
-  COMLEARN_MSG_E_LCM = -6,         /* lcm_subscribe / lcm_unsubscribe / set_queue_capacity failed */
-  COMLEARN_MSG_E_UNSUPPORTED = -7  /* the type has a nested type or a variable-length array */
+  COMLEARN_MSG_E_MALFORMED = -4, /* bad string length or NUL (missing, or inside), trailing bytes */
+  COMLEARN_MSG_E_NOMEM = -5,     /* allocation failed */
+  COMLEARN_MSG_E_LCM = -6,       /* lcm_subscribe / lcm_unsubscribe / set_queue_capacity failed */
+  COMLEARN_MSG_E_UNSUPPORTED = -7 /* the type has a nested type or a variable-length array */
 } comlearn_msg_status_t;
 
 /* A static English description of a status; never NULL (unknown values give "unknown status"). */
@@ -73,12 +77,13 @@ const char *comlearn_msg_status_str(comlearn_msg_status_t status);
  * zero-initialize it (comlearn_msg_stats_t s = {0};) before first use. Every buffer counted in
  * `received` ends in exactly one of the other counters. */
 typedef struct {
-  uint64_t received;             /* buffers handed to comlearn_msg_decode() or delivered to a subscription */
-  uint64_t decoded;              /* decoded and (for a subscription) passed to the handler */
+  uint64_t received; /* buffers handed to comlearn_msg_decode() or delivered to a subscription */
+  uint64_t decoded;  /* decoded and (for a subscription) passed to the handler */
   uint64_t rejected_fingerprint; /* COMLEARN_MSG_E_FINGERPRINT: another type on this channel */
   uint64_t rejected_truncated;   /* COMLEARN_MSG_E_TRUNCATED */
   uint64_t rejected_malformed;   /* COMLEARN_MSG_E_MALFORMED: garbage that passed the fingerprint */
-  uint64_t failed;               /* any other error (COMLEARN_MSG_E_NOMEM, COMLEARN_MSG_E_ARG, COMLEARN_MSG_E_UNSUPPORTED) */
+  uint64_t
+      failed; /* any other error (COMLEARN_MSG_E_NOMEM, COMLEARN_MSG_E_ARG, COMLEARN_MSG_E_UNSUPPORTED) */
 } comlearn_msg_stats_t;
 
 /* Sum of the three rejected_* counters: the buffers that could not be decoded. NULL gives 0. */
@@ -98,28 +103,28 @@ comlearn_msg_status_t comlearn_msg_check(const lcm_type_info_t *type, const void
  * is all zero and owns nothing (the cleanup is still safe to call).
  * stats (may be NULL): `received` and exactly one other counter are incremented.
  * Returns COMLEARN_MSG_OK or a comlearn_msg_check() error, or COMLEARN_MSG_E_NOMEM. May allocate (the strings). */
-comlearn_msg_status_t comlearn_msg_decode(const lcm_type_info_t *type, const void *buf, size_t len, void *msg,
-                        comlearn_msg_stats_t *stats);
+comlearn_msg_status_t comlearn_msg_decode(const lcm_type_info_t *type, const void *buf, size_t len,
+                                          void *msg, comlearn_msg_stats_t *stats);
 
 /* Called with each decoded message. `msg` points to a struct of the subscription's type, valid
  * only during the call (copy what you keep, e.g. with comlearn_<type>_copy()); rbuf->recv_utime
  * is the receive time (LCM's clock, microseconds). */
-typedef void (*comlearn_msg_handler_t)(const lcm_recv_buf_t *rbuf, const char *channel, const void *msg,
-                              void *user);
+typedef void (*comlearn_msg_handler_t)(const lcm_recv_buf_t *rbuf, const char *channel,
+                                       const void *msg, void *user);
 
 /* Called with each rejected buffer and the reason (a negative comlearn_msg_status_t), after the stats
  * were updated. rbuf->data holds the raw bytes. For logging or a status text; may be NULL. */
 typedef void (*comlearn_msg_reject_handler_t)(const lcm_recv_buf_t *rbuf, const char *channel,
-                                     comlearn_msg_status_t reason, void *user);
+                                              comlearn_msg_status_t reason, void *user);
 
 /* What comlearn_msg_subscribe() needs besides the channel. Caller-owned; copied by comlearn_msg_subscribe(), so it
  * may live on the stack. */
 typedef struct {
-  const lcm_type_info_t *type; /* e.g. comlearn_yumi_status_t_get_type_info(); required */
-  comlearn_msg_handler_t on_message;    /* required */
+  const lcm_type_info_t *type;       /* e.g. comlearn_yumi_status_t_get_type_info(); required */
+  comlearn_msg_handler_t on_message; /* required */
   comlearn_msg_reject_handler_t on_reject; /* optional (NULL) */
-  void *user;                  /* passed to both handlers */
-  comlearn_msg_stats_t *stats;          /* optional (NULL); must outlive the subscription */
+  void *user;                              /* passed to both handlers */
+  comlearn_msg_stats_t *stats;             /* optional (NULL); must outlive the subscription */
 } comlearn_msg_sub_config_t;
 
 /* Opaque subscription handle. */
@@ -132,13 +137,15 @@ typedef struct comlearn_msg_subscription comlearn_msg_subscription_t;
  * On COMLEARN_MSG_OK, *out is the new subscription (owned by the caller until comlearn_msg_unsubscribe()). On an
  * error, *out is NULL. Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG (lcm, channel, cfg, type, on_message or out
  * NULL, channel empty), COMLEARN_MSG_E_UNSUPPORTED, COMLEARN_MSG_E_NOMEM or COMLEARN_MSG_E_LCM. Allocates. */
-comlearn_msg_status_t comlearn_msg_subscribe(lcm_t *lcm, const char *channel, const comlearn_msg_sub_config_t *cfg,
-                           comlearn_msg_subscription_t **out);
+comlearn_msg_status_t comlearn_msg_subscribe(lcm_t *lcm, const char *channel,
+                                             const comlearn_msg_sub_config_t *cfg,
+                                             comlearn_msg_subscription_t **out);
 
 /* Limit the number of received buffers LCM queues for this subscription before it drops the
  * oldest (LCM's default is 30; latest-only consumers may use 1). Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG
  * (sub NULL or capacity < 0; 0 means unlimited), COMLEARN_MSG_E_LCM. */
-comlearn_msg_status_t comlearn_msg_subscription_set_queue_capacity(comlearn_msg_subscription_t *sub, int capacity);
+comlearn_msg_status_t comlearn_msg_subscription_set_queue_capacity(comlearn_msg_subscription_t *sub,
+                                                                   int capacity);
 
 /* Remove the subscription from `lcm` (the same lcm_t it was made on) and free it. Call it before
  * lcm_destroy(); not from inside one of its own handlers. sub NULL is fine (COMLEARN_MSG_OK).

@@ -53,26 +53,26 @@ balance_status_t balance_status_from_model(model_status_t status);
 
 /* One contact point before it becomes an ODE contact joint. */
 typedef struct {
-  double pos_m[3];   /* world */
-  double normal[3];  /* unit, world, pointing into the first body (pushes it out) */
-  double depth_m;    /* > 0 penetration, < 0 gap (within BALANCE_CONTACT_BAND_M) */
-  int edge_plane;    /* -1, or which vertical plane through a top edge of B (model_edge_t) */
-  uint32_t id;       /* stable identity (vertex / edge of the mesh): breaks ties in reductions */
+  double pos_m[3];  /* world */
+  double normal[3]; /* unit, world, pointing into the first body (pushes it out) */
+  double depth_m;   /* > 0 penetration, < 0 gap (within BALANCE_CONTACT_BAND_M) */
+  int edge_plane;   /* -1, or which vertical plane through a top edge of B (model_edge_t) */
+  uint32_t id;      /* stable identity (vertex / edge of the mesh): breaks ties in reductions */
 } balance_point_t;
 
 /* Candidate set of the fast mesh-on-block generator (contact_fast.c). */
 typedef struct {
-  int valid;                 /* 0: rebuild at the next call */
-  double pos_m[3];           /* body position at the last rebuild */
-  double quat_wxyz[4];       /* body orientation at the last rebuild */
-  uint32_t *verts;           /* candidate vertex indices (into balance_object.verts_body_m) */
-  double (*verts_w)[3];      /* their world positions this step */
+  int valid;            /* 0: rebuild at the next call */
+  double pos_m[3];      /* body position at the last rebuild */
+  double quat_wxyz[4];  /* body orientation at the last rebuild */
+  uint32_t *verts;      /* candidate vertex indices (into balance_object.verts_body_m) */
+  double (*verts_w)[3]; /* their world positions this step */
   uint32_t vert_count;
-  uint8_t *code;             /* per candidate vertex: out-code against B's four edge planes */
-  uint32_t (*edges)[2];      /* candidate edges as indices into verts[] */
-  uint32_t *edge_ids;        /* their indices in balance_object.edges */
+  uint8_t *code;        /* per candidate vertex: out-code against B's four edge planes */
+  uint32_t (*edges)[2]; /* candidate edges as indices into verts[] */
+  uint32_t *edge_ids;   /* their indices in balance_object.edges */
   uint32_t edge_count;
-  uint32_t *local;           /* vertex -> index in verts[], UINT32_MAX if not a candidate */
+  uint32_t *local; /* vertex -> index in verts[], UINT32_MAX if not a candidate */
   /* The reduced contact set of the last full generation, reused (positions and depths recomputed
    * from the mesh) while the body moves less than BALANCE_FAST_RESELECT_M. */
   int sel_valid;
@@ -96,27 +96,27 @@ typedef struct {
 
 struct balance_object {
   balance_world_t *world;
-  size_t index;                 /* position in world->objects */
-  model_mesh_t mesh_link;       /* copy of the mesh, link frame */
-  model_mass_t mass;            /* copy of the mass properties, link frame */
-  double (*verts_body_m)[3];    /* mesh vertices - com (body frame) */
-  uint32_t (*edges)[2];         /* unique undirected mesh edges */
+  size_t index;              /* position in world->objects */
+  model_mesh_t mesh_link;    /* copy of the mesh, link frame */
+  model_mass_t mass;         /* copy of the mass properties, link frame */
+  double (*verts_body_m)[3]; /* mesh vertices - com (body frame) */
+  uint32_t (*edges)[2];      /* unique undirected mesh edges */
   size_t edge_count;
-  double radius_m;              /* largest |vertex - com| */
-  double (*vert_normals)[3];    /* unit outward vertex normals (area-weighted), body frame */
-  double (*hull_planes)[4];     /* convex hull faces in the body frame: n . x <= d, (nx, ny, nz, d) */
+  double radius_m;           /* largest |vertex - com| */
+  double (*vert_normals)[3]; /* unit outward vertex normals (area-weighted), body frame */
+  double (*hull_planes)[4];  /* convex hull faces in the body frame: n . x <= d, (nx, ny, nz, d) */
   size_t hull_plane_count;
   /* vertex_count x BALANCE_SEP_SLOTS: per vertex, the hull plane of another object (slot: that
    * object's index % BALANCE_SEP_SLOTS) that last had the vertex outside. A hint only, tried
    * first: contact_pair.c decides exactly as without it, only sooner (bodies at rest barely move,
    * so the same plane keeps separating). */
   uint32_t *sep_cache;
-  dBodyID body;                 /* disabled while the object is not placed */
-  dGeomID geom;                 /* trimesh in the body frame (stock path) */
+  dBodyID body; /* disabled while the object is not placed */
+  dGeomID geom; /* trimesh in the body frame (stock path) */
   dTriMeshDataID tm_data;
-  double *tm_vertices;          /* ODE's trimesh references these arrays: owned here */
+  double *tm_vertices; /* ODE's trimesh references these arrays: owned here */
   dTriIndex *tm_indices;
-  int placed;                   /* 1 while it takes part in balance_world_step */
+  int placed; /* 1 while it takes part in balance_world_step */
   balance_fast_cache_t fast;
 };
 
@@ -124,15 +124,15 @@ struct balance_world {
   balance_config_t cfg;
   dWorldID ode;
   dJointGroupID contact_group;
-  dGeomID base_geom;            /* static dBox for the stock path, top face at z = 0 */
+  dGeomID base_geom; /* static dBox for the stock path, top face at z = 0 */
   balance_object_t **objects;
   size_t object_count;
   size_t object_capacity;
-  dContactGeom *raw;            /* collision scratch (stock paths) */
+  dContactGeom *raw; /* collision scratch (stock paths) */
   size_t raw_capacity;
-  balance_point_t *points;      /* contact scratch before reduction */
+  balance_point_t *points; /* contact scratch before reduction */
   size_t point_capacity;
-  double time_s;                /* simulated time since the last balance_world_time_reset */
+  double time_s; /* simulated time since the last balance_world_time_reset */
   /* Object-object friction history (world.c): the contacts of the last step with their normal
    * forces (prev), the ones being built (now, with ODE feedback slots). Cleared whenever an
    * object is placed or removed. */
@@ -142,7 +142,6 @@ struct balance_world {
 };
 
 /* ---- geometry helpers (world.c); pure ---- */
-
 
 /* Validate a pose: finite (BALANCE_E_NONFINITE), |position| components <= BALANCE_MAX_POSITION_M
  * and |quaternion| within BALANCE_QUAT_NORM_TOL of 1 (BALANCE_E_POSE). *out gets the pose with the
@@ -227,8 +226,7 @@ size_t balance_pair_contacts(const balance_object_t *a, const balance_object_t *
 /* Copy n ODE contacts to points (at most cap), dropping those with a non-finite number or a normal
  * that is not unit length (libccd and OPCODE can return a zero normal at exact touch, which turns
  * the body into NaN). id = index in raw. Returns the count kept. */
-size_t balance_points_from_ode(const dContactGeom *raw, size_t n, balance_point_t *pts,
-                               size_t cap);
+size_t balance_points_from_ode(const dContactGeom *raw, size_t n, balance_point_t *pts, size_t cap);
 
 /* Reduce n points in place to at most k (k >= 4) that keep the support: the two extreme points
  * along each top-edge line (edge_plane >= 0), the deepest point, then the extremes along eight

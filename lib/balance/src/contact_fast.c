@@ -97,7 +97,7 @@ size_t balance_fast_contacts(const balance_world_t *w, balance_object_t *o, bala
     if (code[i] == 0 && x[2] < zmax && x[2] > zmin) push(out, cap, &n, x, -1, fc->verts[i]);
   }
   static const model_edge_t planes[4] = {MODEL_EDGE_PX, MODEL_EDGE_NX, MODEL_EDGE_PY,
-                                           MODEL_EDGE_NY};
+                                         MODEL_EDGE_NY};
   for (uint32_t e = 0; e < fc->edge_count; e++) {
     const uint32_t ia = fc->edges[e][0], ib = fc->edges[e][1];
     const unsigned diff = (unsigned)(code[ia] ^ code[ib]);
@@ -165,8 +165,8 @@ size_t balance_fast_contacts_reduced(const balance_world_t *w, balance_object_t 
   if (fc->valid && fc->sel_valid) {
     const double dx = p[0] - fc->sel_pos_m[0], dy = p[1] - fc->sel_pos_m[1],
                  dz = p[2] - fc->sel_pos_m[2];
-    const double moved = sqrt(dx * dx + dy * dy + dz * dz) +
-                         cl_quat_angle(q, fc->sel_quat_wxyz) * o->radius_m;
+    const double moved =
+        sqrt(dx * dx + dy * dy + dz * dz) + cl_quat_angle(q, fc->sel_quat_wxyz) * o->radius_m;
     if (moved < BALANCE_FAST_RESELECT_M && fc->sel_count <= cap) {
       double r[3][3];
       model_quat_to_rot(q, r);
@@ -189,14 +189,13 @@ size_t balance_fast_contacts_reduced(const balance_world_t *w, balance_object_t 
   return n;
 }
 
-
 /* The 17 reduction keys of a point (larger is better): 0-7 the low and high end along each of the
  * four edge lines (only for points on that line), 8 the depth, 9-16 eight directions in the
  * contact plane. valid gets a bit per key the point takes part in. */
 enum { NKEYS = 17 };
 
 static inline void point_keys(const balance_point_t *p, const double t1[3], const double t2[3],
-                       double key[NKEYS], uint32_t *valid) {
+                              double key[NKEYS], uint32_t *valid) {
   const double s = 0.7071067811865476;
   const double a = t1[0] * p->pos_m[0] + t1[1] * p->pos_m[1] + t1[2] * p->pos_m[2];
   const double b = t2[0] * p->pos_m[0] + t2[1] * p->pos_m[1] + t2[2] * p->pos_m[2];
@@ -270,7 +269,8 @@ size_t balance_points_reduce(balance_point_t *p, size_t n, size_t k) {
       int take = kj > best[j] + BALANCE_REDUCE_TIE_M;
       if (!take && kj >= best[j] - BALANCE_REDUCE_TIE_M) { /* a tie: deeper, then lower id */
         const double dd = p[i].depth_m - p[pick[j]].depth_m;
-        take = dd > BALANCE_REDUCE_DEPTH_TIE_M || (dd >= -BALANCE_REDUCE_DEPTH_TIE_M && id < pick_id[j]);
+        take = dd > BALANCE_REDUCE_DEPTH_TIE_M ||
+               (dd >= -BALANCE_REDUCE_DEPTH_TIE_M && id < pick_id[j]);
       }
       if (take) {
         pick[j] = i;

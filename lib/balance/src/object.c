@@ -59,7 +59,7 @@ static balance_status_t mass_validate(const model_mass_t *ms, const model_mesh_t
       if (!isfinite(ms->inertia_kg_m2[i][j])) return BALANCE_E_NONFINITE;
   }
   if (!(ms->mass_kg > 0.0) || ms->mass_kg > 1e6) return BALANCE_E_MASS;
-  const double (*I)[3] = ms->inertia_kg_m2;
+  const double(*I)[3] = ms->inertia_kg_m2;
   double s = 0.0;
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++) s = fmax(s, fabs(I[i][j]));
@@ -262,7 +262,7 @@ balance_status_t balance_object_create(balance_world_t *w, const model_mesh_t *m
   dBodySetAutoDisableFlag(o->body, 0);
   dMass dm;
   dMassSetZero(&dm);
-  const double (*I)[3] = mass->inertia_kg_m2;
+  const double(*I)[3] = mass->inertia_kg_m2;
   /* CoM at the body origin (ODE aborts otherwise); the geometry is already shifted by -com. */
   dMassSetParameters(&dm, mass->mass_kg, 0.0, 0.0, 0.0, I[0][0], I[1][1], I[2][2],
                      0.5 * (I[0][1] + I[1][0]), 0.5 * (I[0][2] + I[2][0]),
@@ -282,8 +282,7 @@ nomem:
   return BALANCE_E_NOMEM;
 }
 
-static void link_vertex_world(double r[3][3], const double p[3], const double v[3],
-                              double out[3]) {
+static void link_vertex_world(double r[3][3], const double p[3], const double v[3], double out[3]) {
   for (int i = 0; i < 3; i++) out[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2] + p[i];
 }
 
@@ -396,7 +395,6 @@ balance_status_t balance_pose_over_edge(const balance_world_t *w, const balance_
                                         const double point_link_m[3], double along_m,
                                         double touch_depth_m, model_pose_t *out) {
   if (!w || !o) return BALANCE_E_ARG;
-  return balance_status_from_model(model_pose_over_edge(&o->mesh_link, w->cfg.base_size_m, q_in,
-                                                        edge, point_link_m, along_m,
-                                                        touch_depth_m, out));
+  return balance_status_from_model(model_pose_over_edge(
+      &o->mesh_link, w->cfg.base_size_m, q_in, edge, point_link_m, along_m, touch_depth_m, out));
 }

@@ -4,9 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "comlearn/math3d.h"
-#include "comlearn/balance_poses.h"
 #include "balance_internal.h"
+#include "comlearn/balance_poses.h"
+#include "comlearn/math3d.h"
 
 /* ---- confirmation in simulation ----------------------------------------------------------- */
 
@@ -29,7 +29,8 @@ balance_status_t balance_stable_confirm(balance_world_t *world, balance_object_t
                                         const double center_link_m[3],
                                         const model_stable_config_t *cfg,
                                         balance_trial_result_t *trial, int *confirmed) {
-  if (world == NULL || obj == NULL || confirmed == NULL || center_link_m == NULL) return BALANCE_E_ARG;
+  if (world == NULL || obj == NULL || confirmed == NULL || center_link_m == NULL)
+    return BALANCE_E_ARG;
   *confirmed = 0;
   if (obj->world != world) return BALANCE_E_ARG;
   const model_mesh_t *mesh_link = &obj->mesh_link;
@@ -74,19 +75,20 @@ balance_status_t balance_stable_find(balance_world_t *world, balance_object_t *o
   *count = 0;
   if (trials_run != NULL) *trials_run = 0;
   size_t nf = 0;
-  balance_status_t st =
-      balance_status_from_model(model_faces_find(mesh_link, com_guess_link_m, regime_cfg, NULL, 0, &nf));
+  balance_status_t st = balance_status_from_model(
+      model_faces_find(mesh_link, com_guess_link_m, regime_cfg, NULL, 0, &nf));
   if (st != BALANCE_OK) return st;
   model_face_t *faces = malloc((nf > 0 ? nf : 1) * sizeof *faces);
   if (faces == NULL) return BALANCE_E_NOMEM;
-  st = balance_status_from_model(model_faces_find(mesh_link, com_guess_link_m, regime_cfg, faces, nf, &nf));
+  st = balance_status_from_model(
+      model_faces_find(mesh_link, com_guess_link_m, regime_cfg, faces, nf, &nf));
   size_t confirmed_count = 0;
   for (size_t i = 0; st == BALANCE_OK && i < nf; ++i) {
     if (!faces[i].candidate) continue;
     balance_trial_result_t r;
     int ok = 0;
-    st = balance_stable_confirm(world, obj, faces[i].orientation_wxyz, com_guess_link_m,
-                                stable_cfg, &r, &ok);
+    st = balance_stable_confirm(world, obj, faces[i].orientation_wxyz, com_guess_link_m, stable_cfg,
+                                &r, &ok);
     if (st != BALANCE_OK) break;
     if (trials_run != NULL) ++*trials_run;
     if (!ok) continue;

@@ -5,8 +5,8 @@
 #include <string.h>
 
 #include "balance_internal.h"
-#include "comlearn/math3d.h"
 #include "comlearn/balance_stack.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model_support.h"
 
 void balance_stack_config_default(balance_stack_config_t *cfg) {
@@ -53,7 +53,8 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
   }
   memset(result, 0, sizeof *result);
   balance_world_reset(world);
-  for (size_t i = 0; i < count && st == BALANCE_OK; ++i) st = balance_object_place(objects[i], &poses[i]);
+  for (size_t i = 0; i < count && st == BALANCE_OK; ++i)
+    st = balance_object_place(objects[i], &poses[i]);
   if (st != BALANCE_OK) {
     balance_world_reset(world);
     return st;
@@ -122,8 +123,8 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
 /* ---- setting one object onto another ------------------------------------------------------ */
 
 typedef struct {
-  double (*w)[3];       /* world vertices */
-  uint32_t (*e)[2];     /* unique edges */
+  double (*w)[3];   /* world vertices */
+  uint32_t (*e)[2]; /* unique edges */
   size_t ne;
   const model_mesh_t *m;
 } placed_t;
@@ -230,7 +231,8 @@ balance_status_t balance_stack_pose_above(const model_mesh_t *below_link,
   if (!isfinite(touch_depth_m) || !isfinite(at_xy_m[0]) || !isfinite(at_xy_m[1]))
     return BALANCE_E_NONFINITE;
   for (int k = 0; k < 3; ++k) {
-    if (!isfinite(point_link_m[k]) || !isfinite(below_pose->position_m[k])) return BALANCE_E_NONFINITE;
+    if (!isfinite(point_link_m[k]) || !isfinite(below_pose->position_m[k]))
+      return BALANCE_E_NONFINITE;
   }
   if (touch_depth_m < 0.0 || touch_depth_m > 1e-3) return BALANCE_E_ARG;
   double qb[4], qu[4];

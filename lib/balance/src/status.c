@@ -10,14 +10,14 @@ const char *balance_status_str(balance_status_t status) {
     case BALANCE_E_NONFINITE: return "non-finite number in the input";
     case BALANCE_E_MASS: return "invalid mass properties";
     case BALANCE_E_MESH: return "mesh not usable for contacts";
-    case BALANCE_E_POSE: return "absurd pose (far away, deep inside the base block, or not a unit quaternion)";
+    case BALANCE_E_POSE:
+      return "absurd pose (far away, deep inside the base block, or not a unit quaternion)";
     case BALANCE_E_NOMEM: return "out of memory";
     case BALANCE_E_DIVERGED: return "the simulation diverged (non-finite state)";
     case BALANCE_E_CAPACITY: return "capacity exceeded";
   }
   return "unknown status";
 }
-
 
 balance_status_t balance_status_from_model(model_status_t status) {
   switch (status) {
@@ -58,9 +58,10 @@ static int finite_in(double v, double lo, double hi) { return isfinite(v) && v >
 balance_status_t balance_config_check(const balance_config_t *cfg) {
   if (!cfg) return BALANCE_E_ARG;
   const double d[] = {cfg->base_size_m[0], cfg->base_size_m[1], cfg->base_size_m[2],
-                      cfg->gravity_m_s2, cfg->dt_s, cfg->friction, cfg->soft_erp, cfg->soft_cfm,
-                      cfg->rest_min_time_s, cfg->rest_lin_m_s, cfg->rest_ang_rad_s,
-                      cfg->horizon_s, cfg->tip_angle_rad, cfg->slide_m};
+                      cfg->gravity_m_s2,   cfg->dt_s,           cfg->friction,
+                      cfg->soft_erp,       cfg->soft_cfm,       cfg->rest_min_time_s,
+                      cfg->rest_lin_m_s,   cfg->rest_ang_rad_s, cfg->horizon_s,
+                      cfg->tip_angle_rad,  cfg->slide_m};
   for (size_t i = 0; i < sizeof d / sizeof d[0]; i++)
     if (!isfinite(d[i])) return BALANCE_E_NONFINITE;
   for (int i = 0; i < 3; i++)

@@ -91,7 +91,9 @@ void balance_world_destroy(balance_world_t *w) {
   free(w);
 }
 
-const balance_config_t *balance_world_config(const balance_world_t *w) { return w ? &w->cfg : NULL; }
+const balance_config_t *balance_world_config(const balance_world_t *w) {
+  return w ? &w->cfg : NULL;
+}
 
 size_t balance_world_object_count(const balance_world_t *w) { return w ? w->object_count : 0; }
 
@@ -154,7 +156,7 @@ static long collide_all(balance_world_t *w, dGeomID a, dGeomID b) {
 /* Copy usable ODE contacts to points: drop non-finite ones and zero normals (libccd and OPCODE
  * can return a zero normal at exact touch, which turns the body into NaN). */
 size_t balance_points_from_ode(const dContactGeom *raw, size_t n, balance_point_t *pts,
-                                size_t cap) {
+                               size_t cap) {
   size_t m = 0;
   for (size_t i = 0; i < n && m < cap; i++) {
     const dContactGeom *c = &raw[i];
@@ -185,10 +187,14 @@ static void tag_edge_points(const balance_world_t *w, balance_point_t *pts, size
   const double tol = 1e-7;
   for (size_t i = 0; i < n; i++) {
     const double *p = pts[i].pos_m;
-    if (fabs(p[0] - hx) < tol) pts[i].edge_plane = MODEL_EDGE_PX;
-    else if (fabs(p[0] + hx) < tol) pts[i].edge_plane = MODEL_EDGE_NX;
-    else if (fabs(p[1] - hy) < tol) pts[i].edge_plane = MODEL_EDGE_PY;
-    else if (fabs(p[1] + hy) < tol) pts[i].edge_plane = MODEL_EDGE_NY;
+    if (fabs(p[0] - hx) < tol)
+      pts[i].edge_plane = MODEL_EDGE_PX;
+    else if (fabs(p[0] + hx) < tol)
+      pts[i].edge_plane = MODEL_EDGE_NX;
+    else if (fabs(p[1] - hy) < tol)
+      pts[i].edge_plane = MODEL_EDGE_PY;
+    else if (fabs(p[1] + hy) < tol)
+      pts[i].edge_plane = MODEL_EDGE_NY;
   }
 }
 
@@ -292,7 +298,8 @@ static void add_pair_joints(balance_world_t *w, const balance_object_t *a,
         const balance_pair_force_t *p = &w->pair_prev[q];
         if (p->a != a || p->b != b) continue;
         double d2 = 0.0;
-        for (int k = 0; k < 3; k++) d2 += (p->pos_m[k] - pts[i].pos_m[k]) * (p->pos_m[k] - pts[i].pos_m[k]);
+        for (int k = 0; k < 3; k++)
+          d2 += (p->pos_m[k] - pts[i].pos_m[k]) * (p->pos_m[k] - pts[i].pos_m[k]);
         if (d2 < d2min) {
           d2min = d2;
           fn = p->force_n > 0.0 ? p->force_n : 0.0;

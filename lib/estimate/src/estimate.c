@@ -83,22 +83,22 @@ typedef struct {
 
 /* What one search needs while its trials run. */
 typedef struct {
-  int si;           /* its index in out->search */
-  int log_face;     /* its face in out->face */
-  int comp;         /* the link axis it determines most */
-  double q[4];      /* the resting orientation, yawed */
-  double u[3];      /* the test direction, link frame */
-  double lo, hi;    /* its range */
+  int si;        /* its index in out->search */
+  int log_face;  /* its face in out->face */
+  int comp;      /* the link axis it determines most */
+  double q[4];   /* the resting orientation, yawed */
+  double u[3];   /* the test direction, link frame */
+  double lo, hi; /* its range */
 } search_ctx_t;
 
 typedef enum {
-  PHASE_START = 0,      /* nothing planned yet: the first estimate_next plans face 1 */
-  PHASE_FACE1,          /* stable checks of face 1's candidates, in plan order */
-  PHASE_FACE1_SEARCH0,  /* face 1's first search */
-  PHASE_FACE1_SEARCH1,  /* face 1's second search */
-  PHASE_FACE2,          /* stable checks of face 2's candidates */
-  PHASE_FACE2_SEARCH,   /* face 2's search */
-  PHASE_RETEST,         /* a search again, from the check at the estimate */
+  PHASE_START = 0,     /* nothing planned yet: the first estimate_next plans face 1 */
+  PHASE_FACE1,         /* stable checks of face 1's candidates, in plan order */
+  PHASE_FACE1_SEARCH0, /* face 1's first search */
+  PHASE_FACE1_SEARCH1, /* face 1's second search */
+  PHASE_FACE2,         /* stable checks of face 2's candidates */
+  PHASE_FACE2_SEARCH,  /* face 2's search */
+  PHASE_RETEST,        /* a search again, from the check at the estimate */
   PHASE_DONE,
   PHASE_FAILED
 } phase_t;
@@ -106,13 +106,13 @@ typedef enum {
 /* The search whose trials are running: its context and where its walk stands. */
 typedef struct {
   search_ctx_t sc;
-  qlearn_policy_t *pol;          /* the walking policy: &est->policy, then &est->handover */
-  qlearn_policy_config_t pc;     /* the walk's config (the handover starts from its range) */
-  int in_handover;               /* the PBA handover after a noisy walk is running */
-  uint32_t n;                    /* trials the current walk observed */
-  double x;                      /* the policy's proposed x for the trial in flight */
-  int attempt;                   /* retries of that x after unclear outcomes */
-  uint32_t *ran;                 /* counts the handover's trials (NULL during the walk) */
+  qlearn_policy_t *pol;             /* the walking policy: &est->policy, then &est->handover */
+  qlearn_policy_config_t pc;        /* the walk's config (the handover starts from its range) */
+  int in_handover;                  /* the PBA handover after a noisy walk is running */
+  uint32_t n;                       /* trials the current walk observed */
+  double x;                         /* the policy's proposed x for the trial in flight */
+  int attempt;                      /* retries of that x after unclear outcomes */
+  uint32_t *ran;                    /* counts the handover's trials (NULL during the walk) */
   char stopped[ESTIMATE_NOTE_SIZE]; /* why the walk ended early ("" when it did not) */
 } walk_t;
 
@@ -120,46 +120,46 @@ typedef struct {
  * after that by the estimator itself (lib/model's geometry allocates temporary memory inside its
  * calls, and frees it before returning). */
 struct estimate {
-  const model_mesh_t *mesh;     /* the caller's, link frame; must outlive the estimate */
-  double base_size_m[3];        /* B */
+  const model_mesh_t *mesh; /* the caller's, link frame; must outlive the estimate */
+  double base_size_m[3];    /* B */
   estimate_config_t cfg_copy;
   const estimate_config_t *cfg; /* = &cfg_copy */
   estimate_result_t result;
-  estimate_result_t *out;       /* = &result */
+  estimate_result_t *out; /* = &result */
   phase_t phase;
-  estimate_status_t status;     /* of the failure, once phase is PHASE_FAILED */
+  estimate_status_t status; /* of the failure, once phase is PHASE_FAILED */
   /* The trial asked for and not yet observed, with what its log entry needs. */
   int pending;
-  int refused;                  /* the last reply was refused (its message is in out->msg) */
+  int refused; /* the last reply was refused (its message is in out->msg) */
   estimate_trial_request_t req;
-  int req_face;                 /* its face in out->face */
-  double req_x_m;               /* edge trial: the x planned */
+  int req_face;   /* its face in out->face */
+  double req_x_m; /* edge trial: the x planned */
   /* Face choice: the candidate plans being confirmed, in order. */
-  size_t np, ci;                /* plans and the one being checked */
-  face_plan_t chosen;           /* the confirmed plan of face 1 / face 2 */
-  int chosen_log;               /* its index in out->face */
-  int face1;                    /* face 1's index in faces[] */
+  size_t np, ci;      /* plans and the one being checked */
+  face_plan_t chosen; /* the confirmed plan of face 1 / face 2 */
+  int chosen_log;     /* its index in out->face */
+  int face1;          /* face 1's index in faces[] */
   walk_t walk;
-  uint32_t retests;             /* verify_loop: retests spent, the pass, the search redone */
+  uint32_t retests; /* verify_loop: retests spent, the pass, the search redone */
   int pass;
   int retest_of;
-  double uniform_com_m[3];      /* the mesh's uniform-density CoM (planning) */
-  double guess_m[3];            /* current CoM estimate, link frame (planning) */
-  double start_m[3];            /* where the next search starts: cfg->start, moved alike */
-  double halfwidth_m[3];        /* its half widths (INFINITY until a solve finds the component) */
-  int noisy;                    /* cfg->noise_sigma_m > 0 */
+  double uniform_com_m[3]; /* the mesh's uniform-density CoM (planning) */
+  double guess_m[3];       /* current CoM estimate, link frame (planning) */
+  double start_m[3];       /* where the next search starts: cfg->start, moved alike */
+  double halfwidth_m[3];   /* its half widths (INFINITY until a solve finds the component) */
+  int noisy;               /* cfg->noise_sigma_m > 0 */
   char face2_note[ESTIMATE_NOTE_SIZE]; /* why the second face gave no search ("" if it did) */
   int face_src[ESTIMATE_MAX_FACES];    /* out->face[i] is faces[face_src[i]] */
   model_face_t faces[FACE_CAP];
   size_t nfaces;
-  face_plan_t plans[FACE_CAP];  /* the candidates of face 1, then of face 2 */
-  model_regime_t regime;        /* scratch (~4 KiB) */
-  model_support_work_t *work;   /* the geometry's scratch memory, after this struct */
-  qlearn_policy_t policy;       /* the current search (~12 KiB for PBA) */
-  qlearn_policy_t handover;     /* PBA after a noisy walk */
+  face_plan_t plans[FACE_CAP]; /* the candidates of face 1, then of face 2 */
+  model_regime_t regime;       /* scratch (~4 KiB) */
+  model_support_work_t *work;  /* the geometry's scratch memory, after this struct */
+  qlearn_policy_t policy;      /* the current search (~12 KiB for PBA) */
+  qlearn_policy_t handover;    /* PBA after a noisy walk */
   qlearn_solve_t solve;
-  qlearn_solve_result_t res;    /* the latest solve */
-  qlearn_solve_result_t last;   /* the latest solve (update_guess), for planning */
+  qlearn_solve_result_t res;  /* the latest solve */
+  qlearn_solve_result_t last; /* the latest solve (update_guess), for planning */
   int have_solve;
 };
 typedef struct estimate est_t;
@@ -172,8 +172,7 @@ static void dir_of(const double q[4], double dir[3]) {
 }
 
 /* The threshold plane of a trial released at `pose` over the +X edge: n_obj . c = d. */
-static void trial_plane(const est_t *est, const model_pose_t *pose, double n_obj[3],
-                        double *d_m) {
+static void trial_plane(const est_t *est, const model_pose_t *pose, double n_obj[3], double *d_m) {
   double n[3], d_edge, r[3][3];
   model_edge_line(est->base_size_m, MODEL_EDGE_PX, n, &d_edge);
   model_quat_to_rot(pose->orientation_wxyz, r);
@@ -259,8 +258,8 @@ static estimate_status_t stable_request(est_t *est, int face_index, int log_face
   double bottom = model_mesh_bottom_z(est->mesh, f->orientation_wxyz);
   if (!isfinite(bottom)) return fail(est, ESTIMATE_E_GEOMETRY, "resting orientation not usable");
   for (int i = 0; i < 2; ++i)
-    req.release.position_m[i] = -(r[i][0] * est->guess_m[0] + r[i][1] * est->guess_m[1] +
-                                  r[i][2] * est->guess_m[2]);
+    req.release.position_m[i] =
+        -(r[i][0] * est->guess_m[0] + r[i][1] * est->guess_m[1] + r[i][2] * est->guess_m[2]);
   req.release.position_m[2] = -bottom - 1e-6; /* touching: 1 um pre-penetrated, never dropped */
   return request(est, &req, log_face, 0.0);
 }
@@ -292,7 +291,6 @@ static void search_range(const est_t *est, const double u[3], double *lo, double
   *lo += 1e-3;
   *hi -= 1e-3;
 }
-
 
 /* Plan the placement of link point g + (x - u.g) u over the +X edge and ask for it. */
 static estimate_status_t edge_request(est_t *est, const search_ctx_t *sc, double xa) {
@@ -348,7 +346,8 @@ static int clear_outcome(const estimate_trial_t *t) {
 
 /* Record a clear trial's outcome in a policy. */
 static qlearn_status_t observe_trial(qlearn_policy_t *pol, const estimate_trial_t *t) {
-  return qlearn_policy_observe(pol, t->x_m, t->outcome == ESTIMATE_STAYS ? QLEARN_STAYS : QLEARN_TIPS);
+  return qlearn_policy_observe(pol, t->x_m,
+                               t->outcome == ESTIMATE_STAYS ? QLEARN_STAYS : QLEARN_TIPS);
 }
 
 /* Does trial i (of search sr, clear) set the threshold? Noiseless: it is one of the two
@@ -416,7 +415,8 @@ static estimate_status_t walk_reply(est_t *est, const estimate_trial_reply_t *re
   if (qs == QLEARN_E_RANGE) {
     snprintf(w->stopped, sizeof w->stopped,
              "outcome at x = %.3f mm contradicts the earlier ones (noise, or physics the "
-             "noiseless model does not cover)", 1e3 * t->x_m);
+             "noiseless model does not cover)",
+             1e3 * t->x_m);
     return walk_end(est);
   }
   if (qs != QLEARN_OK) {
@@ -521,9 +521,11 @@ static void search_plane(est_t *est, const search_ctx_t *sc) {
       sr->flat_failed = 1;
       snprintf(sr->note, sizeof sr->note,
                "a trial that sets the threshold (x = %.3f mm) is not in the flat-patch regime "
-               "(%s, chord margin %.2f mm)", 1e3 * t->x_m,
-               t->regime == MODEL_REGIME_EDGE_ROLL ? "edge roll" :
-               t->regime == MODEL_REGIME_POINT_SUPPORT ? "point support" : "unclassified",
+               "(%s, chord margin %.2f mm)",
+               1e3 * t->x_m,
+               t->regime == MODEL_REGIME_EDGE_ROLL       ? "edge roll"
+               : t->regime == MODEL_REGIME_POINT_SUPPORT ? "point support"
+                                                         : "unclassified",
                1e3 * t->chord_margin_m);
       return;
     }
@@ -547,7 +549,8 @@ static void search_estimate(est_t *est, const search_ctx_t *sc, const qlearn_pol
     if (t->search != sc->si || !clear_outcome(t)) continue;
     if (t->outcome == ESTIMATE_TIPS && (sr->lo_trial < 0 || t->x_m >= out->trial[sr->lo_trial].x_m))
       sr->lo_trial = (int)i;
-    if (t->outcome == ESTIMATE_STAYS && (sr->hi_trial < 0 || t->x_m <= out->trial[sr->hi_trial].x_m))
+    if (t->outcome == ESTIMATE_STAYS &&
+        (sr->hi_trial < 0 || t->x_m <= out->trial[sr->hi_trial].x_m))
       sr->hi_trial = (int)i;
   }
   const double lo = sr->lo_trial >= 0 ? out->trial[sr->lo_trial].x_m : sc->lo;
@@ -567,8 +570,10 @@ static void search_estimate(est_t *est, const search_ctx_t *sc, const qlearn_pol
     /* A trial tipped above one that stayed: the noiseless model does not hold here. */
     sr->c_m = 0.5 * (lo + hi);
     sr->halfwidth_m = 0.5 * (lo - hi);
-    snprintf(sr->note, sizeof sr->note, "trials contradict each other: tipped at %.3f mm, stayed "
-             "at %.3f mm (noise, or physics the noiseless model does not cover)", 1e3 * lo, 1e3 * hi);
+    snprintf(sr->note, sizeof sr->note,
+             "trials contradict each other: tipped at %.3f mm, stayed "
+             "at %.3f mm (noise, or physics the noiseless model does not cover)",
+             1e3 * lo, 1e3 * hi);
   }
 }
 
@@ -743,7 +748,6 @@ static estimate_status_t update_guess(est_t *est, qlearn_solve_result_t *res) {
   return ESTIMATE_OK;
 }
 
-
 /* Chord margins of face f at yaws k * pi / YAW_STEPS (pure geometry), robust to where the edge
  * line will be: the threshold line passes through the true CoM, which may lie +-e along the test
  * direction u from the estimate (e: the estimate's half width along u, at most
@@ -757,8 +761,9 @@ static estimate_status_t yaw_margins(est_t *est, const model_face_t *f, double m
     double q[4], u[3];
     model_orientation_yawed(f->orientation_wxyz, k * CL_PI / YAW_STEPS, q);
     dir_of(q, u);
-    const double e = est->have_solve ? fmin(dir_halfwidth(est, &est->last, u), ESTIMATE_PLAN_OFFSET_M)
-                                     : ESTIMATE_PLAN_OFFSET_M;
+    const double e = est->have_solve
+                         ? fmin(dir_halfwidth(est, &est->last, u), ESTIMATE_PLAN_OFFSET_M)
+                         : ESTIMATE_PLAN_OFFSET_M;
     for (int j = 0; j < 3; ++j) {
       yaw[3 * k + j] = k * CL_PI / YAW_STEPS;
       for (int i = 0; i < 3; ++i) com[3 * k + j][i] = est->guess_m[i] + (j - 1) * e * u[i];
@@ -905,7 +910,8 @@ static estimate_status_t face_one(est_t *est) {
     if (s != ESTIMATE_OK) return s;
     if (est->plans[np].score >= est->cfg->min_chord_margin_m) ++np;
   }
-  if (np == 0) return fail(est, ESTIMATE_E_GEOMETRY, "no flat face with two usable edge directions");
+  if (np == 0)
+    return fail(est, ESTIMATE_E_GEOMETRY, "no flat face with two usable edge directions");
   qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
   est->np = np;
   est->ci = 0;
@@ -1105,7 +1111,8 @@ static estimate_status_t verify_loop(est_t *est) {
       sw->fed = 0;
       snprintf(sw->note, sizeof sw->note,
                "at the estimate its chord spans the interval along the edge by %.2f mm, under the "
-               "%.2f mm needed", 1e3 * sw->verified_margin_m, 1e3 * est->cfg->verify_margin_m);
+               "%.2f mm needed",
+               1e3 * sw->verified_margin_m, 1e3 * est->cfg->verify_margin_m);
     }
     if (sw->retested || est->retests >= est->cfg->max_retests) {
       sw->retested = 1; /* no (more) retests: only unfeeding continues */
@@ -1145,14 +1152,12 @@ static estimate_status_t search_done(est_t *est) {
       est->face1 = p->face;
       s = update_guess(est, &est->res);
       return s == ESTIMATE_OK ? face_two(est) : s;
-    case PHASE_FACE2_SEARCH:
-      return verify_begin(est);
+    case PHASE_FACE2_SEARCH: return verify_begin(est);
     case PHASE_RETEST:
       est->out->search[est->retest_of].retested = 1;
       ++est->pass;
       return verify_loop(est);
-    default:
-      return fail(est, ESTIMATE_E_ARG, "internal: a search ended in no search phase");
+    default: return fail(est, ESTIMATE_E_ARG, "internal: a search ended in no search phase");
   }
 }
 
@@ -1163,8 +1168,10 @@ static void component_reason(est_t *est, int k, int determined, int unverified, 
   if (out->found[k]) {
     r[0] = '\0';
   } else if (determined && unverified >= 0) {
-    snprintf(r, sizeof r, "depends on search %d, whose chord cannot be checked: the estimate "
-             "along its edge is not determined", unverified);
+    snprintf(r, sizeof r,
+             "depends on search %d, whose chord cannot be checked: the estimate "
+             "along its edge is not determined",
+             unverified);
   } else if (determined) {
     snprintf(r, sizeof r, "its interval +-%.3f mm is wider than the %.3f mm limit", 1e3 * hw,
              1e3 * est->cfg->max_halfwidth_m);
@@ -1175,8 +1182,7 @@ static void component_reason(est_t *est, int k, int determined, int unverified, 
     for (size_t i = 0; i < out->search_count; ++i)
       if (!out->search[i].fed && out->search[i].note[0]) last = (int)i;
     if (last >= 0)
-      snprintf(r, sizeof r, "not determined: search %d not used: %s", last,
-               out->search[last].note);
+      snprintf(r, sizeof r, "not determined: search %d not used: %s", last, out->search[last].note);
     else
       snprintf(r, sizeof r, "not determined by the %d independent directions measured", out->rank);
   }
@@ -1201,7 +1207,7 @@ static estimate_status_t finish(est_t *est) {
     out->com_m[k] = out->found[k] ? res.com_m[k] : est->guess_m[k];
     component_reason(est, k, determined, unverified, hw);
     if (!out->found[k] && !missing++)
-      snprintf(out->msg, sizeof out->msg, "%c not found: %s", "xyz"[k], out->reason[k]);
+      snprintf(out->msg, sizeof out->msg, "%c not found: %s", "xyz"[k], out -> reason[k]);
   }
   est->phase = PHASE_DONE;
   return ESTIMATE_OK;
@@ -1269,8 +1275,8 @@ estimate_status_t estimate_init(void *mem, size_t size, const model_mesh_t *mesh
     if (!(base_size_m[k] > 0) || !isfinite(base_size_m[k])) return ESTIMATE_E_ARG;
   est_t *est = mem;
   memset(est, 0, sizeof *est);
-  est->work = model_support_work_init((unsigned char *)mem + est_head(), size - est_head(),
-                                      mesh_link);
+  est->work =
+      model_support_work_init((unsigned char *)mem + est_head(), size - est_head(), mesh_link);
   if (!est->work) return ESTIMATE_E_ARG;
   est->mesh = mesh_link;
   memcpy(est->base_size_m, base_size_m, sizeof est->base_size_m);

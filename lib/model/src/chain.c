@@ -58,19 +58,19 @@ static model_status_t check_joint(const char *path, model_joint_t *j, model_erro
   }
   if (j->has_limits) {
     if (!isfinite(j->lower) || !isfinite(j->upper)) {
-      return model_fail(err, MODEL_E_NONFINITE, "URDF %s: joint '%s': limits are not finite",
-                        path, j->name);
+      return model_fail(err, MODEL_E_NONFINITE, "URDF %s: joint '%s': limits are not finite", path,
+                        j->name);
     }
     if (j->lower > j->upper) {
-      return model_fail(err, MODEL_E_CHAIN, "URDF %s: joint '%s': lower limit %g > upper %g",
-                        path, j->name, j->lower, j->upper);
+      return model_fail(err, MODEL_E_CHAIN, "URDF %s: joint '%s': lower limit %g > upper %g", path,
+                        j->name, j->lower, j->upper);
     }
   }
   return MODEL_OK;
 }
 
-model_status_t model_chain_load(const char *urdf_path, const char *base_link,
-                                const char *tip_link, model_chain_t *out, model_error_t *err) {
+model_status_t model_chain_load(const char *urdf_path, const char *base_link, const char *tip_link,
+                                model_chain_t *out, model_error_t *err) {
   if (out == NULL) {
     return model_fail(err, MODEL_E_ARG, "model_chain_load: NULL output");
   }

@@ -29,13 +29,13 @@ typedef struct {
 } face_t;
 
 typedef struct {
-  const double (*p)[3];  /* centred points */
+  const double (*p)[3]; /* centred points */
   size_t n;
   double tol;
   face_t *faces;
   size_t face_count, face_cap;
-  uint32_t *next;        /* conflict list links, per point */
-  uint32_t *stack;       /* faces that may have conflicts */
+  uint32_t *next;  /* conflict list links, per point */
+  uint32_t *stack; /* faces that may have conflicts */
   size_t stack_count, stack_cap;
 } hull_t;
 
@@ -86,7 +86,8 @@ static uint32_t face_new(hull_t *h, uint32_t a, uint32_t b, uint32_t c) {
     }
   }
   f->d = (f->n[0] * (pa[0] + pb[0] + pc[0]) + f->n[1] * (pa[1] + pb[1] + pc[1]) +
-          f->n[2] * (pa[2] + pb[2] + pc[2])) / 3.0;
+          f->n[2] * (pa[2] + pb[2] + pc[2])) /
+         3.0;
   return (uint32_t)h->face_count++;
 }
 
@@ -243,12 +244,12 @@ typedef struct {
 typedef struct {
   frame_t *frames;
   size_t frame_count, frame_cap;
-  uint32_t *visible;           /* faces visible from the eye */
+  uint32_t *visible; /* faces visible from the eye */
   size_t visible_count, visible_cap;
-  uint32_t *horizon_face;      /* horizon edge k is edge horizon_edge[k] of horizon_face[k] */
+  uint32_t *horizon_face; /* horizon edge k is edge horizon_edge[k] of horizon_face[k] */
   uint8_t *horizon_edge;
   size_t horizon_count, horizon_cap, horizon_edge_cap;
-  uint32_t *new_faces;         /* the cone, new_faces[k] on horizon edge k */
+  uint32_t *new_faces; /* the cone, new_faces[k] on horizon edge k */
   size_t new_cap;
 } work_t;
 
@@ -308,8 +309,7 @@ static model_status_t visible_walk(hull_t *h, work_t *w, uint32_t fi, uint32_t e
         return model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency");
       }
       if (!grow((void **)&w->frames, &w->frame_cap, w->frame_count + 1, sizeof *w->frames) ||
-          !grow((void **)&w->visible, &w->visible_cap, w->visible_count + 1,
-                sizeof *w->visible)) {
+          !grow((void **)&w->visible, &w->visible_cap, w->visible_count + 1, sizeof *w->visible)) {
         return MODEL_E_NOMEM;
       }
       h->faces[g].visible = 1;
@@ -358,7 +358,7 @@ static model_status_t cone_build(hull_t *h, work_t *w, uint32_t eye, model_error
     const face_t *f = &h->faces[w->horizon_face[k]];
     int e = w->horizon_edge[k];
     uint32_t va = f->v[e], vb = f->v[(e + 1) % 3], outer = f->nb[e];
-    uint32_t nf = face_new(h, va, vb, eye);  /* may move h->faces */
+    uint32_t nf = face_new(h, va, vb, eye); /* may move h->faces */
     if (nf == NONE) {
       return MODEL_E_NOMEM;
     }
@@ -472,8 +472,8 @@ static model_status_t points_bounds(const model_mesh_t *mesh, size_t n, double c
 
 /* The live faces as a mesh of the input's (uncentred) vertices they use, numbered in input order.
  * newindex: h->n entries, all NONE on entry. */
-static model_status_t hull_mesh_write(const hull_t *h, const model_mesh_t *mesh,
-                                      uint32_t *newindex, model_mesh_t *hull) {
+static model_status_t hull_mesh_write(const hull_t *h, const model_mesh_t *mesh, uint32_t *newindex,
+                                      model_mesh_t *hull) {
   size_t nf = 0, nv = 0;
   for (size_t f = 0; f < h->face_count; ++f) {
     if (h->faces[f].alive) {

@@ -123,8 +123,10 @@ model_status_t model_mass_check(const model_mass_t *mass, model_error_t *err) {
   for (int i = 0; i < 3; ++i) {
     for (int j = i + 1; j < 3; ++j) {
       if (fabs(I[i][j] - I[j][i]) > SYMMETRY_TOL * scale) {
-        return model_fail(err, MODEL_E_INERTIAL, "inertia is not symmetric: I[%d][%d] = %g, "
-                          "I[%d][%d] = %g", i, j, I[i][j], j, i, I[j][i]);
+        return model_fail(err, MODEL_E_INERTIAL,
+                          "inertia is not symmetric: I[%d][%d] = %g, "
+                          "I[%d][%d] = %g",
+                          i, j, I[i][j], j, i, I[j][i]);
       }
     }
   }
@@ -134,14 +136,15 @@ model_status_t model_mass_check(const model_mass_t *mass, model_error_t *err) {
   }
   if (!(m[0] > 0.0)) {
     return model_fail(err, MODEL_E_INERTIAL,
-                      "inertia is not positive definite: principal moments %g, %g, %g kg m^2",
-                      m[0], m[1], m[2]);
+                      "inertia is not positive definite: principal moments %g, %g, %g kg m^2", m[0],
+                      m[1], m[2]);
   }
   /* Ascending order: only the largest can exceed the sum of the other two. */
   if (m[2] > (m[0] + m[1]) * (1.0 + TRIANGLE_TOL)) {
     return model_fail(err, MODEL_E_INERTIA_TRIANGLE,
                       "principal moments %g, %g, %g kg m^2 violate the triangle inequality "
-                      "(%g > %g + %g)", m[0], m[1], m[2], m[2], m[0], m[1]);
+                      "(%g > %g + %g)",
+                      m[0], m[1], m[2], m[2], m[0], m[1]);
   }
   return MODEL_OK;
 }
@@ -153,9 +156,11 @@ static const double PLAUSIBLE_REL_TOL = 1e-9;
 static model_status_t plausible_density(double mass_kg, double volume_m3, model_error_t *err) {
   const double density = mass_kg / volume_m3;
   if (density < MODEL_DENSITY_MIN_KG_M3 || density > MODEL_DENSITY_MAX_KG_M3) {
-    return model_fail(err, MODEL_E_IMPLAUSIBLE, "mean density %g kg/m^3 (mass %g kg / mesh "
-                      "volume %g m^3) is outside the range of solids [%g, %g] kg/m^3", density,
-                      mass_kg, volume_m3, MODEL_DENSITY_MIN_KG_M3, MODEL_DENSITY_MAX_KG_M3);
+    return model_fail(err, MODEL_E_IMPLAUSIBLE,
+                      "mean density %g kg/m^3 (mass %g kg / mesh "
+                      "volume %g m^3) is outside the range of solids [%g, %g] kg/m^3",
+                      density, mass_kg, volume_m3, MODEL_DENSITY_MIN_KG_M3,
+                      MODEL_DENSITY_MAX_KG_M3);
   }
   return MODEL_OK;
 }
@@ -170,9 +175,11 @@ static model_status_t plausible_com(const double com_m[3], const model_aabb_t *b
   const double slack = PLAUSIBLE_REL_TOL * sqrt(d2);
   for (int k = 0; k < 3; ++k) {
     if (com_m[k] < box->min_m[k] - slack || com_m[k] > box->max_m[k] + slack) {
-      return model_fail(err, MODEL_E_IMPLAUSIBLE, "center of mass (%g, %g, %g) m is outside the "
-                        "mesh's bounding box: %c = %g m not in [%g, %g] m", com_m[0], com_m[1],
-                        com_m[2], "xyz"[k], com_m[k], box->min_m[k], box->max_m[k]);
+      return model_fail(err, MODEL_E_IMPLAUSIBLE,
+                        "center of mass (%g, %g, %g) m is outside the "
+                        "mesh's bounding box: %c = %g m not in [%g, %g] m",
+                        com_m[0], com_m[1], com_m[2], "xyz"[k], com_m[k], box -> min_m[k],
+                        box -> max_m[k]);
     }
   }
   return MODEL_OK;
@@ -196,7 +203,8 @@ static model_status_t plausible_moments(const model_mass_t *mass, const model_me
   }
   const double upper = mass->mass_kg * r2;
   if (m[2] > upper * (1.0 + PLAUSIBLE_REL_TOL)) {
-    return model_fail(err, MODEL_E_IMPLAUSIBLE, "principal moment %g kg m^2 exceeds mass x "
+    return model_fail(err, MODEL_E_IMPLAUSIBLE,
+                      "principal moment %g kg m^2 exceeds mass x "
                       "(farthest mesh vertex from the CoM)^2 = %g kg x (%g m)^2 = %g kg m^2",
                       m[2], mass->mass_kg, sqrt(r2), upper);
   }
@@ -205,9 +213,10 @@ static model_status_t plausible_moments(const model_mass_t *mass, const model_me
   const double lower = 1.2 * mass->mass_kg * ball_r * ball_r;
   const double sum = m[0] + m[1] + m[2];
   if (sum < lower * (1.0 - PLAUSIBLE_REL_TOL)) {
-    return model_fail(err, MODEL_E_IMPLAUSIBLE, "principal moments sum to %g kg m^2, below "
-                      "%g kg m^2, the least for %g kg (a ball of radius %g m at %g kg/m^3)", sum,
-                      lower, mass->mass_kg, ball_r, MODEL_DENSITY_MAX_KG_M3);
+    return model_fail(err, MODEL_E_IMPLAUSIBLE,
+                      "principal moments sum to %g kg m^2, below "
+                      "%g kg m^2, the least for %g kg (a ball of radius %g m at %g kg/m^3)",
+                      sum, lower, mass->mass_kg, ball_r, MODEL_DENSITY_MAX_KG_M3);
   }
   return MODEL_OK;
 }
@@ -219,8 +228,10 @@ model_status_t model_mass_plausible(const model_mass_t *mass, const model_mesh_t
     return st;
   }
   if (mass->mass_kg < MODEL_MASS_MIN_KG || mass->mass_kg > MODEL_MASS_MAX_KG) {
-    return model_fail(err, MODEL_E_IMPLAUSIBLE, "mass %g kg is outside the plausible range "
-                      "[%g, %g] kg", mass->mass_kg, MODEL_MASS_MIN_KG, MODEL_MASS_MAX_KG);
+    return model_fail(err, MODEL_E_IMPLAUSIBLE,
+                      "mass %g kg is outside the plausible range "
+                      "[%g, %g] kg",
+                      mass->mass_kg, MODEL_MASS_MIN_KG, MODEL_MASS_MAX_KG);
   }
   if (mesh == NULL) {
     return model_fail(err, MODEL_E_ARG, "mesh is NULL");
@@ -241,8 +252,8 @@ model_status_t model_mass_plausible(const model_mass_t *mass, const model_mesh_t
   return st;
 }
 
-model_status_t model_inertial_load(const char *urdf_path, const char *link_name,
-                                   model_mass_t *out, model_error_t *err) {
+model_status_t model_inertial_load(const char *urdf_path, const char *link_name, model_mass_t *out,
+                                   model_error_t *err) {
   if (out == NULL) {
     return model_fail(err, MODEL_E_ARG, "model_inertial_load: NULL output");
   }

@@ -37,7 +37,8 @@ static void add_clipped(model_massprop_acc_t *acc, const double *const v[3], con
       crossing(q, sq, p, sp, poly[n++]);
     }
   }
-  for (int i = 1; i + 1 < n; ++i) model_massprop_acc_add_triangle(acc, poly[0], poly[i], poly[i + 1]);
+  for (int i = 1; i + 1 < n; ++i)
+    model_massprop_acc_add_triangle(acc, poly[0], poly[i], poly[i + 1]);
 }
 
 model_status_t model_mesh_mass_halfspace(const model_mesh_t *mesh, double density_kg_m3,

@@ -34,8 +34,7 @@ model_status_t model_mesh_alloc(model_mesh_t *out, size_t vertex_count, size_t t
 }
 
 model_status_t model_mesh_copy(const model_mesh_t *src, model_mesh_t *dst) {
-  if (src == NULL || dst == NULL ||
-      (src->vertex_count > 0 && src->vertices_m == NULL) ||
+  if (src == NULL || dst == NULL || (src->vertex_count > 0 && src->vertices_m == NULL) ||
       (src->triangle_count > 0 && src->triangles == NULL)) {
     return MODEL_E_ARG;
   }
@@ -77,7 +76,7 @@ typedef struct {
   uint32_t lo;
   uint32_t hi;
   uint32_t triangle;
-  uint32_t forward;   /* 1 when the triangle runs lo -> hi */
+  uint32_t forward; /* 1 when the triangle runs lo -> hi */
 } edge_key_t;
 
 static int edge_key_cmp(const void *pa, const void *pb) {
@@ -199,8 +198,8 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
   for (size_t t = 0; t < nt; ++t) {
     for (int k = 0; k < 3; ++k) {
       if (mesh->triangles[t][k] >= nv) {
-        return model_fail(err, MODEL_E_ARG, "triangle %zu uses vertex %u but the mesh has %zu",
-                          t, mesh->triangles[t][k], nv);
+        return model_fail(err, MODEL_E_ARG, "triangle %zu uses vertex %u but the mesh has %zu", t,
+                          mesh->triangles[t][k], nv);
       }
     }
   }
@@ -208,8 +207,8 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
   model_status_t st = MODEL_OK;
   vertex_key_t *keys = malloc(nv * sizeof *keys);
   uint32_t *map = malloc(nv * sizeof *map);
-  uint32_t (*tris)[3] = malloc(nt * sizeof *tris);
-  double (*verts)[3] = NULL;
+  uint32_t(*tris)[3] = malloc(nt * sizeof *tris);
+  double(*verts)[3] = NULL;
   if (keys == NULL || map == NULL || tris == NULL) {
     st = MODEL_E_NOMEM;
     goto done;
@@ -348,7 +347,7 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
   free(mesh->triangles);
   mesh->vertices_m = verts;
   mesh->vertex_count = used;
-  uint32_t (*shrunk)[3] = realloc(tris, kept * sizeof *tris);
+  uint32_t(*shrunk)[3] = realloc(tris, kept * sizeof *tris);
   mesh->triangles = shrunk != NULL ? shrunk : tris;
   mesh->triangle_count = kept;
   verts = NULL;

@@ -24,9 +24,8 @@ typedef struct {
 } xform_t;
 
 static xform_t xform_from_ai(const struct aiMatrix4x4 *a) {
-  xform_t x = {{{a->a1, a->a2, a->a3, a->a4},
-                {a->b1, a->b2, a->b3, a->b4},
-                {a->c1, a->c2, a->c3, a->c4}}};
+  xform_t x = {
+      {{a->a1, a->a2, a->a3, a->a4}, {a->b1, a->b2, a->b3, a->b4}, {a->c1, a->c2, a->c3, a->c4}}};
   return x;
 }
 
@@ -55,8 +54,8 @@ typedef struct {
   const struct aiScene *scene;
   const char *path;
   double scale[3];
-  model_mesh_t *out;     /* NULL in the counting pass */
-  size_t vertex_count;   /* running totals */
+  model_mesh_t *out;   /* NULL in the counting pass */
+  size_t vertex_count; /* running totals */
   size_t triangle_count;
   model_error_t *err;
 } walk_t;
@@ -159,8 +158,8 @@ model_status_t model_mesh_load(const char *path, const double scale[3], model_me
   if (scale != NULL) {
     for (int k = 0; k < 3; ++k) {
       if (!isfinite(scale[k])) {
-        return model_fail(err, MODEL_E_NONFINITE, "mesh %s: scale (%g, %g, %g) is not finite",
-                          path, scale[0], scale[1], scale[2]);
+        return model_fail(err, MODEL_E_NONFINITE, "mesh %s: scale (%g, %g, %g) is not finite", path,
+                          scale[0], scale[1], scale[2]);
       }
       if (scale[k] == 0.0) {
         return model_fail(err, MODEL_E_ARG, "mesh %s: scale (%g, %g, %g) has a zero component",
@@ -264,8 +263,8 @@ model_status_t model_mesh_save(const model_mesh_t *mesh, const char *path, const
   for (size_t i = 0; i < mesh->vertex_count; ++i) {
     for (int k = 0; k < 3; ++k) {
       if (!isfinite(mesh->vertices_m[i][k])) {
-        return model_fail(err, MODEL_E_NONFINITE, "cannot save %s: vertex %zu is not finite",
-                          path, i);
+        return model_fail(err, MODEL_E_NONFINITE, "cannot save %s: vertex %zu is not finite", path,
+                          i);
       }
     }
   }
@@ -278,8 +277,8 @@ model_status_t model_mesh_save(const model_mesh_t *mesh, const char *path, const
     }
   }
   if (!export_format_known(format)) {
-    return model_fail(err, MODEL_E_UNSUPPORTED, "cannot save %s: assimp has no exporter '%s'",
-                      path, format);
+    return model_fail(err, MODEL_E_UNSUPPORTED, "cannot save %s: assimp has no exporter '%s'", path,
+                      format);
   }
 
   /* A scene of one node, one mesh and one empty material, all owned here (assimp's exporter

@@ -49,20 +49,20 @@ enum { MODEL_URDF_NAME_MAX = 128, MODEL_URDF_PATH_MAX = 1024 };
 typedef struct {
   model_urdf_shape_t shape;
   double xyz_m[3];
-  double rot[3][3];                     /* from the origin's rpy (urdfdom's quaternion) */
-  double scale[3];                      /* mesh only */
-  double size_m[3];                     /* box only: full edge lengths */
-  double radius_m;                      /* sphere, cylinder */
-  double length_m;                      /* cylinder, along the geometry's z */
-  char filename[MODEL_URDF_PATH_MAX];   /* mesh only: as written in the URDF */
+  double rot[3][3];                   /* from the origin's rpy (urdfdom's quaternion) */
+  double scale[3];                    /* mesh only */
+  double size_m[3];                   /* box only: full edge lengths */
+  double radius_m;                    /* sphere, cylinder */
+  double length_m;                    /* cylinder, along the geometry's z */
+  char filename[MODEL_URDF_PATH_MAX]; /* mesh only: as written in the URDF */
 } model_urdf_geom_t;
 
 typedef struct {
   char robot_name[MODEL_URDF_NAME_MAX];
   char link_name[MODEL_URDF_NAME_MAX];
-  int from_visual;               /* 1 when the link has no <collision> and <visual> was used */
+  int from_visual; /* 1 when the link has no <collision> and <visual> was used */
   size_t geom_count;
-  model_urdf_geom_t *geoms;      /* malloc, released by model_urdf_link_free() */
+  model_urdf_geom_t *geoms; /* malloc, released by model_urdf_link_free() */
 } model_urdf_link_t;
 
 /* Parse a URDF and return one link's geometry (link_name NULL: the root link). Never reads
@@ -76,8 +76,7 @@ void model_urdf_link_free(model_urdf_link_t *link);
  * MODEL_E_NOLINK, MODEL_E_CHAIN (tip not below base, too many joints, floating/planar joint, a
  * name too long), plus those of parsing. Geometry build only. */
 model_status_t model_urdf_chain_read(const char *urdf_path, const char *base_link,
-                                     const char *tip_link, model_chain_t *out,
-                                     model_error_t *err);
+                                     const char *tip_link, model_chain_t *out, model_error_t *err);
 
 /* ---- urdf.cpp, inertial side (comlearn_model_sim only) --------------------------------------- */
 

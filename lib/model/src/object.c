@@ -9,9 +9,13 @@
 #include "comlearn/math3d.h"
 #include "model_internal.h"
 
-enum { PATH_BUF = 4096, MAX_PARENT_LEVELS = 64, SPHERE_SEGMENTS = 32, SPHERE_RINGS = 16,
-       CYLINDER_SEGMENTS = 64 };
-
+enum {
+  PATH_BUF = 4096,
+  MAX_PARENT_LEVELS = 64,
+  SPHERE_SEGMENTS = 32,
+  SPHERE_RINGS = 16,
+  CYLINDER_SEGMENTS = 64
+};
 
 static int file_exists(const char *path) {
   FILE *f = fopen(path, "rb");
@@ -61,9 +65,8 @@ static int try_candidate(char *out, size_t out_size, char *tried, size_t tried_s
 }
 
 /* Resolve a URDF mesh reference (see model_object_load in model.h for the rule). */
-static model_status_t resolve_mesh_path(const char *urdf_path, const char *link,
-                                        const char *uri, char *out, size_t out_size,
-                                        model_error_t *err) {
+static model_status_t resolve_mesh_path(const char *urdf_path, const char *link, const char *uri,
+                                        char *out, size_t out_size, model_error_t *err) {
   char dir[PATH_BUF];
   char tried[768] = "";
   /* The URDF's folder, absolute so that its parents can be walked. */
@@ -93,8 +96,8 @@ static model_status_t resolve_mesh_path(const char *urdf_path, const char *link,
     const char *rest = strchr(pkg, '/');
     size_t name_len = rest != NULL ? (size_t)(rest - pkg) : 0;
     if (rest == NULL || name_len == 0 || rest[1] == '\0' || name_len >= 256) {
-      return model_fail(err, MODEL_E_PARSE, "URDF %s: link '%s': bad package URI '%s'",
-                        urdf_path, link, uri);
+      return model_fail(err, MODEL_E_PARSE, "URDF %s: link '%s': bad package URI '%s'", urdf_path,
+                        link, uri);
     }
     char name[256];
     memcpy(name, pkg, name_len);
@@ -120,9 +123,8 @@ static model_status_t resolve_mesh_path(const char *urdf_path, const char *link,
         *cut = '\0';
       }
     }
-    return model_fail(err, MODEL_E_NOFILE,
-                      "URDF %s: link '%s': mesh '%s' not found (tried %s)", urdf_path, link, uri,
-                      tried);
+    return model_fail(err, MODEL_E_NOFILE, "URDF %s: link '%s': mesh '%s' not found (tried %s)",
+                      urdf_path, link, uri, tried);
   }
 
   const char *path = uri;
@@ -210,7 +212,7 @@ static model_status_t make_sphere(double r, model_mesh_t *out) {
     }
   }
   size_t t = 0;
-#define RING(i, j) (2 + ((i) - 1) * S + ((j) % S))
+#define RING(i, j) (2 + ((i)-1) * S + ((j) % S))
   for (uint32_t j = 0; j < S; ++j) {
     uint32_t *a = out->triangles[t++];
     a[0] = 0;
@@ -343,17 +345,18 @@ static model_status_t load_geom(const char *urdf_path, const model_urdf_link_t *
     case MODEL_URDF_CYLINDER:
       if (!isfinite(g->radius_m) || !isfinite(g->length_m) || !(g->radius_m > 0.0) ||
           !(g->length_m > 0.0)) {
-        return model_fail(err,
-                          isfinite(g->radius_m) && isfinite(g->length_m) ? MODEL_E_DEGENERATE
-                                                                         : MODEL_E_NONFINITE,
-                          "URDF %s: link '%s': cylinder radius %g / length %g not finite and "
-                          "positive", urdf_path, ln, g->radius_m, g->length_m);
+        return model_fail(
+            err,
+            isfinite(g->radius_m) && isfinite(g->length_m) ? MODEL_E_DEGENERATE : MODEL_E_NONFINITE,
+            "URDF %s: link '%s': cylinder radius %g / length %g not finite and "
+            "positive",
+            urdf_path, ln, g->radius_m, g->length_m);
       }
       st = make_cylinder(g->radius_m, g->length_m, piece);
       break;
     default:
-      return model_fail(err, MODEL_E_UNSUPPORTED, "URDF %s: link '%s': geometry type %d",
-                        urdf_path, ln, (int)g->shape);
+      return model_fail(err, MODEL_E_UNSUPPORTED, "URDF %s: link '%s': geometry type %d", urdf_path,
+                        ln, (int)g->shape);
   }
   if (st != MODEL_OK) {
     return model_fail(err, st, "URDF %s: link '%s': out of memory", urdf_path, ln);
@@ -370,8 +373,8 @@ static model_status_t load_geom(const char *urdf_path, const model_urdf_link_t *
   return MODEL_OK;
 }
 
-model_status_t model_object_load(const char *urdf_path, const char *link_name,
-                                 model_object_t *out, model_error_t *err) {
+model_status_t model_object_load(const char *urdf_path, const char *link_name, model_object_t *out,
+                                 model_error_t *err) {
   if (out == NULL) {
     return model_fail(err, MODEL_E_ARG, "model_object_load: NULL output");
   }

@@ -25,9 +25,9 @@ const char *model_status_str(model_status_t status) {
     case MODEL_E_REGION: return "invalid density region";
     case MODEL_E_HULL: return "convex hull failed";
     case MODEL_E_CHAIN: return "no usable kinematic chain between the links";
-    case MODEL_E_IMPLAUSIBLE:
-      return "mass properties implausible for a real object of that shape";
-    case MODEL_E_POSE: return "absurd pose (not a unit quaternion, or nothing of the object over B)";
+    case MODEL_E_IMPLAUSIBLE: return "mass properties implausible for a real object of that shape";
+    case MODEL_E_POSE:
+      return "absurd pose (not a unit quaternion, or nothing of the object over B)";
     case MODEL_E_CAPACITY: return "capacity exceeded";
   }
   return "unknown model status";

@@ -98,8 +98,8 @@ static void contact_compute(const model_mesh_t *mesh, const double (*xy)[2],
 }
 
 model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy)[2],
-                                      const unsigned char *on, double (*tri_xy)[3][2],
-                                      model_support_contact_t *out) {
+                                     const unsigned char *on, double (*tri_xy)[3][2],
+                                     model_support_contact_t *out) {
   const size_t nv = mesh->vertex_count;
   memset(out, 0, sizeof *out);
   uint32_t *parent = malloc(nv * sizeof *parent);
@@ -121,7 +121,7 @@ done:
 }
 
 int model_support_tris_chord(const double (*tri_xy)[3][2], size_t n, const double p[2],
-                            const double d[2], double *s0, double *s1) {
+                             const double d[2], double *s0, double *s1) {
   double lo = HUGE_VAL, hi = -HUGE_VAL;
   for (size_t t = 0; t < n; ++t) {
     double h[3], s[3];
@@ -174,8 +174,7 @@ model_status_t model_regime_config_check(const model_regime_config_t *cfg) {
   return MODEL_OK;
 }
 
-static model_status_t config_resolve(const model_regime_config_t *cfg,
-                                       model_regime_config_t *out) {
+static model_status_t config_resolve(const model_regime_config_t *cfg, model_regime_config_t *out) {
   if (cfg == NULL) {
     model_regime_config_default(out);
     return MODEL_OK;
@@ -231,12 +230,12 @@ typedef struct {
 
 struct model_support_work {
   size_t vertex_count, triangle_count;
-  double (*w)[3];          /* vertices in the world */
-  double (*xy)[2];         /* their x, y */
-  unsigned char *touch;    /* on the support plane */
-  double (*pts)[2], (*hull)[2];   /* the outline's points and hull (nv + 1) */
-  double (*tri_xy)[3][2];  /* the in-plane triangles */
-  uint32_t *parent;        /* the contact's regions (contact_compute) */
+  double (*w)[3];               /* vertices in the world */
+  double (*xy)[2];              /* their x, y */
+  unsigned char *touch;         /* on the support plane */
+  double (*pts)[2], (*hull)[2]; /* the outline's points and hull (nv + 1) */
+  double (*tri_xy)[3][2];       /* the in-plane triangles */
+  uint32_t *parent;             /* the contact's regions (contact_compute) */
   double *area;
   double (*cpts)[2], (*chull)[2];
   contact_t ct;
@@ -375,8 +374,8 @@ static model_status_t vec_check(const double v[3]) {
 
 /* The checks every patch function makes: config (resolved into *c), mesh, pose (q: unit). */
 static model_status_t patch_args(const model_mesh_t *mesh_link, const model_pose_t *pose,
-                                   const model_regime_config_t *cfg, model_regime_config_t *c,
-                                   double q[4]) {
+                                 const model_regime_config_t *cfg, model_regime_config_t *c,
+                                 double q[4]) {
   model_status_t st = config_resolve(cfg, c);
   if (st == MODEL_OK) st = model_mesh_usable(mesh_link);
   if (st == MODEL_OK) st = pose_check(pose, q);
@@ -384,7 +383,7 @@ static model_status_t patch_args(const model_mesh_t *mesh_link, const model_pose
 }
 
 model_status_t model_patch_resting(const model_mesh_t *mesh_link, const model_pose_t *pose,
-                                       const model_regime_config_t *cfg, model_patch_t *out) {
+                                   const model_regime_config_t *cfg, model_patch_t *out) {
   if (out == NULL) return MODEL_E_ARG;
   model_regime_config_t c;
   double q[4];
@@ -402,11 +401,23 @@ model_status_t model_patch_resting(const model_mesh_t *mesh_link, const model_po
 /* Outward normal (x, y) of an edge and the unit direction of the "along" coordinate. */
 static int edge_axes(model_edge_t edge, double normal[2], double along[2]) {
   switch (edge) {
-  case MODEL_EDGE_PX: normal[0] = 1.0; normal[1] = 0.0; break;
-  case MODEL_EDGE_NX: normal[0] = -1.0; normal[1] = 0.0; break;
-  case MODEL_EDGE_PY: normal[0] = 0.0; normal[1] = 1.0; break;
-  case MODEL_EDGE_NY: normal[0] = 0.0; normal[1] = -1.0; break;
-  default: return 0;
+    case MODEL_EDGE_PX:
+      normal[0] = 1.0;
+      normal[1] = 0.0;
+      break;
+    case MODEL_EDGE_NX:
+      normal[0] = -1.0;
+      normal[1] = 0.0;
+      break;
+    case MODEL_EDGE_PY:
+      normal[0] = 0.0;
+      normal[1] = 1.0;
+      break;
+    case MODEL_EDGE_NY:
+      normal[0] = 0.0;
+      normal[1] = -1.0;
+      break;
+    default: return 0;
   }
   along[0] = normal[0] != 0.0 ? 0.0 : 1.0;
   along[1] = normal[0] != 0.0 ? 1.0 : 0.0;
@@ -443,12 +454,11 @@ static model_status_t contact_build(const model_mesh_t *mesh_link, const model_p
 /* Chord margin of the line through p along `dir` (unit) across the real contact of a flat patch:
  * the extent of the in-plane triangles on that line, so two feet or a ring give the interval
  * between their outermost crossings, and a line that crosses one foot only gives that foot's. */
-static double chord_margin(const contact_t *ct, const double p[2], const double dir[2],
-                           double *s0, double *s1) {
+static double chord_margin(const contact_t *ct, const double p[2], const double dir[2], double *s0,
+                           double *s1) {
   double lo = 0.0, hi = 0.0;
-  if (!ct->patch.flat ||
-      !model_support_tris_chord((const double(*)[3][2])ct->tris, ct->patch.face_count, p, dir, &lo,
-                               &hi))
+  if (!ct->patch.flat || !model_support_tris_chord((const double(*)[3][2])ct->tris,
+                                                   ct->patch.face_count, p, dir, &lo, &hi))
     return -HUGE_VAL;
   if (s0 != NULL) *s0 = lo;
   if (s1 != NULL) *s1 = hi;
@@ -501,7 +511,7 @@ model_status_t model_regime_classify_in(const model_mesh_t *mesh_link, const mod
   double s0 = 0.0, s1 = 0.0;
   out->chord_margin_m = -HUGE_VAL;
   if (model_support_tris_chord((const double(*)[3][2])ct->tris, ct->patch.face_count, on, along,
-                              &s0, &s1)) {
+                               &s0, &s1)) {
     out->chord_valid = 1;
     out->chord_m[0] = out->com_along_m + s0;
     out->chord_m[1] = out->com_along_m + s1;
@@ -533,11 +543,11 @@ static double yaw_margin(const contact_t *ct, const double p[2], const double al
 }
 
 static model_status_t yaw_setup(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
-                                  const double com_estimate_link_m[3], model_edge_t edge,
-                                  const double *out1, const double *out2,
-                                  const model_regime_config_t *cfg, model_support_work_t *work,
-                                  model_support_work_t **own, contact_t **ct, double p[2],
-                                  double along[2]) {
+                                const double com_estimate_link_m[3], model_edge_t edge,
+                                const double *out1, const double *out2,
+                                const model_regime_config_t *cfg, model_support_work_t *work,
+                                model_support_work_t **own, contact_t **ct, double p[2],
+                                double along[2]) {
   *ct = NULL;
   *own = NULL;
   if (out1 == NULL || out2 == NULL || orientation_wxyz == NULL) return MODEL_E_ARG;
@@ -557,20 +567,17 @@ static model_status_t yaw_setup(const model_mesh_t *mesh_link, const double orie
   return MODEL_OK;
 }
 
-model_status_t model_yaw_margins(const model_mesh_t *mesh_link,
-                                 const double orientation_wxyz[4], model_edge_t edge,
-                                 const model_regime_config_t *cfg, size_t n,
+model_status_t model_yaw_margins(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
+                                 model_edge_t edge, const model_regime_config_t *cfg, size_t n,
                                  const double *yaw_rad, const double (*com_estimate_link_m)[3],
                                  double *margin_m) {
   return model_yaw_margins_in(mesh_link, orientation_wxyz, edge, cfg, n, yaw_rad,
                               com_estimate_link_m, NULL, margin_m);
 }
 
-model_status_t model_yaw_margins_in(const model_mesh_t *mesh_link,
-                                    const double orientation_wxyz[4], model_edge_t edge,
-                                    const model_regime_config_t *cfg, size_t n,
-                                    const double *yaw_rad,
-                                    const double (*com_estimate_link_m)[3],
+model_status_t model_yaw_margins_in(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
+                                    model_edge_t edge, const model_regime_config_t *cfg, size_t n,
+                                    const double *yaw_rad, const double (*com_estimate_link_m)[3],
                                     model_support_work_t *work, double *margin_m) {
   if (n == 0) return MODEL_OK;
   if (yaw_rad == NULL || com_estimate_link_m == NULL) return MODEL_E_ARG;
@@ -584,8 +591,8 @@ model_status_t model_yaw_margins_in(const model_mesh_t *mesh_link,
   double p[2], along[2];
   const double dummy = 0.0;
   /* the contact depends on the orientation only: built once for every (yaw, point) */
-  model_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m[0], edge,
-                                margin_m, &dummy, cfg, work, &own, &ct, p, along);
+  model_status_t st = yaw_setup(mesh_link, orientation_wxyz, com_estimate_link_m[0], edge, margin_m,
+                                &dummy, cfg, work, &own, &ct, p, along);
   if (st == MODEL_OK) {
     double q[4];
     model_quat_unit(orientation_wxyz, q);
@@ -601,18 +608,17 @@ model_status_t model_yaw_margins_in(const model_mesh_t *mesh_link,
 }
 
 model_status_t model_yaw_margin(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
-                                    const double com_estimate_link_m[3], model_edge_t edge,
-                                    double yaw_rad, const model_regime_config_t *cfg,
-                                    double *margin_m) {
+                                const double com_estimate_link_m[3], model_edge_t edge,
+                                double yaw_rad, const model_regime_config_t *cfg,
+                                double *margin_m) {
   if (com_estimate_link_m == NULL) return MODEL_E_ARG;
   return model_yaw_margins(mesh_link, orientation_wxyz, edge, cfg, 1, &yaw_rad,
-                             (const double(*)[3])com_estimate_link_m, margin_m);
+                           (const double(*)[3])com_estimate_link_m, margin_m);
 }
 
 model_status_t model_yaw_best(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
-                                  const double com_estimate_link_m[3], model_edge_t edge,
-                                  const model_regime_config_t *cfg, double *yaw_rad,
-                                  double *margin_m) {
+                              const double com_estimate_link_m[3], model_edge_t edge,
+                              const model_regime_config_t *cfg, double *yaw_rad, double *margin_m) {
   contact_t *ct = NULL;
   model_support_work_t *own = NULL;
   double p[2], along[2];

@@ -83,17 +83,18 @@ static int cmp_face(const void *pa, const void *pb) {
   const model_face_t *a = pa, *b = pb;
   if (a->area_m2 != b->area_m2) return a->area_m2 > b->area_m2 ? -1 : 1;
   for (int k = 0; k < 3; ++k) {
-    if (a->normal_link[k] != b->normal_link[k]) return a->normal_link[k] < b->normal_link[k] ? -1 : 1;
+    if (a->normal_link[k] != b->normal_link[k])
+      return a->normal_link[k] < b->normal_link[k] ? -1 : 1;
   }
   return 0;
 }
 
 /* Analyse the plane with outward unit normal n that supports the mesh. xy: scratch for nv plane
  * coordinates; pts / hull: scratch for nv + 1 points; on: nv bytes, zero on entry and exit. */
-static model_status_t face_analyse(const model_mesh_t *mesh, const double n[3],
-                                     const double com[3], const model_regime_config_t *cfg,
-                                     double (*xy)[2], double (*pts)[2], double (*hull)[2],
-                                     unsigned char *on, model_face_t *f) {
+static model_status_t face_analyse(const model_mesh_t *mesh, const double n[3], const double com[3],
+                                   const model_regime_config_t *cfg, double (*xy)[2],
+                                   double (*pts)[2], double (*hull)[2], unsigned char *on,
+                                   model_face_t *f) {
   const size_t nv = mesh->vertex_count;
   memset(f, 0, sizeof *f);
   memcpy(f->normal_link, n, sizeof f->normal_link);
@@ -128,13 +129,14 @@ static model_status_t face_analyse(const model_mesh_t *mesh, const double n[3],
   f->region_count = ct.region_count;
   f->patch_area_m2 = ct.region_area_m2;
   f->patch_width_m = ct.region_width_m;
-  f->flat = f->patch_area_m2 >= cfg->min_patch_area_m2 && f->patch_width_m >= cfg->min_patch_width_m;
+  f->flat =
+      f->patch_area_m2 >= cfg->min_patch_area_m2 && f->patch_width_m >= cfg->min_patch_width_m;
   return model_orientation_resting(n, f->orientation_wxyz);
 }
 
 model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
-                                    const model_regime_config_t *cfg, model_face_t *faces,
-                                    size_t capacity, size_t *count) {
+                                const model_regime_config_t *cfg, model_face_t *faces,
+                                size_t capacity, size_t *count) {
   if (count == NULL || com_guess_link_m == NULL || (faces == NULL && capacity > 0))
     return MODEL_E_ARG;
   *count = 0;
@@ -176,7 +178,8 @@ model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_
   }
   if (st != MODEL_OK) goto done;
   qsort(tmp, found, sizeof *tmp, cmp_face);
-  if (capacity > 0 && found > 0) memcpy(faces, tmp, (found < capacity ? found : capacity) * sizeof *tmp);
+  if (capacity > 0 && found > 0)
+    memcpy(faces, tmp, (found < capacity ? found : capacity) * sizeof *tmp);
   *count = found;
 done:
   model_mesh_free(&hull);
@@ -196,4 +199,3 @@ void model_stable_config_default(model_stable_config_t *cfg) {
   cfg->max_displacement_m = 0.002;
   cfg->touch_depth_m = 1e-6;
 }
-

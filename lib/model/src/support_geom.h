@@ -11,11 +11,11 @@
 
 /* The real contact of a mesh on a plane: the mesh triangles whose three vertices lie on it. */
 typedef struct {
-  size_t triangle_count;  /* triangles in the plane */
-  double area_m2;         /* the sum of their areas (the real contact area) */
-  size_t region_count;    /* groups of them that touch (share a vertex), transitively */
-  double region_area_m2;  /* the largest group's real area */
-  double region_width_m;  /* the smallest width of that group's convex hull */
+  size_t triangle_count; /* triangles in the plane */
+  double area_m2;        /* the sum of their areas (the real contact area) */
+  size_t region_count;   /* groups of them that touch (share a vertex), transitively */
+  double region_area_m2; /* the largest group's real area */
+  double region_width_m; /* the smallest width of that group's convex hull */
 } model_support_contact_t;
 
 /* Analyse the real contact: on[v] != 0 marks the vertices on the plane, xy[v] their 2-D
@@ -23,8 +23,8 @@ typedef struct {
  * NULL it receives the in-plane triangles' corners (room for mesh->triangle_count). Allocates
  * temporary memory: MODEL_E_NOMEM, else MODEL_OK. */
 model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy)[2],
-                                      const unsigned char *on, double (*tri_xy)[3][2],
-                                      model_support_contact_t *out);
+                                     const unsigned char *on, double (*tri_xy)[3][2],
+                                     model_support_contact_t *out);
 
 /* Extent of the real contact along the line p + s d (d unit): the smallest and the largest s at
  * which the line meets one of the n triangles (corners in tri_xy). Returns 1 with [*s0, *s1] when
@@ -32,6 +32,6 @@ model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy
  * extent may bridge gaps between separate regions: over a line, the convex hull of the contact is
  * the interval between its outermost points, whatever lies between. */
 int model_support_tris_chord(const double (*tri_xy)[3][2], size_t n, const double p[2],
-                            const double d[2], double *s0, double *s1);
+                             const double d[2], double *s0, double *s1);
 
 #endif

@@ -5,19 +5,30 @@
 
 #include "comlearn/model_support.h"
 
-static void link_vertex_world(double r[3][3], const double p[3], const double v[3],
-                              double out[3]) {
+static void link_vertex_world(double r[3][3], const double p[3], const double v[3], double out[3]) {
   for (int i = 0; i < 3; i++) out[i] = r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2] + p[i];
 }
 
 void model_edge_line(const double base_size_m[3], model_edge_t edge, double normal[3],
-                       double *offset_m) {
+                     double *offset_m) {
   normal[0] = normal[1] = normal[2] = 0.0;
   switch (edge) {
-    case MODEL_EDGE_PX: normal[0] = 1.0; *offset_m = 0.5 * base_size_m[0]; break;
-    case MODEL_EDGE_NX: normal[0] = -1.0; *offset_m = 0.5 * base_size_m[0]; break;
-    case MODEL_EDGE_PY: normal[1] = 1.0; *offset_m = 0.5 * base_size_m[1]; break;
-    case MODEL_EDGE_NY: normal[1] = -1.0; *offset_m = 0.5 * base_size_m[1]; break;
+    case MODEL_EDGE_PX:
+      normal[0] = 1.0;
+      *offset_m = 0.5 * base_size_m[0];
+      break;
+    case MODEL_EDGE_NX:
+      normal[0] = -1.0;
+      *offset_m = 0.5 * base_size_m[0];
+      break;
+    case MODEL_EDGE_PY:
+      normal[1] = 1.0;
+      *offset_m = 0.5 * base_size_m[1];
+      break;
+    case MODEL_EDGE_NY:
+      normal[1] = -1.0;
+      *offset_m = 0.5 * base_size_m[1];
+      break;
     default: *offset_m = 0.0; break;
   }
 }
@@ -57,7 +68,7 @@ static void edge_crossing(const double p[3], const double q[3], int axis, double
 }
 
 int model_mesh_lowest_over_rect(const model_mesh_t *mesh, const double (*r)[3], double ox,
-                               double oy, double half_x, double half_y, double *z_m) {
+                                double oy, double half_x, double half_y, double *z_m) {
   int found = 0;
   double best = 0.0;
   for (size_t i = 0; i < mesh->vertex_count; ++i) {
@@ -68,8 +79,8 @@ int model_mesh_lowest_over_rect(const model_mesh_t *mesh, const double (*r)[3], 
       keep_min(r[2][0] * v[0] + r[2][1] * v[1] + r[2][2] * v[2], &found, &best);
     }
   }
-  const double corners[4][2] = {{-half_x, -half_y}, {half_x, -half_y}, {half_x, half_y},
-                                {-half_x, half_y}};
+  const double corners[4][2] = {
+      {-half_x, -half_y}, {half_x, -half_y}, {half_x, half_y}, {-half_x, half_y}};
   for (size_t t = 0; t < mesh->triangle_count; ++t) {
     double w[3][3];
     for (int k = 0; k < 3; ++k) {
@@ -149,8 +160,8 @@ model_status_t model_pose_over_edge(const model_mesh_t *m, const double base_siz
      * (a vertex over the footprint) or a top edge line (a triangle crossing the edge's vertical
      * plane within the edge's length; B's corners are the ends of those segments). */
     double zlow = 0.0;
-    if (!model_mesh_lowest_over_rect(m, (const double(*)[3])r, p.position_m[0], p.position_m[1],
-                                     hx, hy, &zlow))
+    if (!model_mesh_lowest_over_rect(m, (const double(*)[3])r, p.position_m[0], p.position_m[1], hx,
+                                     hy, &zlow))
       return MODEL_E_POSE;
     p.position_m[2] = -zlow - touch_depth_m;
   }

@@ -37,9 +37,8 @@
 // Shared by both builds, defined only in the geometry build (comlearn_model).
 namespace model_urdf {
 model_status_t parse(const char *path, urdf::ModelInterfaceSharedPtr &model, model_error_t *err);
-model_status_t find_link(const urdf::ModelInterface &model, const char *path,
-                         const char *link_name, urdf::LinkConstSharedPtr &link,
-                         model_error_t *err);
+model_status_t find_link(const urdf::ModelInterface &model, const char *path, const char *link_name,
+                         urdf::LinkConstSharedPtr &link, model_error_t *err);
 void rotation_matrix(const urdf::Rotation &q, double r[3][3]);
 void copy_name(char *dst, size_t size, const std::string &src);
 } // namespace model_urdf
@@ -121,9 +120,8 @@ model_status_t parse(const char *path, urdf::ModelInterfaceSharedPtr &model, mod
   return MODEL_OK;
 }
 
-model_status_t find_link(const urdf::ModelInterface &model, const char *path,
-                         const char *link_name, urdf::LinkConstSharedPtr &link,
-                         model_error_t *err) {
+model_status_t find_link(const urdf::ModelInterface &model, const char *path, const char *link_name,
+                         urdf::LinkConstSharedPtr &link, model_error_t *err) {
   if (link_name == nullptr) {
     link = model.getRoot();
     if (!link) {
@@ -215,8 +213,8 @@ model_status_t fill_geom(const urdf::Pose &origin, const urdf::GeometrySharedPtr
       break;
     }
     default:
-      return model_fail(err, MODEL_E_UNSUPPORTED, "URDF %s: link '%s': unknown geometry type",
-                        path, link.c_str());
+      return model_fail(err, MODEL_E_UNSUPPORTED, "URDF %s: link '%s': unknown geometry type", path,
+                        link.c_str());
   }
   return MODEL_OK;
 }
@@ -433,8 +431,7 @@ void model_urdf_link_free(model_urdf_link_t *link) {
 }
 
 model_status_t model_urdf_chain_read(const char *urdf_path, const char *base_link,
-                                     const char *tip_link, model_chain_t *out,
-                                     model_error_t *err) {
+                                     const char *tip_link, model_chain_t *out, model_error_t *err) {
   if (out == nullptr || base_link == nullptr || tip_link == nullptr) {
     return model_fail(err, MODEL_E_ARG, "model_urdf_chain_read: NULL argument");
   }

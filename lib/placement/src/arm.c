@@ -96,8 +96,7 @@ placement_status_t placement_arm_load_yumi(placement_arm_t *arm, const char *urd
     if (arm != NULL) {
       memset(arm, 0, sizeof *arm);
     }
-    return placement_fail(err, PLACEMENT_E_ARG, "placement_arm_load_yumi: bad side %d",
-                          (int)side);
+    return placement_fail(err, PLACEMENT_E_ARG, "placement_arm_load_yumi: bad side %d", (int)side);
   }
   placement_status_t st = placement_arm_load(
       arm, urdf_path, PLACEMENT_YUMI_BASE_LINK,

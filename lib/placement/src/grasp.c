@@ -26,8 +26,8 @@ static placement_status_t grasp_config_check(const placement_grasp_config_t *g) 
 }
 
 /* The block-frame axis-aligned box of the mesh at obj (link in block). */
-static placement_status_t mesh_box(const model_mesh_t *m, const placement_pose_t *obj,
-                                   double lo[3], double hi[3]) {
+static placement_status_t mesh_box(const model_mesh_t *m, const placement_pose_t *obj, double lo[3],
+                                   double hi[3]) {
   for (int i = 0; i < 3; ++i) {
     lo[i] = INFINITY;
     hi[i] = -INFINITY;
@@ -36,8 +36,8 @@ static placement_status_t mesh_box(const model_mesh_t *m, const placement_pose_t
     const double *p = m->vertices_m[v];
     if (!placement_finite(p, 3)) return PLACEMENT_E_NONFINITE;
     for (int i = 0; i < 3; ++i) {
-      const double x = obj->rot[i][0] * p[0] + obj->rot[i][1] * p[1] + obj->rot[i][2] * p[2] +
-                       obj->pos_m[i];
+      const double x =
+          obj->rot[i][0] * p[0] + obj->rot[i][1] * p[1] + obj->rot[i][2] * p[2] + obj->pos_m[i];
       if (x < lo[i]) lo[i] = x;
       if (x > hi[i]) hi[i] = x;
     }
@@ -49,9 +49,9 @@ static placement_status_t mesh_box(const model_mesh_t *m, const placement_pose_t
  * down, fingers closing along (cos yaw, sin yaw, 0)); the link frame in the tcp frame; the
  * opening. 0 when a pose does not convert (not expected). */
 static int grasp_at_yaw(const placement_plan_config_t *cfg, const placement_grasp_config_t *gcfg,
-                        const placement_pose_t *obj, const double q_obj[4],
-                        const double tcp_p[3], const double lo[3], const double hi[3],
-                        double yaw_deg, placement_grasp_t *g) {
+                        const placement_pose_t *obj, const double q_obj[4], const double tcp_p[3],
+                        const double lo[3], const double hi[3], double yaw_deg,
+                        placement_grasp_t *g) {
   const double h = 0.5 * yaw_deg * CL_PI / 180.0;
   const double qz[4] = {cos(h), 0, 0, sin(h)}, qx[4] = {0, 1, 0, 0};
   double q_tcp[4], q_tcp_c[4], q_g[4];
@@ -103,8 +103,8 @@ placement_status_t placement_grasp_plan(const placement_arm_t arms[2],
                                         const placement_grasp_config_t *gcfg,
                                         const placement_grasp_request_t *req,
                                         placement_grasp_t *out, placement_error_t *err) {
-  if (!arms || !cfg || !gcfg || !req || !out || !req->mesh_link ||
-      !req->mesh_link->vertices_m || req->mesh_link->vertex_count == 0)
+  if (!arms || !cfg || !gcfg || !req || !out || !req->mesh_link || !req->mesh_link->vertices_m ||
+      req->mesh_link->vertex_count == 0)
     return placement_fail(err, PLACEMENT_E_ARG, "grasp: NULL argument or empty mesh");
   placement_status_t st = grasp_config_check(gcfg);
   if (st != PLACEMENT_OK) return placement_fail(err, st, "grasp: bad grasp config");
@@ -113,7 +113,8 @@ placement_status_t placement_grasp_plan(const placement_arm_t arms[2],
   placement_pose_t obj;
   st = placement_pose_from_wxyz(req->object_in_block.position_m,
                                 req->object_in_block.orientation_wxyz, &obj);
-  if (st != PLACEMENT_OK) return placement_fail(err, st, "release pose: %s", placement_status_str(st));
+  if (st != PLACEMENT_OK)
+    return placement_fail(err, st, "release pose: %s", placement_status_str(st));
   double lo[3], hi[3];
   st = mesh_box(req->mesh_link, &obj, lo, hi);
   if (st != PLACEMENT_OK) return placement_fail(err, st, "grasp: a non-finite vertex");

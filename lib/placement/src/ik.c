@@ -12,10 +12,10 @@ typedef struct {
   double q[N];
   placement_pose_t frames[N];
   placement_pose_t tip;
-  double e[6];   /* target - current: position (m), rotation vector in the base frame (rad) */
-  double pos;    /* |e[0..2]| */
-  double rot;    /* |e[3..5]| = rotation angle */
-  double cost;   /* pos^2 + rot^2 */
+  double e[6]; /* target - current: position (m), rotation vector in the base frame (rad) */
+  double pos;  /* |e[0..2]| */
+  double rot;  /* |e[3..5]| = rotation angle */
+  double cost; /* pos^2 + rot^2 */
 } ik_eval_t;
 
 static void evaluate(const placement_arm_t *arm, const placement_pose_t *target, ik_eval_t *v) {
@@ -81,16 +81,17 @@ static void clamp_q(const placement_arm_t *arm, double q[N]) {
     } else if (q[k] < arm->lower_rad[k] && q[k] + turn <= arm->upper_rad[k]) {
       q[k] += turn;
     }
-    q[k] = q[k] < arm->lower_rad[k] ? arm->lower_rad[k]
-           : q[k] > arm->upper_rad[k] ? arm->upper_rad[k] : q[k];
+    q[k] = q[k] < arm->lower_rad[k]   ? arm->lower_rad[k]
+           : q[k] > arm->upper_rad[k] ? arm->upper_rad[k]
+                                      : q[k];
   }
 }
 
 /* The damped least-squares task step and the nullspace pull toward the nominal posture, with the
  * joints in `fixed` left out. Returns 0 when the damped normal matrix is not positive definite. */
 static int step_masked(const placement_arm_t *arm, const ik_eval_t *cur,
-                       const double jac_full[6][N], const int fixed[N], double lambda,
-                       double gain, double dq_task[N], double dq_null[N]) {
+                       const double jac_full[6][N], const int fixed[N], double lambda, double gain,
+                       double dq_task[N], double dq_null[N]) {
   double jac[6][N];
   for (int i = 0; i < 6; ++i) {
     for (int k = 0; k < N; ++k) {
@@ -173,8 +174,7 @@ static int solve_from(const placement_arm_t *arm, const placement_pose_t *target
     double dq_task[N], dq_null[N];
     int factored = 0;
     for (int pass = 0; pass < N; ++pass) {
-      if (!step_masked(arm, cur, (const double(*)[N])jac, fixed, lambda, 0.0, dq_task,
-                       dq_null)) {
+      if (!step_masked(arm, cur, (const double(*)[N])jac, fixed, lambda, 0.0, dq_task, dq_null)) {
         break;
       }
       factored = 1;

@@ -89,15 +89,13 @@ void placement_plan_config_default(placement_plan_config_t *cfg) {
 placement_status_t placement_plan_config_check(const placement_plan_config_t *cfg) {
   if (!cfg) return PLACEMENT_E_ARG;
   const placement_gripper_t *g = &cfg->gripper;
-  const double scalars[] = {cfg->preplace_height_m,    cfg->retreat_height_m,
-                            cfg->touch_depth_m,        cfg->velocity_fraction,
-                            cfg->min_duration_s,       cfg->gripper_speed_m_s,
-                            cfg->release_opening_m,    cfg->gripper_max_width_m,
-                            cfg->clearance_m,          cfg->max_joint_step_rad,
-                            g->finger_thickness_m,     g->finger_half_depth_m,
-                            g->finger_z_lo_m,          g->finger_z_hi_m,
-                            cfg->ik.tol_pos_m,         cfg->ik.tol_rot_rad,
-                            cfg->ik.nullspace_gain};
+  const double scalars[] = {
+      cfg->preplace_height_m,  cfg->retreat_height_m,    cfg->touch_depth_m,
+      cfg->velocity_fraction,  cfg->min_duration_s,      cfg->gripper_speed_m_s,
+      cfg->release_opening_m,  cfg->gripper_max_width_m, cfg->clearance_m,
+      cfg->max_joint_step_rad, g->finger_thickness_m,    g->finger_half_depth_m,
+      g->finger_z_lo_m,        g->finger_z_hi_m,         cfg->ik.tol_pos_m,
+      cfg->ik.tol_rot_rad,     cfg->ik.nullspace_gain};
   if (!pose_finite(&cfg->block_in_base) || !finite_n(cfg->block_size_m, 3) ||
       !finite_n(scalars, sizeof scalars / sizeof scalars[0]) || !finite_n(g->housing_lo_m, 3) ||
       !finite_n(g->housing_hi_m, 3)) {
@@ -180,8 +178,8 @@ placement_status_t placement_plan_touch_z(const model_mesh_t *mesh_link,
   }
   if (!in_range(touch_depth_m, 0.0, 1e-4)) return PLACEMENT_E_ARG;
   double lowest = 0.0;
-  if (!model_mesh_lowest_over_rect(mesh_link, object_in_block->rot, x_m, y_m,
-                                  0.5 * block_size_m[0], 0.5 * block_size_m[1], &lowest)) {
+  if (!model_mesh_lowest_over_rect(mesh_link, object_in_block->rot, x_m, y_m, 0.5 * block_size_m[0],
+                                   0.5 * block_size_m[1], &lowest)) {
     return PLACEMENT_E_GEOMETRY;
   }
   *z_m = -lowest - touch_depth_m;
@@ -236,8 +234,8 @@ const char *placement_waypoint_kind_str(placement_waypoint_kind_t kind) {
 }
 
 static double segment_duration(const placement_arm_t *arm, const placement_plan_config_t *cfg,
-                               const double q0[PLACEMENT_JOINTS],
-                               const double q1[PLACEMENT_JOINTS], double w0, double w1) {
+                               const double q0[PLACEMENT_JOINTS], const double q1[PLACEMENT_JOINTS],
+                               double w0, double w1) {
   double t = cfg->min_duration_s;
   for (int k = 0; k < PLACEMENT_JOINTS; ++k) {
     const double tk = fabs(q1[k] - q0[k]) / (cfg->velocity_fraction * arm->velocity_rad_s[k]);
@@ -256,8 +254,7 @@ static double max_step(const double a[PLACEMENT_JOINTS], const double b[PLACEMEN
 }
 
 /* IK from a seed anywhere (PLACE from q_start): the full solver, random restarts allowed. */
-static placement_status_t solve_free(const placement_arm_t *arm,
-                                     const placement_plan_config_t *cfg,
+static placement_status_t solve_free(const placement_arm_t *arm, const placement_plan_config_t *cfg,
                                      const placement_pose_t *target,
                                      const double seed[PLACEMENT_JOINTS],
                                      double q[PLACEMENT_JOINTS], unsigned *iterations) {
@@ -278,8 +275,7 @@ static placement_status_t solve_free(const placement_arm_t *arm,
  * PLACEMENT_E_NO_SOLUTION otherwise (the line is not followable on one branch). */
 static placement_status_t solve_straight(const placement_arm_t *arm,
                                          const placement_plan_config_t *cfg,
-                                         const placement_pose_t *from,
-                                         const placement_pose_t *to,
+                                         const placement_pose_t *from, const placement_pose_t *to,
                                          const double seed[PLACEMENT_JOINTS],
                                          double q[PLACEMENT_JOINTS], unsigned *iterations) {
   double cur[PLACEMENT_JOINTS];
@@ -313,8 +309,8 @@ static placement_status_t solve_straight(const placement_arm_t *arm,
 
 placement_status_t placement_plan_build(const placement_arm_t *arm,
                                         const placement_plan_config_t *cfg,
-                                        const placement_plan_request_t *req,
-                                        placement_plan_t *out, placement_error_t *err) {
+                                        const placement_plan_request_t *req, placement_plan_t *out,
+                                        placement_error_t *err) {
   if (!arm || !cfg || !req || !out) {
     set_err(err, "placement_plan_build: NULL argument");
     return PLACEMENT_E_ARG;
@@ -375,8 +371,8 @@ placement_status_t placement_plan_build(const placement_arm_t *arm,
   tcp_in_block[3] = tcp_in_block[1];
   tcp_in_block[3].pos_m[2] += cfg->retreat_height_m;
   const double release_w = req->grip_width_m + cfg->release_opening_m;
-  const double widths[PLACEMENT_PLAN_WAYPOINTS] = {req->grip_width_m, req->grip_width_m,
-                                                   release_w, release_w};
+  const double widths[PLACEMENT_PLAN_WAYPOINTS] = {req->grip_width_m, req->grip_width_m, release_w,
+                                                   release_w};
   for (int w = 0; w < PLACEMENT_PLAN_WAYPOINTS; ++w) {
     if (!placement_plan_gripper_clear(cfg, &tcp_in_block[w], widths[w])) {
       set_err(err, "placement_plan_build: the gripper would reach into B at %s",
@@ -417,8 +413,10 @@ placement_status_t placement_plan_build(const placement_arm_t *arm,
     }
     if (st == PLACEMENT_OK) break;
     if (attempt + 1 >= cfg->branch_attempts) {
-      set_err(err, "placement_plan_build: no IK branch follows the vertical line through place "
-              "(%u attempts): %s", cfg->branch_attempts, placement_status_str(st));
+      set_err(err,
+              "placement_plan_build: no IK branch follows the vertical line through place "
+              "(%u attempts): %s",
+              cfg->branch_attempts, placement_status_str(st));
       return st;
     }
   }

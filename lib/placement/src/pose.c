@@ -52,8 +52,8 @@ void placement_pose_mul(const placement_pose_t *a, const placement_pose_t *b,
   placement_pose_t r;
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
-      r.rot[i][j] = a->rot[i][0] * b->rot[0][j] + a->rot[i][1] * b->rot[1][j] +
-                    a->rot[i][2] * b->rot[2][j];
+      r.rot[i][j] =
+          a->rot[i][0] * b->rot[0][j] + a->rot[i][1] * b->rot[1][j] + a->rot[i][2] * b->rot[2][j];
     }
     r.pos_m[i] = a->rot[i][0] * b->pos_m[0] + a->rot[i][1] * b->pos_m[1] +
                  a->rot[i][2] * b->pos_m[2] + a->pos_m[i];
@@ -69,8 +69,8 @@ void placement_pose_inverse(const placement_pose_t *a, placement_pose_t *out) {
     }
   }
   for (int i = 0; i < 3; ++i) {
-    r.pos_m[i] = -(r.rot[i][0] * a->pos_m[0] + r.rot[i][1] * a->pos_m[1] +
-                   r.rot[i][2] * a->pos_m[2]);
+    r.pos_m[i] =
+        -(r.rot[i][0] * a->pos_m[0] + r.rot[i][1] * a->pos_m[1] + r.rot[i][2] * a->pos_m[2]);
   }
   *out = r;
 }
@@ -171,8 +171,8 @@ void placement_pose_distance(const placement_pose_t *a, const placement_pose_t *
     double r[3][3]; /* a^T b */
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) {
-        r[i][j] = a->rot[0][i] * b->rot[0][j] + a->rot[1][i] * b->rot[1][j] +
-                  a->rot[2][i] * b->rot[2][j];
+        r[i][j] =
+            a->rot[0][i] * b->rot[0][j] + a->rot[1][i] * b->rot[1][j] + a->rot[2][i] * b->rot[2][j];
       }
     }
     *rot_rad = placement_rot_angle((const double(*)[3])r);

@@ -63,8 +63,8 @@ int qlearn_bisect_done(const qlearn_bisect_t *bisect, const qlearn_policy_config
   return bisect->hi_m - bisect->lo_m <= cfg->resolution_m * (1.0 + 1e-9);
 }
 
-qlearn_status_t qlearn_bisect_next(const qlearn_bisect_t *bisect,
-                                   const qlearn_policy_config_t *cfg, double *x_m) {
+qlearn_status_t qlearn_bisect_next(const qlearn_bisect_t *bisect, const qlearn_policy_config_t *cfg,
+                                   double *x_m) {
   if (bisect == NULL || cfg == NULL || x_m == NULL) return QLEARN_E_ARG;
   if (qlearn_bisect_done(bisect, cfg)) return QLEARN_E_DONE;
   *x_m = bisect->next_m;

@@ -46,8 +46,7 @@ void qlearn_mlp_forward(const double *p, double s, double *q, double *h) {
   if (h != NULL) memcpy(h, hid, sizeof hid);
 }
 
-void qlearn_mlp_grad_add(const double *p, double s, const double *target, double scale,
-                         double *g) {
+void qlearn_mlp_grad_add(const double *p, double s, const double *target, double scale, double *g) {
   double hid[H], q[O], dq[O];
   qlearn_mlp_forward(p, s, q, hid);
   for (int k = 0; k < O; k++) {
@@ -88,8 +87,8 @@ qlearn_status_t qlearn_mlp_add(qlearn_mlp_t *mlp, double s, const double *q) {
 }
 
 static int adam_ok(const qlearn_mlp_adam_t *a) {
-  return isfinite(a->lr) && a->lr > 0.0 && a->beta1 >= 0.0 && a->beta1 < 1.0 &&
-         a->beta2 >= 0.0 && a->beta2 < 1.0 && isfinite(a->eps) && a->eps > 0.0;
+  return isfinite(a->lr) && a->lr > 0.0 && a->beta1 >= 0.0 && a->beta1 < 1.0 && a->beta2 >= 0.0 &&
+         a->beta2 < 1.0 && isfinite(a->eps) && a->eps > 0.0;
 }
 
 qlearn_status_t qlearn_mlp_fit(qlearn_mlp_t *mlp, uint32_t epochs, const qlearn_mlp_adam_t *adam) {

@@ -110,8 +110,8 @@ qlearn_status_t qlearn_pba_next(const qlearn_pba_t *pba, const qlearn_policy_con
   return QLEARN_OK;
 }
 
-qlearn_status_t qlearn_pba_observe(qlearn_pba_t *pba, const qlearn_policy_config_t *cfg,
-                                   double x_m, qlearn_outcome_t outcome) {
+qlearn_status_t qlearn_pba_observe(qlearn_pba_t *pba, const qlearn_policy_config_t *cfg, double x_m,
+                                   qlearn_outcome_t outcome) {
   if (pba == NULL || cfg == NULL) return QLEARN_E_ARG;
   if (outcome != QLEARN_STAYS && outcome != QLEARN_TIPS) return QLEARN_E_ARG;
   if (!isfinite(x_m)) return QLEARN_E_NONFINITE;

@@ -36,8 +36,8 @@ qlearn_status_t qlearn_solve_add_plane(qlearn_solve_t *solve, const double n_obj
 }
 
 qlearn_status_t qlearn_solve_add_trial(qlearn_solve_t *solve, const double rot_obj_to_world[9],
-                                       const double pos_obj_in_world_m[3],
-                                       const double n_world[3], double d_edge_m, double sigma_m) {
+                                       const double pos_obj_in_world_m[3], const double n_world[3],
+                                       double d_edge_m, double sigma_m) {
   if (solve == NULL || rot_obj_to_world == NULL || pos_obj_in_world_m == NULL || n_world == NULL) {
     return QLEARN_E_ARG;
   }
@@ -172,8 +172,8 @@ qlearn_status_t qlearn_solve_compute(const qlearn_solve_t *solve, double z, doub
   r.chi2 = 0.0;
   for (uint32_t i = 0; i < solve->count; ++i) {
     const qlearn_solve_plane_t *p = &solve->plane[i];
-    double res = (p->n_obj[0] * c[0] + p->n_obj[1] * c[1] + p->n_obj[2] * c[2] - p->d_m) /
-                 p->sigma_m;
+    double res =
+        (p->n_obj[0] * c[0] + p->n_obj[1] * c[1] + p->n_obj[2] * c[2] - p->d_m) / p->sigma_m;
     r.chi2 += res * res;
   }
   *result = r;

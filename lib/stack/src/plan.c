@@ -23,7 +23,13 @@
 #include "comlearn/math3d.h"
 #include "comlearn/stack.h"
 
-enum { BEAM_WIDTH = 48, FULL_EVAL = 16, MAX_PER_SIGNATURE = 3, MAX_UPPER_FACES = 8, MAX_LOWER_FACETS = 12 };
+enum {
+  BEAM_WIDTH = 48,
+  FULL_EVAL = 16,
+  MAX_PER_SIGNATURE = 3,
+  MAX_UPPER_FACES = 8,
+  MAX_LOWER_FACETS = 12
+};
 
 static const double kMergeCos = 0.99999998; /* 2e-4 rad between merged hull facets */
 static const double kPlaneTol = 1e-6;       /* a vertex on a face: within 1 um of its plane */
@@ -71,15 +77,22 @@ static void mat_t_vec(const double r[3][3], const double v[3], double out[3]) {
 
 static void mat_mul(const double a[3][3], const double b[3][3], double out[3][3]) {
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) out[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+    for (int j = 0; j < 3; ++j)
+      out[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
 }
 
 static void axis_angle(const double axis[3], double angle, double r[3][3]) {
   const double c = cos(angle), s = sin(angle), t = 1.0 - c;
   const double x = axis[0], y = axis[1], z = axis[2];
-  r[0][0] = t * x * x + c;     r[0][1] = t * x * y - s * z; r[0][2] = t * x * z + s * y;
-  r[1][0] = t * x * y + s * z; r[1][1] = t * y * y + c;     r[1][2] = t * y * z - s * x;
-  r[2][0] = t * x * z - s * y; r[2][1] = t * y * z + s * x; r[2][2] = t * z * z + c;
+  r[0][0] = t * x * x + c;
+  r[0][1] = t * x * y - s * z;
+  r[0][2] = t * x * z + s * y;
+  r[1][0] = t * x * y + s * z;
+  r[1][1] = t * y * y + c;
+  r[1][2] = t * y * z - s * x;
+  r[2][0] = t * x * z - s * y;
+  r[2][1] = t * y * z + s * x;
+  r[2][2] = t * z * z + c;
 }
 
 /* The shortest rotation taking unit a to unit b. */
@@ -151,10 +164,16 @@ static double hp_inner_y(const double (*hp)[3], size_t n, double x, double y0, d
   double fc = hp_depth(hp, n, x, c), fd = hp_depth(hp, n, x, d);
   for (int it = 0; it < 36; ++it) {
     if (fc > fd) {
-      b = d; d = c; fd = fc; c = b - g * (b - a);
+      b = d;
+      d = c;
+      fd = fc;
+      c = b - g * (b - a);
       fc = hp_depth(hp, n, x, c);
     } else {
-      a = c; c = d; fc = fd; d = a + g * (b - a);
+      a = c;
+      c = d;
+      fc = fd;
+      d = a + g * (b - a);
       fd = hp_depth(hp, n, x, d);
     }
   }
@@ -190,10 +209,18 @@ static double poly_center(const double (*poly)[2], size_t n, double center[2]) {
   double fd = hp_inner_y(h, m, d, lo[1], hi[1], &yd);
   for (int it = 0; it < 36; ++it) {
     if (fc > fd) {
-      b = d; d = c; fd = fc; yd = yc; c = b - g * (b - a);
+      b = d;
+      d = c;
+      fd = fc;
+      yd = yc;
+      c = b - g * (b - a);
       fc = hp_inner_y(h, m, c, lo[1], hi[1], &yc);
     } else {
-      a = c; c = d; fc = fd; yc = yd; d = a + g * (b - a);
+      a = c;
+      c = d;
+      fc = fd;
+      yc = yd;
+      d = a + g * (b - a);
       fd = hp_inner_y(h, m, d, lo[1], hi[1], &yd);
     }
   }
@@ -206,12 +233,12 @@ static double poly_center(const double (*poly)[2], size_t n, double center[2]) {
 /* ---- per-object faces ---------------------------------------------------------------------- */
 
 typedef struct {
-  double n[3], d;             /* outward unit normal and offset, link frame: n.x = d */
-  double u[3], v[3];          /* in-plane basis, u x v = n */
-  size_t npts;                /* mesh vertices on the plane */
-  double (*pts3)[3];          /* link frame */
-  double (*pts2)[2];          /* (u.x, v.x) */
-  size_t npoly;               /* their convex hull, CCW seen from outside */
+  double n[3], d;    /* outward unit normal and offset, link frame: n.x = d */
+  double u[3], v[3]; /* in-plane basis, u x v = n */
+  size_t npts;       /* mesh vertices on the plane */
+  double (*pts3)[3]; /* link frame */
+  double (*pts2)[2]; /* (u.x, v.x) */
+  size_t npoly;      /* their convex hull, CCW seen from outside */
   double (*poly)[2];
   double area_m2, inradius_m, center[2];
 } face_t;
@@ -219,9 +246,9 @@ typedef struct {
 typedef struct {
   const stack_object_t *in;
   double mass_lo, mass_hi;
-  face_t *face;               /* usable faces, deepest (largest inradius) first */
+  face_t *face; /* usable faces, deepest (largest inradius) first */
   size_t nface;
-  double (*hull_planes)[4];   /* every hull facet plane (n, d), for clearance checks */
+  double (*hull_planes)[4]; /* every hull facet plane (n, d), for clearance checks */
   size_t nplanes;
   const model_mesh_t *mesh;
 } obj_t;
@@ -374,8 +401,10 @@ static stack_status_t faces_build(obj_t *o, char *msg, size_t msg_size, size_t i
     const size_t np = face_points(mesh, &f, buf3, buf2);
     if (np < 3) continue;
     const int kept = face_outline(&f, np, (const double(*)[3])buf3, (const double(*)[2])buf2);
-    if (kept < 0) st = STACK_E_NOMEM;
-    else if (kept) o->face[nface++] = f;
+    if (kept < 0)
+      st = STACK_E_NOMEM;
+    else if (kept)
+      o->face[nface++] = f;
   }
   o->nface = nface; /* also on failure: faces_free releases what was kept */
   if (st != STACK_OK) goto done;
@@ -397,13 +426,13 @@ done:
 /* ---- candidate stacks ---------------------------------------------------------------------- */
 
 typedef struct {
-  size_t count;                          /* levels filled */
-  size_t obj[STACK_MAX_OBJECTS];         /* object per level */
-  size_t face[STACK_MAX_OBJECTS];        /* its resting face (F) */
-  size_t facet[STACK_MAX_OBJECTS];       /* level k >= 1: the face of level k-1 it rests on */
-  double rot[STACK_MAX_OBJECTS][3][3];   /* link -> world */
+  size_t count;                        /* levels filled */
+  size_t obj[STACK_MAX_OBJECTS];       /* object per level */
+  size_t face[STACK_MAX_OBJECTS];      /* its resting face (F) */
+  size_t facet[STACK_MAX_OBJECTS];     /* level k >= 1: the face of level k-1 it rests on */
+  double rot[STACK_MAX_OBJECTS][3][3]; /* link -> world */
   unsigned used;
-  double score;                          /* screening bound: min over levels */
+  double score; /* screening bound: min over levels */
 } cand_t;
 
 typedef struct {
@@ -413,7 +442,7 @@ typedef struct {
   unsigned yaw_steps;
   size_t max_pts;
   /* scratch for the evaluation */
-  double (*up0)[2];     /* upper face points at t = 0, per level */
+  double (*up0)[2]; /* upper face points at t = 0, per level */
   double (*buf)[2];
   double (*hull)[2];
   double (*uph)[2];
@@ -488,9 +517,15 @@ static void layout_positions(const ctx_t *x, const cand_t *c, const double (*t)[
   L->pos[0][1] = 0.0;
   L->pos[0][2] = f0->d; /* R n = -z: the face's plane at z = 0 */
   memset(L->O[0], 0, sizeof L->O[0]);
-  L->m[0][0] = 0; L->m[0][1] = 0; L->m[0][2] = 1;
-  L->u[0][0] = 1; L->u[0][1] = 0; L->u[0][2] = 0;
-  L->v[0][0] = 0; L->v[0][1] = 1; L->v[0][2] = 0;
+  L->m[0][0] = 0;
+  L->m[0][1] = 0;
+  L->m[0][2] = 1;
+  L->u[0][0] = 1;
+  L->u[0][1] = 0;
+  L->u[0][2] = 0;
+  L->v[0][0] = 0;
+  L->v[0][1] = 1;
+  L->v[0][2] = 0;
   L->tilt[0] = 0.0;
   for (size_t k = 1; k < c->count; ++k) {
     const face_t *f = &x->obj[c->obj[k - 1]].face[c->facet[k]];
@@ -640,11 +675,15 @@ static int margins_better(const double *a, const double *b, size_t n) {
   memcpy(sb, b, n * sizeof *b);
   for (size_t i = 1; i < n; ++i)
     for (size_t j = i; j > 0 && sa[j] < sa[j - 1]; --j) {
-      double tmp = sa[j]; sa[j] = sa[j - 1]; sa[j - 1] = tmp;
+      double tmp = sa[j];
+      sa[j] = sa[j - 1];
+      sa[j - 1] = tmp;
     }
   for (size_t i = 1; i < n; ++i)
     for (size_t j = i; j > 0 && sb[j] < sb[j - 1]; --j) {
-      double tmp = sb[j]; sb[j] = sb[j - 1]; sb[j - 1] = tmp;
+      double tmp = sb[j];
+      sb[j] = sb[j - 1];
+      sb[j - 1] = tmp;
     }
   for (size_t i = 0; i < n; ++i) {
     if (sa[i] > sb[i] + 1e-10) return 1;
@@ -751,8 +790,9 @@ static stack_status_t check_input(const stack_object_t *objects, size_t count,
       !(isfinite(cfg->mass_rel_uncertainty) && cfg->mass_rel_uncertainty >= 0.0 &&
         cfg->mass_rel_uncertainty <= 10.0) ||
       cfg->yaw_steps < 1 || cfg->yaw_steps > 360) {
-    snprintf(msg, msg_size, "bad configuration (max_tilt in (0, 1] rad, mass uncertainty in "
-                            "[0, 10], yaw_steps in [1, 360])");
+    snprintf(msg, msg_size,
+             "bad configuration (max_tilt in (0, 1] rad, mass uncertainty in "
+             "[0, 10], yaw_steps in [1, 360])");
     return STACK_E_ARG;
   }
   for (size_t i = 0; i < count; ++i) {
@@ -762,11 +802,13 @@ static stack_status_t check_input(const stack_object_t *objects, size_t count,
              isfinite(o->mass_kg) && o->mass_kg > 0.0 && isfinite(o->mass_rel_uncertainty) &&
              o->mass_rel_uncertainty >= 0.0 && o->mass_rel_uncertainty <= 10.0;
     for (int k = 0; k < 3 && ok; ++k)
-      ok = isfinite(o->com_m[k]) && isfinite(o->com_halfwidth_m[k]) && o->com_halfwidth_m[k] >= 0.0 &&
-           fabs(o->com_m[k]) < 100.0 && o->com_halfwidth_m[k] < 1.0;
+      ok = isfinite(o->com_m[k]) && isfinite(o->com_halfwidth_m[k]) &&
+           o->com_halfwidth_m[k] >= 0.0 && fabs(o->com_m[k]) < 100.0 && o->com_halfwidth_m[k] < 1.0;
     if (!ok) {
-      snprintf(msg, msg_size, "object %zu: no mesh, or a CoM, half width or mass that is not "
-                              "finite and in range", i);
+      snprintf(msg, msg_size,
+               "object %zu: no mesh, or a CoM, half width or mass that is not "
+               "finite and in range",
+               i);
       return STACK_E_ARG;
     }
   }
@@ -823,7 +865,8 @@ static void beam_level0(const ctx_t *x, cand_t *beam, size_t *nbeam) {
       c.face[0] = f;
       c.used = 1u << i;
       rot_a_to_b(o->face[f].n, (const double[3]){0, 0, -1}, c.rot[0]);
-      c.score = fmin(o->face[f].inradius_m, own_margin(o, &o->face[f], (const double(*)[3])c.rot[0]));
+      c.score =
+          fmin(o->face[f].inradius_m, own_margin(o, &o->face[f], (const double(*)[3])c.rot[0]));
       if (c.score > 0.0) beam_insert(beam, nbeam, &c);
     }
   }
@@ -932,7 +975,8 @@ static stack_status_t layout_choose(ctx_t *x, const cand_t *beam, size_t nbeam, 
   if (*chosen == SIZE_MAX) {
     snprintf(msg, msg_size,
              "no stack with all margins > 0 (best smallest margin %.2f mm, or the objects "
-             "would touch B or each other)", 1e3 * best_min);
+             "would touch B or each other)",
+             1e3 * best_min);
     st = STACK_E_NOPLAN;
   } else {
     *L = lay[*chosen];
@@ -1010,8 +1054,10 @@ stack_status_t stack_plan(const stack_object_t *objects, size_t count,
     return STACK_E_ARG;
   }
   stack_plan_config_t cfg;
-  if (cfg_in) cfg = *cfg_in;
-  else stack_plan_config_default(&cfg);
+  if (cfg_in)
+    cfg = *cfg_in;
+  else
+    stack_plan_config_default(&cfg);
   stack_status_t st = check_input(objects, count, &cfg, out->msg, sizeof out->msg);
   if (st != STACK_OK) return st;
 
@@ -1028,7 +1074,8 @@ stack_status_t stack_plan(const stack_object_t *objects, size_t count,
   if (st == STACK_OK && nbeam == 0) {
     snprintf(out->msg, sizeof out->msg,
              "no order of the objects gives each one a face over a facet of the one below within "
-             "%.1f deg of level with its CoM inside", cfg.max_tilt_rad * 180.0 / CL_PI);
+             "%.1f deg of level with its CoM inside",
+             cfg.max_tilt_rad * 180.0 / CL_PI);
     st = STACK_E_NOPLAN;
   }
   size_t chosen = SIZE_MAX;

@@ -37,9 +37,8 @@ static int belief_mass(const stack_object_t *o, model_mass_t *out) {
 }
 
 stack_status_t stack_run_bodies(const model_mesh_t *const *meshes_link, const model_mass_t *masses,
-                                size_t count, const stack_plan_t *plan,
-                                const balance_config_t *cfg, const balance_stack_config_t *scfg,
-                                stack_sim_result_t *out) {
+                                size_t count, const stack_plan_t *plan, const balance_config_t *cfg,
+                                const balance_stack_config_t *scfg, stack_sim_result_t *out) {
   if (out == NULL) return STACK_E_ARG;
   memset(out, 0, sizeof *out);
   if (meshes_link == NULL || masses == NULL || plan == NULL || count < 1 ||
@@ -48,8 +47,10 @@ stack_status_t stack_run_bodies(const model_mesh_t *const *meshes_link, const mo
     return STACK_E_ARG;
   }
   balance_config_t bc;
-  if (cfg) bc = *cfg;
-  else balance_config_default(&bc);
+  if (cfg)
+    bc = *cfg;
+  else
+    balance_config_default(&bc);
   balance_world_t *world = NULL;
   balance_status_t bs = balance_world_create(&bc, &world);
   if (bs != BALANCE_OK) {

@@ -36,14 +36,14 @@ extern "C" {
 /* One status enum for the module: 0 is success, negative values are errors. */
 typedef enum {
   BALANCE_OK = 0,
-  BALANCE_E_ARG = -1,        /* NULL pointer, zero count, bad option value */
-  BALANCE_E_NONFINITE = -2,  /* a NaN or infinity in a pose, mesh, mass or option */
-  BALANCE_E_MASS = -3,       /* mass <= 0, inertia not positive definite / triangle inequality */
-  BALANCE_E_MESH = -4,       /* mesh empty, degenerate, or not usable for contacts */
-  BALANCE_E_POSE = -5,       /* pose absurd: far from B, deep inside B, not a unit quaternion */
-  BALANCE_E_NOMEM = -6,      /* allocation failed */
-  BALANCE_E_DIVERGED = -7,   /* the simulation produced a non-finite state (reported, not aborted) */
-  BALANCE_E_CAPACITY = -8    /* more objects than the world holds, output array too small */
+  BALANCE_E_ARG = -1,       /* NULL pointer, zero count, bad option value */
+  BALANCE_E_NONFINITE = -2, /* a NaN or infinity in a pose, mesh, mass or option */
+  BALANCE_E_MASS = -3,      /* mass <= 0, inertia not positive definite / triangle inequality */
+  BALANCE_E_MESH = -4,      /* mesh empty, degenerate, or not usable for contacts */
+  BALANCE_E_POSE = -5,      /* pose absurd: far from B, deep inside B, not a unit quaternion */
+  BALANCE_E_NOMEM = -6,     /* allocation failed */
+  BALANCE_E_DIVERGED = -7,  /* the simulation produced a non-finite state (reported, not aborted) */
+  BALANCE_E_CAPACITY = -8   /* more objects than the world holds, output array too small */
 } balance_status_t;
 
 /* A static English description of a status; never NULL. */
@@ -51,20 +51,20 @@ const char *balance_status_str(balance_status_t status);
 
 /* How contacts between an object and B are generated. */
 typedef enum {
-  BALANCE_CONTACT_FAST = 0,  /* comlearn's mesh-on-block generator (default) */
-  BALANCE_CONTACT_STOCK = 1  /* ODE's own trimesh-box collider (OPCODE), for comparison */
+  BALANCE_CONTACT_FAST = 0, /* comlearn's mesh-on-block generator (default) */
+  BALANCE_CONTACT_STOCK = 1 /* ODE's own trimesh-box collider (OPCODE), for comparison */
 } balance_contact_t;
 
 /* World and trial settings. Fill with balance_config_default() and change what you need.
  * docs/physics.md explains every default and what moving it does to the threshold bias. */
 typedef struct {
-  double base_size_m[3];     /* B: x, y, z extent; default 0.30, 0.30, 0.10; each in [1 mm, 100 m] */
-  double gravity_m_s2;       /* default 9.81 */
-  double dt_s;               /* step; default 1e-3, in [1e-6, 0.1] */
-  double friction;           /* Coulomb mu (ODE friction pyramid, dContactApprox1), object-B and
+  double base_size_m[3]; /* B: x, y, z extent; default 0.30, 0.30, 0.10; each in [1 mm, 100 m] */
+  double gravity_m_s2;   /* default 9.81 */
+  double dt_s;           /* step; default 1e-3, in [1e-6, 0.1] */
+  double friction;       /* Coulomb mu (ODE friction pyramid, dContactApprox1), object-B and
                               * object-object; default 0.8. Has no effect on the threshold. */
-  double soft_erp;           /* default 0.2 */
-  double soft_cfm;           /* default 1e-7 */
+  double soft_erp;       /* default 0.2 */
+  double soft_cfm;       /* default 1e-7 */
   balance_contact_t contact; /* default BALANCE_CONTACT_FAST */
   int max_contacts;          /* contacts kept per object-B and object-object pair after reduction,
                               * in [4, 64]; default 8 (3 never comes to rest) */
@@ -80,7 +80,7 @@ typedef struct {
   /* Clearly tipping early: the CoM is beyond B's top (outside its footprint) and |w| grew for
    * tip_grow_steps consecutive steps. Default 20. */
   int tip_grow_steps;
-  double horizon_s;          /* time cap of one trial; default 0.75 s: INVALID when reached */
+  double horizon_s; /* time cap of one trial; default 0.75 s: INVALID when reached */
   /* Clearly tipped: rotated more than tip_angle_rad from release, the CoM below the top of B, or
    * the CoM beyond B's footprint by more than the object's radius. Default 0.35 rad. */
   double tip_angle_rad;
@@ -166,19 +166,19 @@ typedef enum {
  * bit-identical to a run with noise NULL). The stream is splitmix64 + Box-Muller from seed. */
 typedef struct {
   uint64_t seed;
-  double placement_noise_m;  /* std. dev. of a horizontal (x and y) offset of the release
+  double placement_noise_m; /* std. dev. of a horizontal (x and y) offset of the release
                               * position; [0, 0.1] */
-  double pose_noise_m;       /* std. dev. of the perceived settled position (x, y, z; added to
+  double pose_noise_m;      /* std. dev. of the perceived settled position (x, y, z; added to
                               * result.settled only); [0, 0.1] */
 } balance_noise_t;
 
 typedef struct {
   balance_outcome_t outcome;
-  model_pose_t released;   /* the pose actually released (after placement noise), world */
-  model_pose_t settled;    /* the pose when the trial ended (perceived: pose noise added) */
-  double displacement_m;     /* |settled - released| of the link origin */
-  double rotation_rad;       /* angle between released and settled orientations, [0, pi] */
-  double sim_time_s;         /* steps * dt_s */
+  model_pose_t released; /* the pose actually released (after placement noise), world */
+  model_pose_t settled;  /* the pose when the trial ended (perceived: pose noise added) */
+  double displacement_m; /* |settled - released| of the link origin */
+  double rotation_rad;   /* angle between released and settled orientations, [0, pi] */
+  double sim_time_s;     /* steps * dt_s */
   uint32_t steps;
 } balance_trial_result_t;
 

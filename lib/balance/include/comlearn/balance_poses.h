@@ -42,7 +42,6 @@ extern "C" {
 
 /* ---- stable poses, confirmed in simulation ------------------------------------------------ */
 
-
 /* Release obj (of `world`; it carries the simulator's mass properties) in `orientation_wxyz`
  * with the link-frame point center_link_m above the middle of B's top, touching it (lowest vertex
  * touch_depth_m below z = 0), and run one trial (balance_trial_run, no noise). *confirmed = 1

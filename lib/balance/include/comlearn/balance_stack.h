@@ -21,29 +21,29 @@ extern "C" {
 
 /* When a stack stands. balance_stack_config_default(). */
 typedef struct {
-  double duration_s;          /* how long it must stand: 5.0 */
+  double duration_s; /* how long it must stand: 5.0 */
   /* An object has moved (the stack fell) when its link origin is more than max_displacement_m
    * from where it was released, or its orientation more than max_rotation_rad from it.
    * Defaults 0.005 m, 0.05 rad. */
   double max_displacement_m;
   double max_rotation_rad;
-  int run_to_end;             /* 0 (default): stop at the first object that moved */
+  int run_to_end; /* 0 (default): stop at the first object that moved */
 } balance_stack_config_t;
 
 void balance_stack_config_default(balance_stack_config_t *cfg);
 
 /* One object of a stack after the run. */
 typedef struct {
-  model_pose_t final_pose;  /* world, when the run ended */
-  double displacement_m;      /* largest |link origin - released| seen during the run */
-  double rotation_rad;        /* largest angle from the released orientation seen */
-  double moved_at_s;          /* first time it passed a threshold; -1 if it never did */
+  model_pose_t final_pose; /* world, when the run ended */
+  double displacement_m;   /* largest |link origin - released| seen during the run */
+  double rotation_rad;     /* largest angle from the released orientation seen */
+  double moved_at_s;       /* first time it passed a threshold; -1 if it never did */
 } balance_stack_object_t;
 
 typedef struct {
-  int stands;                 /* no object moved during duration_s */
-  double seconds_standing;    /* time until the first object moved, or duration_s */
-  double sim_time_s;          /* simulated time of the run */
+  int stands;              /* no object moved during duration_s */
+  double seconds_standing; /* time until the first object moved, or duration_s */
+  double sim_time_s;       /* simulated time of the run */
   uint32_t steps;
 } balance_stack_result_t;
 

@@ -44,16 +44,16 @@ extern "C" {
 /* One status enum: 0 success, negative errors; ESTIMATE_DONE (positive) from estimate_next when
  * the estimate is complete. */
 typedef enum {
-  ESTIMATE_DONE = 1,        /* no more trials: estimate_result holds the estimate */
+  ESTIMATE_DONE = 1, /* no more trials: estimate_result holds the estimate */
   ESTIMATE_OK = 0,
   ESTIMATE_E_ARG = -1,      /* NULL, bad option value, non-finite number */
   ESTIMATE_E_GEOMETRY = -2, /* the mesh gives no flat face to rest on, or no usable yaw */
-  ESTIMATE_E_BACKEND = -3,  /* for drivers: the trial runner failed (not returned by this library) */
-  ESTIMATE_E_NOPOSE = -4,   /* no candidate resting face was confirmed stable */
+  ESTIMATE_E_BACKEND = -3, /* for drivers: the trial runner failed (not returned by this library) */
+  ESTIMATE_E_NOPOSE = -4,  /* no candidate resting face was confirmed stable */
   ESTIMATE_E_CAPACITY = -5, /* more trials or searches than the result holds */
   ESTIMATE_E_LEARNER = -6,  /* lib/qlearn refused (status in the message) */
   ESTIMATE_E_NOMEM = -7,
-  ESTIMATE_E_STATE = -8     /* estimate_observe with no trial pending (call estimate_next) */
+  ESTIMATE_E_STATE = -8 /* estimate_observe with no trial pending (call estimate_next) */
 } estimate_status_t;
 
 const char *estimate_status_str(estimate_status_t s);
@@ -84,29 +84,29 @@ typedef enum {
  * caller reports the pose it actually released. */
 typedef struct {
   estimate_trial_kind_t kind;
-  model_edge_t edge;       /* ESTIMATE_TRIAL_EDGE only */
-  model_pose_t release;    /* requested release pose, world */
+  model_edge_t edge;    /* ESTIMATE_TRIAL_EDGE only */
+  model_pose_t release; /* requested release pose, world */
   /* What the estimator knows of the trial, for records (e.g. comlearn's COM_TRIAL messages); a
    * caller that only runs trials ignores it. */
-  int search;                /* search index (estimate_result_t.search), -1 for a stable check */
-  int component;             /* link axis (0 x, 1 y, 2 z) the search's direction (dir_link)
+  int search;               /* search index (estimate_result_t.search), -1 for a stable check */
+  int component;            /* link axis (0 x, 1 y, 2 z) the search's direction (dir_link)
                                 determines most: its largest |component|; -1 for a stable check */
-  int direction;             /* sign of dir_link[component] (+1: that link axis points along the
+  int direction;            /* sign of dir_link[component] (+1: that link axis points along the
                                 edge's outward normal), 0 for a stable check */
-  double target_link_m[3];   /* link point placed over the edge (stable check: over B's centre) */
-  int flat_patch;            /* the requested pose is in the flat-patch regime (model_regime_
+  double target_link_m[3];  /* link point placed over the edge (stable check: over B's centre) */
+  int flat_patch;           /* the requested pose is in the flat-patch regime (model_regime_
                                 classify with the running estimate, default thresholds); 0 for a
                                 stable check */
-  double sideways_margin_m;  /* its chord margin [m] (-HUGE_VAL without a chord); 0 for a stable
+  double sideways_margin_m; /* its chord margin [m] (-HUGE_VAL without a chord); 0 for a stable
                                 check */
-  double com_before_m[3];    /* the running CoM estimate before this trial, link frame */
+  double com_before_m[3];   /* the running CoM estimate before this trial, link frame */
   double halfwidth_before_m[3]; /* its half widths before this trial (INFINITY: not found yet) */
 } estimate_trial_request_t;
 
 typedef struct {
   estimate_outcome_t outcome;
-  model_pose_t released;   /* pose actually released (measured), world */
-  model_pose_t settled;    /* pose after the trial (perceived), world */
+  model_pose_t released; /* pose actually released (measured), world */
+  model_pose_t settled;  /* pose after the trial (perceived), world */
 } estimate_trial_reply_t;
 
 /* ---- settings and results ----------------------------------------------------------------- */
@@ -144,7 +144,7 @@ typedef struct {
    * fast as the outcomes inform it, about 2 * 1.96 * sigma / sqrt(0.64 n) after n trials near the
    * threshold. */
   double noise_sigma_m;
-  uint32_t noise_max_trials;   /* PBA trials after a noisy walk; default 48, in [1, 200] */
+  uint32_t noise_max_trials; /* PBA trials after a noisy walk; default 48, in [1, 200] */
   /* An interval is only as good as the physics of the trials that set it: an edge test measures
    * the CoM where the real contact on the edge line spans the CoM sideways. After the solve, the
    * deciding trials of every search are checked against the final estimate: their chord must
@@ -169,15 +169,15 @@ enum {
 /* One placement, as logged. */
 typedef struct {
   estimate_trial_kind_t kind;
-  int face;                 /* index into the face list of estimate_result_t */
-  int search;               /* search index for edge tests, -1 for stable checks */
-  double x_m;               /* edge tests: the 1-D coordinate placed over the edge */
-  double target_link_m[3];  /* the link point the request placed over the edge (stable checks:
+  int face;                /* index into the face list of estimate_result_t */
+  int search;              /* search index for edge tests, -1 for stable checks */
+  double x_m;              /* edge tests: the 1-D coordinate placed over the edge */
+  double target_link_m[3]; /* the link point the request placed over the edge (stable checks:
                                over B's centre); = the request's target_link_m */
   estimate_outcome_t outcome;
-  int regime;               /* model_regime_kind_t of the released pose (edge tests), -1 */
-  double chord_margin_m;    /* of the released pose (edge tests) */
-  int flagged;              /* edge test outside the flat-patch regime, or an unclear outcome
+  int regime;            /* model_regime_kind_t of the released pose (edge tests), -1 */
+  double chord_margin_m; /* of the released pose (edge tests) */
+  int flagged;           /* edge test outside the flat-patch regime, or an unclear outcome
                                (INVALID / SLIDES: not observed, retried): not fed to the solve */
   model_pose_t released;
   model_pose_t settled;
@@ -187,7 +187,7 @@ typedef struct {
 typedef struct {
   int face;
   double yaw_rad;
-  double dir_link[3];       /* the test direction (edge normal) in the link frame */
+  double dir_link[3]; /* the test direction (edge normal) in the link frame */
   double prior_m, range_lo_m, range_hi_m;
   double c_m, halfwidth_m;  /* the threshold along dir_link and its half width: noiseless, the
                                bracket of its trials (TIPS below, STAYS above); with a noise
@@ -214,36 +214,36 @@ typedef struct {
 
 typedef struct {
   double normal_link[3];
-  double area_m2;           /* support polygon (hull of the mesh vertices on the plane) */
-  double contact_area_m2;   /* real area of its largest region of in-plane triangles */
-  size_t regions;           /* regions of in-plane triangles (two feet: 2) */
+  double area_m2;         /* support polygon (hull of the mesh vertices on the plane) */
+  double contact_area_m2; /* real area of its largest region of in-plane triangles */
+  size_t regions;         /* regions of in-plane triangles (two feet: 2) */
   double com_margin_m;
-  int confirmed;            /* stable check stayed */
+  int confirmed; /* stable check stayed */
 } estimate_face_t;
 
 typedef struct {
-  double uniform_com_m[3];  /* the prior: the mesh's uniform-density CoM, link frame */
-  double start_m[3];        /* where the searches started (estimate_config_t.start) */
-  double com_m[3];          /* estimate, link frame */
-  double halfwidth_m[3];    /* INFINITY when not found. Noiseless (noise_sigma_m 0): a bound,
+  double uniform_com_m[3]; /* the prior: the mesh's uniform-density CoM, link frame */
+  double start_m[3];       /* where the searches started (estimate_config_t.start) */
+  double com_m[3];         /* estimate, link frame */
+  double halfwidth_m[3];   /* INFINITY when not found. Noiseless (noise_sigma_m 0): a bound,
                                sum_j |P_kj| (h_j + bias_j) over the fed planes j with P the
                                solve's (pseudo-)inverse: the truth lies inside unless the physics
                                left the modelled regimes. With a noise model: the 95 % interval
                                1.96 sigma_k of the solve plus the same bias budget. */
-  int found[3];             /* determined by the fed planes with halfwidth_m <= max_halfwidth_m */
-  int noisy;                /* 1: 95 % intervals under the noise model; 0: bounds */
+  int found[3];            /* determined by the fed planes with halfwidth_m <= max_halfwidth_m */
+  int noisy;               /* 1: 95 % intervals under the noise model; 0: bounds */
   char reason[3][ESTIMATE_REASON_SIZE]; /* why a component is not found ("" when found) */
   int rank;
   double chi2;
-  size_t trial_count;       /* all placements, stable checks included */
+  size_t trial_count; /* all placements, stable checks included */
   size_t stable_trials;
   size_t flagged_trials;
   estimate_trial_t trial[ESTIMATE_MAX_TRIALS];
   size_t search_count;
   estimate_search_t search[ESTIMATE_MAX_SEARCHES];
-  size_t face_count;        /* faces that were checked */
+  size_t face_count; /* faces that were checked */
   estimate_face_t face[ESTIMATE_MAX_FACES];
-  char msg[512];            /* detail of a failure, or a note (e.g. why a component is missing) */
+  char msg[512]; /* detail of a failure, or a note (e.g. why a component is missing) */
 } estimate_result_t;
 
 /* ---- the loop ------------------------------------------------------------------------------- */

@@ -32,25 +32,25 @@ extern "C" {
 /* One status enum for the module: 0 is success, negative values are errors. */
 typedef enum {
   MODEL_OK = 0,
-  MODEL_E_ARG = -1,           /* NULL pointer, empty path, bad scale or density */
-  MODEL_E_NOFILE = -2,        /* file does not exist or cannot be read */
-  MODEL_E_PARSE = -3,         /* URDF or mesh file is corrupt or not understood */
-  MODEL_E_NOLINK = -4,        /* the URDF has no link of that name */
-  MODEL_E_NOGEOM = -5,        /* the link has no collision or visual geometry we can use */
-  MODEL_E_OPEN = -6,          /* mesh not closed: a boundary or non-manifold edge */
-  MODEL_E_ORIENT = -7,        /* triangles not consistently oriented (cannot tell outside) */
-  MODEL_E_DEGENERATE = -8,    /* mesh with (near) zero volume, or too few triangles */
-  MODEL_E_NONFINITE = -9,     /* a NaN or infinite number in the input */
-  MODEL_E_INERTIAL = -10,     /* missing inertial, or mass / inertia not finite and positive */
+  MODEL_E_ARG = -1,               /* NULL pointer, empty path, bad scale or density */
+  MODEL_E_NOFILE = -2,            /* file does not exist or cannot be read */
+  MODEL_E_PARSE = -3,             /* URDF or mesh file is corrupt or not understood */
+  MODEL_E_NOLINK = -4,            /* the URDF has no link of that name */
+  MODEL_E_NOGEOM = -5,            /* the link has no collision or visual geometry we can use */
+  MODEL_E_OPEN = -6,              /* mesh not closed: a boundary or non-manifold edge */
+  MODEL_E_ORIENT = -7,            /* triangles not consistently oriented (cannot tell outside) */
+  MODEL_E_DEGENERATE = -8,        /* mesh with (near) zero volume, or too few triangles */
+  MODEL_E_NONFINITE = -9,         /* a NaN or infinite number in the input */
+  MODEL_E_INERTIAL = -10,         /* missing inertial, or mass / inertia not finite and positive */
   MODEL_E_INERTIA_TRIANGLE = -11, /* principal moments violate the triangle inequality */
-  MODEL_E_NOMEM = -12,        /* allocation failed */
-  MODEL_E_UNSUPPORTED = -13,  /* mesh format or URDF geometry type not supported */
-  MODEL_E_REGION = -14,       /* a density region that is not valid (zero normal, ...) */
-  MODEL_E_HULL = -15,         /* convex hull failed (all points coplanar, iteration cap) */
-  MODEL_E_CHAIN = -16,        /* no kinematic chain between two links, or an unusable joint */
-  MODEL_E_IMPLAUSIBLE = -17,  /* mass properties no real object of that shape can have */
-  MODEL_E_POSE = -18,         /* absurd pose: not a unit quaternion, nothing of the object over B */
-  MODEL_E_CAPACITY = -19      /* an output array or a fixed table too small */
+  MODEL_E_NOMEM = -12,            /* allocation failed */
+  MODEL_E_UNSUPPORTED = -13,      /* mesh format or URDF geometry type not supported */
+  MODEL_E_REGION = -14,           /* a density region that is not valid (zero normal, ...) */
+  MODEL_E_HULL = -15,             /* convex hull failed (all points coplanar, iteration cap) */
+  MODEL_E_CHAIN = -16,            /* no kinematic chain between two links, or an unusable joint */
+  MODEL_E_IMPLAUSIBLE = -17,      /* mass properties no real object of that shape can have */
+  MODEL_E_POSE = -18,    /* absurd pose: not a unit quaternion, nothing of the object over B */
+  MODEL_E_CAPACITY = -19 /* an output array or a fixed table too small */
 } model_status_t;
 
 /* A static English description of a status; never NULL. */
@@ -221,9 +221,9 @@ model_status_t model_quat_unit(const double q_wxyz[4], double unit[4]);
 typedef struct {
   char robot_name[128];
   char link_name[128];
-  char mesh_path[1024];   /* resolved path of the first mesh file, "" for primitives */
-  model_mesh_t mesh;      /* all collision geometry of the link, in the link frame */
-  model_aabb_t aabb;      /* bounding box of mesh, link frame */
+  char mesh_path[1024]; /* resolved path of the first mesh file, "" for primitives */
+  model_mesh_t mesh;    /* all collision geometry of the link, in the link frame */
+  model_aabb_t aabb;    /* bounding box of mesh, link frame */
 } model_object_t;
 
 /* Load a link's geometry from a URDF: all its <collision> elements (or all <visual> elements
@@ -258,8 +258,8 @@ typedef struct {
  * package URI), MODEL_E_NOLINK (lists the links), MODEL_E_NOGEOM, MODEL_E_UNSUPPORTED,
  * MODEL_E_NONFINITE, MODEL_E_DEGENERATE (a zero box, sphere or cylinder) and the mesh errors.
  * On error *out is zeroed. Allocates. */
-model_status_t model_object_load(const char *urdf_path, const char *link_name,
-                                 model_object_t *out, model_error_t *err);
+model_status_t model_object_load(const char *urdf_path, const char *link_name, model_object_t *out,
+                                 model_error_t *err);
 
 /* Release an object's mesh and zero it. NULL is fine. */
 void model_object_free(model_object_t *obj);

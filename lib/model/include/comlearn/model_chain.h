@@ -38,21 +38,21 @@ typedef struct {
   char child_link[MODEL_CHAIN_NAME_MAX];
   model_joint_type_t type;
   double origin_xyz_m[3];
-  double origin_rpy_rad[3];  /* as urdfdom reports it (roll, pitch, yaw) */
-  double origin_rot[3][3];   /* the same rotation as a matrix (parent <- joint) */
-  double axis[3];            /* unit; (1, 0, 0) for fixed joints */
-  int has_limits;            /* 1 for revolute and prismatic (URDF requires <limit>) */
-  double lower;              /* rad or m; -HUGE_VAL for continuous and fixed joints */
-  double upper;              /* rad or m; +HUGE_VAL for continuous and fixed joints */
-  double velocity;           /* rad/s or m/s; 0 when the URDF gives none (fixed joints) */
+  double origin_rpy_rad[3]; /* as urdfdom reports it (roll, pitch, yaw) */
+  double origin_rot[3][3];  /* the same rotation as a matrix (parent <- joint) */
+  double axis[3];           /* unit; (1, 0, 0) for fixed joints */
+  int has_limits;           /* 1 for revolute and prismatic (URDF requires <limit>) */
+  double lower;             /* rad or m; -HUGE_VAL for continuous and fixed joints */
+  double upper;             /* rad or m; +HUGE_VAL for continuous and fixed joints */
+  double velocity;          /* rad/s or m/s; 0 when the URDF gives none (fixed joints) */
 } model_joint_t;
 
 typedef struct {
   char robot_name[MODEL_CHAIN_NAME_MAX];
   char base_link[MODEL_CHAIN_NAME_MAX];
   char tip_link[MODEL_CHAIN_NAME_MAX];
-  size_t joint_count;                      /* joints from base to tip, fixed ones included */
-  size_t moving_count;                     /* joints that are not fixed */
+  size_t joint_count;                           /* joints from base to tip, fixed ones included */
+  size_t moving_count;                          /* joints that are not fixed */
   model_joint_t joints[MODEL_CHAIN_MAX_JOINTS]; /* joints[0]'s parent is base_link, the last
                                                     joint's child is tip_link */
 } model_chain_t;
@@ -69,8 +69,8 @@ typedef struct {
  *                    lower > upper; a negative velocity limit; a name longer than 127 bytes
  *   MODEL_E_NONFINITE an origin, axis or limit that is NaN or infinite
  * On error *out is zeroed. Allocates temporarily. */
-model_status_t model_chain_load(const char *urdf_path, const char *base_link,
-                                const char *tip_link, model_chain_t *out, model_error_t *err);
+model_status_t model_chain_load(const char *urdf_path, const char *base_link, const char *tip_link,
+                                model_chain_t *out, model_error_t *err);
 
 /* A static name of a joint type ("revolute", ...); never NULL. */
 const char *model_joint_type_str(model_joint_type_t type);

@@ -22,8 +22,8 @@ extern "C" {
  * model_object_load, including an <inertial> urdfdom could not parse, e.g. mass "nan"),
  * MODEL_E_NOLINK, MODEL_E_INERTIAL (no <inertial>, or invalid values),
  * MODEL_E_INERTIA_TRIANGLE. On error *out is zeroed. Allocates temporarily (urdfdom). */
-model_status_t model_inertial_load(const char *urdf_path, const char *link_name,
-                                   model_mass_t *out, model_error_t *err);
+model_status_t model_inertial_load(const char *urdf_path, const char *link_name, model_mass_t *out,
+                                   model_error_t *err);
 
 /* Physical validity of mass properties: every number finite (mass, com, inertia); mass > 0;
  * inertia symmetric (|I_ij - I_ji| <= 1e-9 max |I|) and positive definite (smallest principal

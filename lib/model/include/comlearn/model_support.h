@@ -50,7 +50,7 @@ typedef enum {
 /* Outward unit normal of an edge and its offset d: points p of the edge line satisfy
  * normal . p = d, p.z = 0. */
 void model_edge_line(const double base_size_m[3], model_edge_t edge, double normal[3],
-                       double *offset_m);
+                     double *offset_m);
 
 /* A mesh usable for this geometry: non-NULL arrays, counts > 0, indices in range, finite vertices.
  * MODEL_E_ARG (NULL or empty), MODEL_E_DEGENERATE (an index out of range), MODEL_E_NONFINITE. */
@@ -69,7 +69,7 @@ double model_mesh_bottom_z(const model_mesh_t *mesh_link, const double orientati
  * and *z_m when some of the mesh is over the rectangle, 0 when none is. O(triangles). The one
  * resting height of the project: model_pose_over_edge and lib/placement's plans use it. */
 int model_mesh_lowest_over_rect(const model_mesh_t *mesh, const double (*rot)[3], double ox,
-                               double oy, double half_x, double half_y, double *z_m);
+                                double oy, double half_x, double half_y, double *z_m);
 
 /* The pose that sets the object (mesh_link) in `orientation_wxyz` down on a block B of size
  * base_size_m with the link-frame point point_link_m exactly over `edge` (normal . p = d in the
@@ -131,19 +131,19 @@ model_status_t model_regime_config_check(const model_regime_config_t *cfg);
  * (two feet, the pads of a tripod) or one that is not convex (a ring); chords on an edge line are
  * computed on the triangles themselves, never on a hull that would bridge the gaps. */
 typedef struct {
-  double support_z_m;     /* world z of the lowest vertex */
-  size_t touch_count;     /* mesh vertices within plane_tol_m of the support plane */
-  size_t face_count;      /* mesh triangles with all three vertices within plane_tol_m */
-  double faces_area_m2;   /* sum of those triangles' areas: the real contact area */
-  size_t region_count;    /* groups of those triangles that touch (share a vertex) */
-  double region_area_m2;  /* real area of the largest group */
-  double region_width_m;  /* smallest width of that group's convex hull */
-  int flat;               /* one region is a flat patch: region_area_m2 >= min_patch_area_m2 and
+  double support_z_m;    /* world z of the lowest vertex */
+  size_t touch_count;    /* mesh vertices within plane_tol_m of the support plane */
+  size_t face_count;     /* mesh triangles with all three vertices within plane_tol_m */
+  double faces_area_m2;  /* sum of those triangles' areas: the real contact area */
+  size_t region_count;   /* groups of those triangles that touch (share a vertex) */
+  double region_area_m2; /* real area of the largest group */
+  double region_width_m; /* smallest width of that group's convex hull */
+  int flat;              /* one region is a flat patch: region_area_m2 >= min_patch_area_m2 and
                              region_width_m >= min_patch_width_m */
-  double area_m2;         /* area of the convex hull of all their vertices (an outline that spans
+  double area_m2;        /* area of the convex hull of all their vertices (an outline that spans
                              gaps between regions); 0 when face_count == 0 */
-  double width_m;         /* smallest width of that hull (0 when face_count == 0) */
-  size_t vertex_count;    /* the hull, counter-clockwise seen from above, world x, y */
+  double width_m;        /* smallest width of that hull (0 when face_count == 0) */
+  size_t vertex_count;   /* the hull, counter-clockwise seen from above, world x, y */
   double polygon_xy_m[MODEL_PATCH_MAX_VERTICES][2];
 } model_patch_t;
 
@@ -153,7 +153,7 @@ typedef struct {
  * MODEL_E_NONFINITE (vertex or pose), MODEL_E_POSE (quaternion not unit),
  * MODEL_E_CAPACITY (hull above MODEL_PATCH_MAX_VERTICES). Allocates temporary memory. */
 model_status_t model_patch_resting(const model_mesh_t *mesh_link, const model_pose_t *pose,
-                                       const model_regime_config_t *cfg, model_patch_t *out);
+                                   const model_regime_config_t *cfg, model_patch_t *out);
 
 /* Which physics a planned edge trial is in. */
 typedef enum {
@@ -173,19 +173,19 @@ typedef enum {
  * (world y for MODEL_EDGE_PX / NX, world x for PY / NY). */
 typedef struct {
   model_patch_t patch;
-  int chord_valid;          /* the edge line meets the real contact (the in-plane triangles)
+  int chord_valid;       /* the edge line meets the real contact (the in-plane triangles)
                                along a positive length */
-  double chord_m[2];        /* the chord, along the edge: chord_m[0] < chord_m[1], the outermost
+  double chord_m[2];     /* the chord, along the edge: chord_m[0] < chord_m[1], the outermost
                                points where the edge line meets the real contact. Between them
                                the edge line bounds the support polygon (the convex hull of the
                                contact on B's side) whatever gaps the contact has there; a line
                                that crosses one of two feet gets that foot's chord only. */
-  double com_along_m;       /* the CoM estimate's projection, along the edge */
-  double com_beyond_m;      /* its signed distance beyond the edge line (outward normal); ~0 for
+  double com_along_m;    /* the CoM estimate's projection, along the edge */
+  double com_beyond_m;   /* its signed distance beyond the edge line (outward normal); ~0 for
                                a pose from model_pose_over_edge with that point */
-  double chord_margin_m;    /* min(com_along - chord_m[0], chord_m[1] - com_along): positive
+  double chord_margin_m; /* min(com_along - chord_m[0], chord_m[1] - com_along): positive
                                when the chord spans it; -HUGE_VAL without a chord */
-  int flat_patch_regime;    /* kind == MODEL_REGIME_FLAT_PATCH */
+  int flat_patch_regime; /* kind == MODEL_REGIME_FLAT_PATCH */
   model_regime_kind_t kind;
 } model_regime_t;
 
@@ -204,10 +204,9 @@ model_support_work_t *model_support_work_init(void *mem, size_t size, const mode
  * com_estimate_link_m (link frame). Pure geometry. Errors as model_patch_resting, and
  * MODEL_E_ARG for a bad edge or base size. */
 model_status_t model_regime_classify(const model_mesh_t *mesh_link, const model_pose_t *pose,
-                                         const double base_size_m[3], model_edge_t edge,
-                                         const double com_estimate_link_m[3],
-                                         const model_regime_config_t *cfg,
-                                         model_regime_t *out);
+                                     const double base_size_m[3], model_edge_t edge,
+                                     const double com_estimate_link_m[3],
+                                     const model_regime_config_t *cfg, model_regime_t *out);
 model_status_t model_regime_classify_in(const model_mesh_t *mesh_link, const model_pose_t *pose,
                                         const double base_size_m[3], model_edge_t edge,
                                         const double com_estimate_link_m[3],
@@ -219,24 +218,20 @@ model_status_t model_regime_classify_in(const model_mesh_t *mesh_link, const mod
  * position along the edge and of B's size. -HUGE_VAL when the edge line misses the patch or there
  * is no flat patch. Errors as model_patch_resting. */
 model_status_t model_yaw_margin(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
-                                    const double com_estimate_link_m[3], model_edge_t edge,
-                                    double yaw_rad, const model_regime_config_t *cfg,
-                                    double *margin_m);
+                                const double com_estimate_link_m[3], model_edge_t edge,
+                                double yaw_rad, const model_regime_config_t *cfg, double *margin_m);
 
 /* model_yaw_margin for n (yaw, CoM estimate) pairs of one orientation at once: margin_m[i] for
  * yaw_rad[i] and com_estimate_link_m[i]. The resting contact is built once (it depends on the
  * orientation only), so a sweep costs one patch plus n chords. n == 0 does nothing. Errors as
  * model_yaw_margin (any yaw non-finite: MODEL_E_NONFINITE). */
-model_status_t model_yaw_margins(const model_mesh_t *mesh_link,
-                                     const double orientation_wxyz[4], model_edge_t edge,
-                                     const model_regime_config_t *cfg, size_t n,
-                                     const double *yaw_rad, const double (*com_estimate_link_m)[3],
-                                     double *margin_m);
-model_status_t model_yaw_margins_in(const model_mesh_t *mesh_link,
-                                    const double orientation_wxyz[4], model_edge_t edge,
-                                    const model_regime_config_t *cfg, size_t n,
-                                    const double *yaw_rad,
-                                    const double (*com_estimate_link_m)[3],
+model_status_t model_yaw_margins(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
+                                 model_edge_t edge, const model_regime_config_t *cfg, size_t n,
+                                 const double *yaw_rad, const double (*com_estimate_link_m)[3],
+                                 double *margin_m);
+model_status_t model_yaw_margins_in(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
+                                    model_edge_t edge, const model_regime_config_t *cfg, size_t n,
+                                    const double *yaw_rad, const double (*com_estimate_link_m)[3],
                                     model_support_work_t *work, double *margin_m);
 
 /* The yaw in [0, pi) that maximises that chord margin (yaw + pi gives the same chord with the
@@ -244,9 +239,8 @@ model_status_t model_yaw_margins_in(const model_mesh_t *mesh_link,
  * (40 iterations) around the best step: deterministic. *margin_m is -HUGE_VAL (and *yaw_rad 0)
  * when the orientation rests on no flat patch. Errors as model_patch_resting. */
 model_status_t model_yaw_best(const model_mesh_t *mesh_link, const double orientation_wxyz[4],
-                                  const double com_estimate_link_m[3], model_edge_t edge,
-                                  const model_regime_config_t *cfg, double *yaw_rad,
-                                  double *margin_m);
+                              const double com_estimate_link_m[3], model_edge_t edge,
+                              const model_regime_config_t *cfg, double *yaw_rad, double *margin_m);
 
 /* Rz(yaw_rad) q, normalised. */
 void model_orientation_yawed(const double orientation_wxyz[4], double yaw_rad, double out[4]);
@@ -258,27 +252,27 @@ model_status_t model_orientation_resting(const double normal_link[3], double out
 
 /* A face of the object's convex hull (coplanar hull facets merged): a plane it can rest on. */
 typedef struct {
-  double normal_link[3];        /* outward unit normal, link frame */
-  double offset_m;              /* plane normal . x = offset_m, link frame */
-  double orientation_wxyz[4];   /* model_orientation_resting(normal_link): rests on it, yaw 0 */
-  double area_m2;               /* support polygon: convex hull of every mesh vertex on the plane */
-  double width_m;               /* its smallest width */
-  size_t face_count;            /* mesh triangles lying in the plane (the real contact) */
-  size_t region_count;          /* groups of them that touch (share a vertex) */
-  double patch_area_m2;         /* real area of the largest group (0 if none) */
-  double patch_width_m;         /* smallest width of that group's convex hull */
-  int flat;                     /* that group is a flat patch (min_patch_area_m2,
+  double normal_link[3];      /* outward unit normal, link frame */
+  double offset_m;            /* plane normal . x = offset_m, link frame */
+  double orientation_wxyz[4]; /* model_orientation_resting(normal_link): rests on it, yaw 0 */
+  double area_m2;             /* support polygon: convex hull of every mesh vertex on the plane */
+  double width_m;             /* its smallest width */
+  size_t face_count;          /* mesh triangles lying in the plane (the real contact) */
+  size_t region_count;        /* groups of them that touch (share a vertex) */
+  double patch_area_m2;       /* real area of the largest group (0 if none) */
+  double patch_width_m;       /* smallest width of that group's convex hull */
+  int flat;                   /* that group is a flat patch (min_patch_area_m2,
                                    min_patch_width_m) */
-  double com_margin_m;          /* CoM guess projected along the normal: signed distance to the
+  double com_margin_m;        /* CoM guess projected along the normal: signed distance to the
                                    support polygon's boundary, positive inside */
-  int candidate;                /* com_margin_m >= min_com_margin_m: a stable-pose candidate */
+  int candidate;              /* com_margin_m >= min_com_margin_m: a stable-pose candidate */
 } model_face_t;
 
 /* A face of a convex hull: its coplanar facets merged. */
 typedef struct {
-  double normal[3];   /* area-weighted mean of its facets' outward unit normals */
-  double area_m2;     /* the sum of its facets' areas */
-  size_t seed;        /* the hull triangle it grew from (its largest) */
+  double normal[3]; /* area-weighted mean of its facets' outward unit normals */
+  double area_m2;   /* the sum of its facets' areas */
+  size_t seed;      /* the hull triangle it grew from (its largest) */
 } model_hull_face_t;
 
 /* Merge the facets of `hull` (a convex hull, model_mesh_hull) into faces. Seeds are taken largest
@@ -301,14 +295,14 @@ model_status_t model_hull_faces(const model_mesh_t *hull, double merge_cos, doub
  * Errors as model_patch_resting, plus MODEL_E_HULL when the hull fails (flat or degenerate
  * mesh) and MODEL_E_NOMEM. Allocates temporary memory (the hull); ~20 ms for a 1000-vertex rock. */
 model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
-                                    const model_regime_config_t *cfg, model_face_t *faces,
-                                    size_t capacity, size_t *count);
+                                const model_regime_config_t *cfg, model_face_t *faces,
+                                size_t capacity, size_t *count);
 
 /* When a confirmation trial counts as resting stably. model_stable_config_default(). */
 typedef struct {
-  double max_rotation_rad;     /* settled within this angle of the release orientation: 0.02 */
-  double max_displacement_m;   /* link origin moved at most this: 0.002 */
-  double touch_depth_m;        /* release pre-penetration, as model_pose_over_edge: 1e-6 */
+  double max_rotation_rad;   /* settled within this angle of the release orientation: 0.02 */
+  double max_displacement_m; /* link origin moved at most this: 0.002 */
+  double touch_depth_m;      /* release pre-penetration, as model_pose_over_edge: 1e-6 */
 } model_stable_config_t;
 
 void model_stable_config_default(model_stable_config_t *cfg);

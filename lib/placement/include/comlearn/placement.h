@@ -81,13 +81,13 @@ typedef struct {
   /* joint k's frame at q = 0 in joint k-1's moving frame (k = 0: in the base link); fixed joints
    * between them are folded in */
   placement_pose_t origin[PLACEMENT_JOINTS];
-  double axis[PLACEMENT_JOINTS][3];        /* unit rotation axis in joint k's frame */
-  placement_pose_t tip;                    /* the tip link in joint 6's moving frame */
-  double lower_rad[PLACEMENT_JOINTS];      /* URDF position limits */
+  double axis[PLACEMENT_JOINTS][3];   /* unit rotation axis in joint k's frame */
+  placement_pose_t tip;               /* the tip link in joint 6's moving frame */
+  double lower_rad[PLACEMENT_JOINTS]; /* URDF position limits */
   double upper_rad[PLACEMENT_JOINTS];
   double velocity_rad_s[PLACEMENT_JOINTS]; /* URDF velocity limits (> 0) */
   double nominal_rad[PLACEMENT_JOINTS];    /* preferred posture (IK nullspace target, first seed) */
-  double reach_m;    /* upper bound of |tip - joint 0 origin| over all q (triangle inequality) */
+  double reach_m; /* upper bound of |tip - joint 0 origin| over all q (triangle inequality) */
 } placement_arm_t;
 
 /* Load the chain base_link -> tip_link of a URDF as a 7R arm. nominal_rad is set to the middle of
@@ -141,19 +141,20 @@ placement_status_t placement_jacobian(const placement_arm_t *arm,
 
 /* IK options: a caller-owned struct; start from PLACEMENT_IK_CONFIG_INIT. */
 typedef struct {
-  double tol_pos_m;         /* success: |p_fk - p_target| <= tol_pos_m (> 0) */
-  double tol_rot_rad;       /* success: angle(R_target^T R_fk) <= tol_rot_rad (> 0) */
-  unsigned max_iterations;  /* Levenberg-Marquardt iterations per seed (>= 1) */
-  unsigned max_seeds;       /* seeds tried: the caller's seed (or nominal), nominal, random (>= 1) */
-  double nullspace_gain;    /* 0..1: size of the first redundancy step, as a fraction of
+  double tol_pos_m;        /* success: |p_fk - p_target| <= tol_pos_m (> 0) */
+  double tol_rot_rad;      /* success: angle(R_target^T R_fk) <= tol_rot_rad (> 0) */
+  unsigned max_iterations; /* Levenberg-Marquardt iterations per seed (>= 1) */
+  unsigned max_seeds;      /* seeds tried: the caller's seed (or nominal), nominal, random (>= 1) */
+  double nullspace_gain;   /* 0..1: size of the first redundancy step, as a fraction of
                                (nominal - q) projected on the nullspace; 0 turns the redundancy
                                phase off (the solution is then the one nearest the seed) */
-  uint64_t rng_seed;        /* random seeds come from this (deterministic, no global state) */
+  uint64_t rng_seed;       /* random seeds come from this (deterministic, no global state) */
   unsigned redundancy_iterations; /* cap of nullspace steps after convergence */
 } placement_ik_config_t;
 
 /* Tolerances 1e-9 m / 1e-9 rad, 50 iterations x 64 seeds, gain 0.5, 20 redundancy steps. */
-#define PLACEMENT_IK_CONFIG_INIT {1e-9, 1e-9, 50u, 64u, 0.5, 0x5eedu, 20u}
+#define PLACEMENT_IK_CONFIG_INIT \
+  { 1e-9, 1e-9, 50u, 64u, 0.5, 0x5eedu, 20u }
 
 /* What an IK call did. */
 typedef struct {
@@ -161,8 +162,8 @@ typedef struct {
                                      (PLACEMENT_E_NO_SOLUTION); zero for other statuses */
   double pos_err_m;               /* FK error of q_rad, verified after solving */
   double rot_err_rad;
-  unsigned iterations;            /* total over all seeds and the redundancy phase */
-  unsigned seeds;                 /* seeds tried (1 = converged from the first) */
+  unsigned iterations; /* total over all seeds and the redundancy phase */
+  unsigned seeds;      /* seeds tried (1 = converged from the first) */
 } placement_ik_result_t;
 
 /* Inverse kinematics of the tip to `target` (tip in base).
@@ -213,8 +214,8 @@ void placement_pose_rpy(const placement_pose_t *pose, double rpy_rad[3]);
 /* Rotation by angle_rad about a unit axis. */
 void placement_rot_from_axis_angle(const double axis[3], double angle_rad, double rot[3][3]);
 /* Position distance and rotation angle (rad, in [0, pi]) between two poses. */
-void placement_pose_distance(const placement_pose_t *a, const placement_pose_t *b,
-                             double *pos_m, double *rot_rad);
+void placement_pose_distance(const placement_pose_t *a, const placement_pose_t *b, double *pos_m,
+                             double *rot_rad);
 
 /* ---- the quaternion pose of the rest of comlearn (comlearn/math3d.h's cl_pose_t, laid out as
  * model_pose_t) -------------------------------------------------------------------------------- */

@@ -85,7 +85,7 @@ typedef struct {
   double max_joint_step_rad;      /* every such step must stay within this of the one before on
                                      every joint (else IK changed branch); default 0.5, > 0 */
   placement_gripper_t gripper;
-  placement_ik_config_t ik;       /* default PLACEMENT_IK_CONFIG_INIT */
+  placement_ik_config_t ik; /* default PLACEMENT_IK_CONFIG_INIT */
 } placement_plan_config_t;
 
 /* Fill cfg with the defaults documented above. */
@@ -97,13 +97,13 @@ placement_status_t placement_plan_config_check(const placement_plan_config_t *cf
 
 /* What the learner asks for. */
 typedef struct {
-  const model_mesh_t *mesh_link;     /* the object's mesh, link frame (borrowed, read only) */
-  placement_pose_t object_in_tcp;    /* the grasp: object link frame in the tcp frame */
-  placement_pose_t object_in_block;  /* the wanted pose on B (e.g. balance_pose_over_edge's,
+  const model_mesh_t *mesh_link;    /* the object's mesh, link frame (borrowed, read only) */
+  placement_pose_t object_in_tcp;   /* the grasp: object link frame in the tcp frame */
+  placement_pose_t object_in_block; /* the wanted pose on B (e.g. balance_pose_over_edge's,
                                         converted with placement_pose_from_wxyz). Its x, y and
                                         rot are kept; its z is replaced by the exact touching
                                         height (placement_plan_touch_z) */
-  double grip_width_m;               /* gripper opening while holding, [0, gripper_max_width_m] */
+  double grip_width_m;              /* gripper opening while holding, [0, gripper_max_width_m] */
   double q_start_rad[PLACEMENT_JOINTS]; /* the arm's joints now: first IK seed and the start of
                                            the first segment; within the arm's limits */
 } placement_plan_request_t;
@@ -188,22 +188,22 @@ int placement_plan_gripper_clear(const placement_plan_config_t *cfg,
  * waypoint. No allocation; 1 + 2 x approach_steps IK solves per attempt (11 by default). */
 placement_status_t placement_plan_build(const placement_arm_t *arm,
                                         const placement_plan_config_t *cfg,
-                                        const placement_plan_request_t *req,
-                                        placement_plan_t *out, placement_error_t *err);
+                                        const placement_plan_request_t *req, placement_plan_t *out,
+                                        placement_error_t *err);
 
 /* ---- top-down grasps: which arm, which finger yaw, and the plan (placement_grasp_plan) ---- */
 
 /* How placement_grasp_plan holds the object. Fill with placement_grasp_config_default() or
  * PLACEMENT_GRASP_CONFIG_INIT and change what you need. */
 typedef struct {
-  double depth_m;        /* the tcp this far below the top of the object's box (block z);
+  double depth_m;      /* the tcp this far below the top of the object's box (block z);
                             default 0.010, [0, 0.5] */
-  double tip_length_m;   /* the finger tips this far beyond the tcp along tcp z; default 0.0217
+  double tip_length_m; /* the finger tips this far beyond the tcp along tcp z; default 0.0217
                             (the figure comlearn's LCM backend always used; cfg.gripper's
                             finger_z_hi_m is 0.02168) [0, 0.5] */
-  double tip_clear_m;    /* the tips at least this far above B's top: the tcp never lower than
+  double tip_clear_m;  /* the tips at least this far above B's top: the tcp never lower than
                             tip_length_m + tip_clear_m (block z); default 0.004, [0, 0.5] */
-  double min_width_m;    /* narrowest opening while holding; default 0.005, [0, 0.2] */
+  double min_width_m;  /* narrowest opening while holding; default 0.005, [0, 0.2] */
 } placement_grasp_config_t;
 
 #define PLACEMENT_GRASP_CONFIG_INIT \
@@ -214,30 +214,30 @@ void placement_grasp_config_default(placement_grasp_config_t *cfg);
 
 /* What to place, and the arms' joints now. */
 typedef struct {
-  const model_mesh_t *mesh_link;            /* the object's mesh, link frame (borrowed) */
-  model_pose_t object_in_block;             /* the release pose: the link frame in B's frame
+  const model_mesh_t *mesh_link;           /* the object's mesh, link frame (borrowed) */
+  model_pose_t object_in_block;            /* the release pose: the link frame in B's frame
                                                (position, unit quaternion w, x, y, z), touching
                                                B as lib/model's model_pose_over_edge makes it */
-  double q_start_rad[2][PLACEMENT_JOINTS];  /* each arm's joints now, indexed by
+  double q_start_rad[2][PLACEMENT_JOINTS]; /* each arm's joints now, indexed by
                                                placement_side_t (LEFT 0, RIGHT 1) */
 } placement_grasp_request_t;
 
 /* A grasp and the plan that places with it. */
 typedef struct {
-  placement_side_t side;           /* the arm that holds the object */
-  double yaw_rad;                  /* finger yaw about block z: the fingers close along
+  placement_side_t side;                  /* the arm that holds the object */
+  double yaw_rad;                         /* finger yaw about block z: the fingers close along
                                       (cos yaw, sin yaw, 0) of B's frame */
-  double grip_width_m;             /* opening while holding */
-  placement_pose_t tcp_in_block;   /* the nominal tcp pose at the release pose: straight down
+  double grip_width_m;                    /* opening while holding */
+  placement_pose_t tcp_in_block;          /* the nominal tcp pose at the release pose: straight down
                                       (tcp z = -block z), tcp x along the closing direction */
   placement_pose_t object_in_tcp_nominal; /* the grasp planned with: tcp_in_block^-1 * release */
-  cl_pose_t object_in_tcp;         /* the grasp to hand the gripper (or a simulator):
+  cl_pose_t object_in_tcp;                /* the grasp to hand the gripper (or a simulator):
                                       G = FK(q_place)^-1 * block_in_base * release, which differs
                                       from the nominal grasp by the IK error only (< 1e-8) and
                                       makes FK(q_place) * G equal the release pose (in yumi_body)
                                       to rounding (~1e-16 m) instead of IK's 1e-9 m; w >= 0 */
-  placement_plan_t plan;           /* placement_plan_build's plan for side with this grasp */
-  unsigned attempts;               /* (arm, yaw) pairs tried, 1..8 */
+  placement_plan_t plan;                  /* placement_plan_build's plan for side with this grasp */
+  unsigned attempts;                      /* (arm, yaw) pairs tried, 1..8 */
 } placement_grasp_t;
 
 /* Choose a top-down grasp for the release pose req->object_in_block and plan the placement with

@@ -41,11 +41,11 @@ extern "C" {
  * copied with memcpy). sizeof(qlearn_policy_t) is reported by the tests and benchmarks. */
 typedef struct {
   qlearn_policy_config_t cfg;
-  uint32_t trials;        /* trials observed so far */
+  uint32_t trials; /* trials observed so far */
   union {
     qlearn_bisect_t bisect;
     qlearn_pba_t pba;
-    qlearn_paper_t paper;   /* paper-qtable and paper-mlp */
+    qlearn_paper_t paper; /* paper-qtable and paper-mlp */
   } u;
 } qlearn_policy_t;
 
@@ -59,7 +59,8 @@ qlearn_status_t qlearn_policy_next(const qlearn_policy_t *policy, double *x_m);
 /* Record the outcome of a trial at x (normally the x that qlearn_policy_next gave; the placement
  * actually achieved may be passed instead). QLEARN_E_DONE after the end, QLEARN_E_CAPACITY at
  * max_trials, QLEARN_E_NONFINITE / _RANGE for a bad x, QLEARN_E_ARG for a bad outcome. */
-qlearn_status_t qlearn_policy_observe(qlearn_policy_t *policy, double x_m, qlearn_outcome_t outcome);
+qlearn_status_t qlearn_policy_observe(qlearn_policy_t *policy, double x_m,
+                                      qlearn_outcome_t outcome);
 
 /* 1 when the search is finished (bracketed to the resolution, credible interval narrow enough, or
  * the paper's 0.1 mm step bracketed the flip), else 0. */

@@ -30,7 +30,8 @@ extern "C" {
 
 #define QLEARN_MLP_HIDDEN 16
 #define QLEARN_MLP_OUT 2
-#define QLEARN_MLP_NPARAM (2 * QLEARN_MLP_HIDDEN + QLEARN_MLP_OUT * QLEARN_MLP_HIDDEN + QLEARN_MLP_OUT)
+#define QLEARN_MLP_NPARAM \
+  (2 * QLEARN_MLP_HIDDEN + QLEARN_MLP_OUT * QLEARN_MLP_HIDDEN + QLEARN_MLP_OUT)
 /* Instance buffer capacity: one instance per trial. */
 #define QLEARN_MLP_MAX_INSTANCES QLEARN_MAX_TRIALS
 /* Hard cap on epochs of one qlearn_mlp_fit call. */
@@ -38,14 +39,15 @@ extern "C" {
 
 /* Adam settings (Kingma & Ba 2015). */
 typedef struct {
-  double lr;      /* step size, > 0 */
-  double beta1;   /* in [0, 1) */
-  double beta2;   /* in [0, 1) */
-  double eps;     /* > 0 */
+  double lr;    /* step size, > 0 */
+  double beta1; /* in [0, 1) */
+  double beta2; /* in [0, 1) */
+  double eps;   /* > 0 */
 } qlearn_mlp_adam_t;
 
 /* lr 0.01, beta1 0.9, beta2 0.999, eps 1e-8. */
-#define QLEARN_MLP_ADAM_DEFAULT {0.01, 0.9, 0.999, 1e-8}
+#define QLEARN_MLP_ADAM_DEFAULT \
+  { 0.01, 0.9, 0.999, 1e-8 }
 
 typedef struct {
   double p[QLEARN_MLP_NPARAM]; /* parameters, layout above */
@@ -53,10 +55,10 @@ typedef struct {
   double v[QLEARN_MLP_NPARAM]; /* Adam second moment */
   double beta1_pow;            /* beta1^t and beta2^t for Adam's bias correction */
   double beta2_pow;
-  uint64_t rng;                /* splitmix64 state, for the initial weights */
-  uint32_t steps;              /* Adam steps taken so far */
-  uint32_t n;                  /* instances stored */
-  double s[QLEARN_MLP_MAX_INSTANCES];                 /* instance inputs */
+  uint64_t rng;                       /* splitmix64 state, for the initial weights */
+  uint32_t steps;                     /* Adam steps taken so far */
+  uint32_t n;                         /* instances stored */
+  double s[QLEARN_MLP_MAX_INSTANCES]; /* instance inputs */
   double q[QLEARN_MLP_MAX_INSTANCES][QLEARN_MLP_OUT]; /* instance targets */
 } qlearn_mlp_t;
 
@@ -71,8 +73,7 @@ void qlearn_mlp_forward(const double *p, double s, double *q, double *h);
 
 /* Add the gradient of 0.5 * scale * |Q(s, .) - target|^2 with respect to p into g
  * (QLEARN_MLP_NPARAM doubles). Pure. */
-void qlearn_mlp_grad_add(const double *p, double s, const double *target, double scale,
-                         double *g);
+void qlearn_mlp_grad_add(const double *p, double s, const double *target, double scale, double *g);
 
 /* One Adam step over n parameters: p -= lr * mhat / (sqrt(vhat) + eps), with m, v updated from
  * g and the bias corrections 1 - beta1_pow, 1 - beta2_pow (beta^t including this step). Pure. */

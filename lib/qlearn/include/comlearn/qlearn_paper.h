@@ -42,25 +42,26 @@ extern "C" {
 enum { QLEARN_PAPER_OUT = 0, QLEARN_PAPER_IN = 1 }; /* action index = Q column */
 
 #define QLEARN_PAPER_R 0.9
-#define QLEARN_PAPER_LEVELS 3              /* step sizes: 100, 10, 1 x resolution */
+#define QLEARN_PAPER_LEVELS 3 /* step sizes: 100, 10, 1 x resolution */
 /* The MLP's input is the state in units of the coarsest step: s = (x - prior) / (100 res). */
-#define QLEARN_PAPER_MLP_EPOCHS 100u       /* Adam epochs of each refit (warm start) */
-#define QLEARN_PAPER_MLP_ADAM {0.01, 0.9, 0.999, 1e-8}
+#define QLEARN_PAPER_MLP_EPOCHS 100u /* Adam epochs of each refit (warm start) */
+#define QLEARN_PAPER_MLP_ADAM \
+  { 0.01, 0.9, 0.999, 1e-8 }
 
 typedef struct {
   union {
     qlearn_qtable_t table; /* QLEARN_POLICY_PAPER_QTABLE */
     qlearn_mlp_t mlp;      /* QLEARN_POLICY_PAPER_MLP */
   } learner;
-  int64_t k_next;        /* grid index of the next placement */
-  int64_t k_prev;        /* grid index of the last placement (flip detection, step back) */
-  double x_prev_m;       /* that placement as observed */
-  double lo_m, hi_m;     /* the bracket: last flip pair, or what the outcomes so far exclude */
-  uint32_t trials;       /* placements observed */
-  uint8_t level;         /* 0, 1, 2: step 100, 10, 1 x resolution */
-  uint8_t prev_outcome;  /* 0 before the first trial, else a qlearn_outcome_t */
-  uint8_t done;          /* the finest step bracketed the flip, or the walk left the range */
-  uint8_t outside;       /* the walk had to leave [range_lo, range_hi]: c is outside the range */
+  int64_t k_next;       /* grid index of the next placement */
+  int64_t k_prev;       /* grid index of the last placement (flip detection, step back) */
+  double x_prev_m;      /* that placement as observed */
+  double lo_m, hi_m;    /* the bracket: last flip pair, or what the outcomes so far exclude */
+  uint32_t trials;      /* placements observed */
+  uint8_t level;        /* 0, 1, 2: step 100, 10, 1 x resolution */
+  uint8_t prev_outcome; /* 0 before the first trial, else a qlearn_outcome_t */
+  uint8_t done;         /* the finest step bracketed the flip, or the walk left the range */
+  uint8_t outside;      /* the walk had to leave [range_lo, range_hi]: c is outside the range */
 } qlearn_paper_t;
 
 /* Start: the first placement is at prior_m. cfg->kind must be QLEARN_POLICY_PAPER_QTABLE or

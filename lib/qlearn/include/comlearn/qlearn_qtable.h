@@ -27,9 +27,9 @@ extern "C" {
 #define QLEARN_QTABLE_Q_UNSEEN 0.0
 
 typedef struct {
-  uint32_t n;                                                    /* states stored */
-  int64_t state[QLEARN_QTABLE_MAX_STATES];                       /* their keys */
-  double q[QLEARN_QTABLE_MAX_STATES][QLEARN_QTABLE_ACTIONS];    /* their Q values */
+  uint32_t n;                                                /* states stored */
+  int64_t state[QLEARN_QTABLE_MAX_STATES];                   /* their keys */
+  double q[QLEARN_QTABLE_MAX_STATES][QLEARN_QTABLE_ACTIONS]; /* their Q values */
 } qlearn_qtable_t;
 
 /* Empty the table. QLEARN_E_ARG for NULL. */

@@ -39,20 +39,20 @@ typedef enum {
 } qlearn_bisect_phase_t;
 
 typedef struct {
-  double lo_m;      /* c is known to lie in [lo_m, hi_m] */
+  double lo_m; /* c is known to lie in [lo_m, hi_m] */
   double hi_m;
-  double probe_m;   /* the probe step s0 (> 0) */
-  double next_m;    /* the next trial (valid while not done) */
+  double probe_m; /* the probe step s0 (> 0) */
+  double next_m;  /* the next trial (valid while not done) */
   qlearn_bisect_phase_t phase;
-  uint32_t trials;  /* outcomes accepted */
+  uint32_t trials; /* outcomes accepted */
 } qlearn_bisect_t;
 
 /* Start: bracket = the range. QLEARN_E_ARG for NULL, QLEARN_E_NONFINITE / QLEARN_E_RANGE for a
  * bad cfg (range, resolution, prior outside the range). */
 qlearn_status_t qlearn_bisect_init(qlearn_bisect_t *bisect, const qlearn_policy_config_t *cfg);
 /* Next coordinate x (metres). QLEARN_E_DONE when hi - lo <= resolution; state never changes. */
-qlearn_status_t qlearn_bisect_next(const qlearn_bisect_t *bisect,
-                                   const qlearn_policy_config_t *cfg, double *x_m);
+qlearn_status_t qlearn_bisect_next(const qlearn_bisect_t *bisect, const qlearn_policy_config_t *cfg,
+                                   double *x_m);
 /* Outcome at x. QLEARN_E_NONFINITE / QLEARN_E_RANGE (x outside the range, or contradicting the
  * bracket), QLEARN_E_ARG (bad outcome), QLEARN_E_DONE, QLEARN_E_CAPACITY (max_trials reached). */
 qlearn_status_t qlearn_bisect_observe(qlearn_bisect_t *bisect, const qlearn_policy_config_t *cfg,
@@ -91,7 +91,7 @@ typedef struct {
   double median_m;             /* cached after every update: the median, */
   double ci_lo_m;              /*   and the equal-tailed credible interval */
   double ci_hi_m;
-  uint32_t trials;             /* outcomes accepted */
+  uint32_t trials; /* outcomes accepted */
 } qlearn_pba_t;
 
 /* Start with the uniform posterior over the range. Errors as qlearn_bisect_init, plus
@@ -101,8 +101,8 @@ qlearn_status_t qlearn_pba_init(qlearn_pba_t *pba, const qlearn_policy_config_t 
 qlearn_status_t qlearn_pba_next(const qlearn_pba_t *pba, const qlearn_policy_config_t *cfg,
                                 double *x_m);
 /* Bayes update with the outcome at x. Errors as qlearn_bisect_observe (no contradiction error). */
-qlearn_status_t qlearn_pba_observe(qlearn_pba_t *pba, const qlearn_policy_config_t *cfg,
-                                   double x_m, qlearn_outcome_t outcome);
+qlearn_status_t qlearn_pba_observe(qlearn_pba_t *pba, const qlearn_policy_config_t *cfg, double x_m,
+                                   qlearn_outcome_t outcome);
 /* 1 when the credible interval is at most the resolution wide or max_trials were observed. */
 int qlearn_pba_done(const qlearn_pba_t *pba, const qlearn_policy_config_t *cfg);
 /* Posterior median and the half width that covers the credible interval. */

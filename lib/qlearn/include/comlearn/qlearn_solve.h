@@ -51,13 +51,13 @@ typedef struct {
 } qlearn_solve_t;
 
 typedef struct {
-  double com_m[3];         /* object frame; for a component not found, the minimum-norm value */
-  double halfwidth_m[3];   /* z * standard deviation; INFINITY when not found */
-  int found[3];            /* 1 when the component is determined (see above) */
-  double eigenvalue[3];    /* of the normal matrix A (1/m^2), ascending */
-  double eigenvector[3][3];/* eigenvector[j] belongs to eigenvalue[j] */
-  int rank;                /* non-null eigenvalues */
-  double chi2;             /* weighted residual sum: ~ count - rank for consistent data */
+  double com_m[3];          /* object frame; for a component not found, the minimum-norm value */
+  double halfwidth_m[3];    /* z * standard deviation; INFINITY when not found */
+  int found[3];             /* 1 when the component is determined (see above) */
+  double eigenvalue[3];     /* of the normal matrix A (1/m^2), ascending */
+  double eigenvector[3][3]; /* eigenvector[j] belongs to eigenvalue[j] */
+  int rank;                 /* non-null eigenvalues */
+  double chi2;              /* weighted residual sum: ~ count - rank for consistent data */
 } qlearn_solve_result_t;
 
 _Static_assert(QLEARN_SOLVE_MAX_PLANES >= 9, "room for three directions in three poses");
@@ -78,8 +78,8 @@ qlearn_status_t qlearn_solve_add_plane(qlearn_solve_t *solve, const double n_obj
  * nonzero length) and offset d_edge_m (n_world . p = d_edge_m on the edge line, same scale as
  * n_world), sigma_m as above. Adds n_obj = R^T n, d = d_edge - n . t. Errors as _add_plane. */
 qlearn_status_t qlearn_solve_add_trial(qlearn_solve_t *solve, const double rot_obj_to_world[9],
-                                       const double pos_obj_in_world_m[3],
-                                       const double n_world[3], double d_edge_m, double sigma_m);
+                                       const double pos_obj_in_world_m[3], const double n_world[3],
+                                       double d_edge_m, double sigma_m);
 
 /* Solve. z > 0 scales the half widths (1.96 for ~95 %), max_halfwidth_m > 0 is the widest half
  * width still called found. QLEARN_OK when all three components are found; QLEARN_E_SINGULAR

@@ -40,23 +40,23 @@ typedef enum {
 
 /* Noise model of the outcomes, for PBA (the others assume noiseless outcomes). */
 typedef enum {
-  QLEARN_NOISE_FLIP = 0,   /* each outcome is wrong with probability flip_prob, independently */
-  QLEARN_NOISE_PROBIT = 1  /* P(TIPS | x) = Phi((c - x) / sigma_m): placement / pose noise */
+  QLEARN_NOISE_FLIP = 0,  /* each outcome is wrong with probability flip_prob, independently */
+  QLEARN_NOISE_PROBIT = 1 /* P(TIPS | x) = Phi((c - x) / sigma_m): placement / pose noise */
 } qlearn_noise_kind_t;
 
 /* Settings of one search. All lengths in metres, in the 1-D coordinate described above. */
 typedef struct {
   qlearn_policy_kind_t kind;
-  double range_lo_m;      /* the CoM coordinate is known to lie in [range_lo_m, range_hi_m] */
-  double range_hi_m;      /*   (e.g. the bounding box along the axis) */
-  double prior_m;         /* where to start: the mesh's uniform-density CoM, or 0 (box center) */
-  double resolution_m;    /* stop when the CoM is bracketed to this width (paper: 1e-4) */
+  double range_lo_m;   /* the CoM coordinate is known to lie in [range_lo_m, range_hi_m] */
+  double range_hi_m;   /*   (e.g. the bounding box along the axis) */
+  double prior_m;      /* where to start: the mesh's uniform-density CoM, or 0 (box center) */
+  double resolution_m; /* stop when the CoM is bracketed to this width (paper: 1e-4) */
   qlearn_noise_kind_t noise;
-  double flip_prob;       /* QLEARN_NOISE_FLIP, in [0, 0.5) */
-  double sigma_m;         /* QLEARN_NOISE_PROBIT, > 0 */
-  double credible;        /* PBA: mass of the reported interval, e.g. 0.95 */
-  uint32_t max_trials;    /* hard cap on trials of this search (<= QLEARN_MAX_TRIALS) */
-  uint64_t seed;          /* for the MLP's initial weights */
+  double flip_prob;    /* QLEARN_NOISE_FLIP, in [0, 0.5) */
+  double sigma_m;      /* QLEARN_NOISE_PROBIT, > 0 */
+  double credible;     /* PBA: mass of the reported interval, e.g. 0.95 */
+  uint32_t max_trials; /* hard cap on trials of this search (<= QLEARN_MAX_TRIALS) */
+  uint64_t seed;       /* for the MLP's initial weights */
 } qlearn_policy_config_t;
 
 /* Defaults for a kind: range +-0.05 m, prior 0, resolution 1e-4 m, probit noise sigma 1e-4 m,

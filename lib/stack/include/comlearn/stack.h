@@ -51,17 +51,17 @@ const char *stack_com_source_str(stack_com_source_t s);
 
 /* What the planner knows of one object. */
 typedef struct {
-  const model_mesh_t *mesh_link;  /* geometry, link frame (borrowed) */
-  double com_m[3];                /* believed CoM, link frame */
-  double com_halfwidth_m[3];      /* its uncertainty per link axis (0: taken as exact) */
-  double mass_kg;                 /* believed mass (e.g. volume x a nominal density) */
-  double mass_rel_uncertainty;    /* plans hold for every mass in mass_kg * [1/(1+u), 1+u] */
+  const model_mesh_t *mesh_link; /* geometry, link frame (borrowed) */
+  double com_m[3];               /* believed CoM, link frame */
+  double com_halfwidth_m[3];     /* its uncertainty per link axis (0: taken as exact) */
+  double mass_kg;                /* believed mass (e.g. volume x a nominal density) */
+  double mass_rel_uncertainty;   /* plans hold for every mass in mass_kg * [1/(1+u), 1+u] */
 } stack_object_t;
 
 typedef struct {
-  double max_tilt_rad;            /* steepest contact plane used; default 15 deg (docs/stack.md) */
-  double mass_rel_uncertainty;    /* default for objects that give 0: 0.3 */
-  unsigned yaw_steps;             /* yaws tried per contact; default 24 */
+  double max_tilt_rad;         /* steepest contact plane used; default 15 deg (docs/stack.md) */
+  double mass_rel_uncertainty; /* default for objects that give 0: 0.3 */
+  unsigned yaw_steps;          /* yaws tried per contact; default 24 */
 } stack_plan_config_t;
 
 void stack_plan_config_default(stack_plan_config_t *cfg);
@@ -69,14 +69,14 @@ void stack_plan_config_default(stack_plan_config_t *cfg);
 /* A plan: the order (bottom first) and the pose of every object. */
 typedef struct {
   size_t count;
-  size_t order[STACK_MAX_OBJECTS];          /* order[0] rests on B; indices into the input */
-  model_pose_t pose[STACK_MAX_OBJECTS];   /* per INPUT index: release pose, world, touching */
+  size_t order[STACK_MAX_OBJECTS];      /* order[0] rests on B; indices into the input */
+  model_pose_t pose[STACK_MAX_OBJECTS]; /* per INPUT index: release pose, world, touching */
   /* Per level (bottom first): the planned worst-case distance, in the contact plane, from the
    * gravity line through the believed CoM of everything above that contact to the edge of the
    * contact's support polygon (level 0: the support on B). Positive inside. */
   double margin_m[STACK_MAX_OBJECTS];
-  double tilt_rad[STACK_MAX_OBJECTS];       /* slope of each level's contact plane */
-  char msg[256];                            /* why, when no plan */
+  double tilt_rad[STACK_MAX_OBJECTS]; /* slope of each level's contact plane */
+  char msg[256];                      /* why, when no plan */
 } stack_plan_t;
 
 /* Plan a stack of objects[0..count), 2 <= count <= STACK_MAX_OBJECTS. Geometry only.
@@ -87,8 +87,8 @@ stack_status_t stack_plan(const stack_object_t *objects, size_t count,
 /* ---- simulator side (comlearn_stack_sim) ----------------------------------------------------- */
 
 typedef struct {
-  balance_stack_result_t run;                          /* stands, seconds_standing, ... */
-  balance_stack_object_t object[STACK_MAX_OBJECTS];    /* per INPUT index */
+  balance_stack_result_t run;                       /* stands, seconds_standing, ... */
+  balance_stack_object_t object[STACK_MAX_OBJECTS]; /* per INPUT index */
   char msg[256];
 } stack_sim_result_t;
 
@@ -104,9 +104,8 @@ stack_status_t stack_simulate(const char *const *urdf_paths, size_t count, const
  * plan->pose on lib/balance and run them (cfg / scfg NULL: defaults). What stack_rehearse and
  * stack_simulate share; the caller decides where the masses come from. */
 stack_status_t stack_run_bodies(const model_mesh_t *const *meshes_link, const model_mass_t *masses,
-                                size_t count, const stack_plan_t *plan,
-                                const balance_config_t *cfg, const balance_stack_config_t *scfg,
-                                stack_sim_result_t *out);
+                                size_t count, const stack_plan_t *plan, const balance_config_t *cfg,
+                                const balance_stack_config_t *scfg, stack_sim_result_t *out);
 
 /* Rehearse a plan in simulation on the planner's beliefs (src/rehearse.c; no URDF inertial):
  * every object with its mass guess, its believed CoM and its mesh's uniform-density inertia moved
