@@ -103,17 +103,7 @@ void placement_pose_rpy(const placement_pose_t *pose, double rpy_rad[3]) {
 }
 
 void placement_rot_from_axis_angle(const double axis[3], double angle_rad, double rot[3][3]) {
-  double c = cos(angle_rad), s = sin(angle_rad), t = 1.0 - c;
-  double x = axis[0], y = axis[1], z = axis[2];
-  rot[0][0] = t * x * x + c;
-  rot[0][1] = t * x * y - s * z;
-  rot[0][2] = t * x * z + s * y;
-  rot[1][0] = t * x * y + s * z;
-  rot[1][1] = t * y * y + c;
-  rot[1][2] = t * y * z - s * x;
-  rot[2][0] = t * x * z - s * y;
-  rot[2][1] = t * y * z + s * x;
-  rot[2][2] = t * z * z + c;
+  cl_rot_from_axis_angle(axis, angle_rad, rot);
 }
 
 double placement_rot_angle(const double rot[3][3]) {

@@ -81,20 +81,6 @@ static void mat_mul(const double a[3][3], const double b[3][3], double out[3][3]
       out[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
 }
 
-static void axis_angle(const double axis[3], double angle, double r[3][3]) {
-  const double c = cos(angle), s = sin(angle), t = 1.0 - c;
-  const double x = axis[0], y = axis[1], z = axis[2];
-  r[0][0] = t * x * x + c;
-  r[0][1] = t * x * y - s * z;
-  r[0][2] = t * x * z + s * y;
-  r[1][0] = t * x * y + s * z;
-  r[1][1] = t * y * y + c;
-  r[1][2] = t * y * z - s * x;
-  r[2][0] = t * x * z - s * y;
-  r[2][1] = t * y * z + s * x;
-  r[2][2] = t * z * z + c;
-}
-
 /* The shortest rotation taking unit a to unit b. */
 static void rot_a_to_b(const double a[3], const double b[3], double r[3][3]) {
   const double c = cl_vec3_dot(a, b);
@@ -102,17 +88,17 @@ static void rot_a_to_b(const double a[3], const double b[3], double r[3][3]) {
   double s = sqrt(cl_vec3_dot(ax, ax));
   if (s < 1e-12) {
     if (c > 0.0) {
-      axis_angle((const double[3]){0, 0, 1}, 0.0, r);
+      cl_rot_from_axis_angle((const double[3]){0, 0, 1}, 0.0, r);
       return;
     }
     /* half turn about any axis perpendicular to a */
     double u[3], v[3];
     model_plane_basis(a, u, v);
-    axis_angle(u, CL_PI, r);
+    cl_rot_from_axis_angle(u, CL_PI, r);
     return;
   }
   for (int k = 0; k < 3; ++k) ax[k] /= s;
-  axis_angle(ax, atan2(s, c), r);
+  cl_rot_from_axis_angle(ax, atan2(s, c), r);
 }
 
 /* ---- polygons ------------------------------------------------------------------------------ */
@@ -883,7 +869,7 @@ static void beam_put_on(const ctx_t *x, const cand_t *c, size_t lv, size_t f, co
   rot_a_to_b(up->face[F].n, negm, base);
   for (unsigned y = 0; y < x->yaw_steps; ++y) {
     cand_t nc = *c;
-    axis_angle(m, 2.0 * CL_PI * y / x->yaw_steps, yawr);
+    cl_rot_from_axis_angle(m, 2.0 * CL_PI * y / x->yaw_steps, yawr);
     mat_mul((const double(*)[3])yawr, (const double(*)[3])base, nc.rot[lv]);
     nc.count = lv + 1;
     nc.obj[lv] = j;

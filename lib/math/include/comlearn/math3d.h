@@ -130,6 +130,24 @@ static inline void cl_quat_rotate(const double q[4], const double v[3], double o
   out[2] = r[2];
 }
 
+/* The rotation matrix of angle_rad about the unit axis (Rodrigues: t a a^T + c I + s [a]x, with
+ * c = cos, s = sin, t = 1 - c); axis is not normalised here. The same arithmetic as lib/placement's
+ * placement_rot_from_axis_angle, which calls it. */
+static inline void cl_rot_from_axis_angle(const double axis[3], double angle_rad,
+                                          double rot[3][3]) {
+  const double c = cos(angle_rad), s = sin(angle_rad), t = 1.0 - c;
+  const double x = axis[0], y = axis[1], z = axis[2];
+  rot[0][0] = t * x * x + c;
+  rot[0][1] = t * x * y - s * z;
+  rot[0][2] = t * x * z + s * y;
+  rot[1][0] = t * x * y + s * z;
+  rot[1][1] = t * y * y + c;
+  rot[1][2] = t * y * z - s * x;
+  rot[2][0] = t * x * z - s * y;
+  rot[2][1] = t * y * z + s * x;
+  rot[2][2] = t * z * z + c;
+}
+
 /* The rotation matrix of a unit quaternion (not normalised here): rot * v = cl_quat_rotate(q, v)
  * up to rounding. The same arithmetic as lib/model's model_quat_to_rot. */
 static inline void cl_quat_to_rot(const double q[4], double rot[3][3]) {
