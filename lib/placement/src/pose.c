@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "comlearn/math3d.h"
 #include "placement_internal.h"
 
 const char *placement_status_str(placement_status_t status) {
