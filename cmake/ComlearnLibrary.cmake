@@ -147,6 +147,8 @@ function(comlearn_add_library name)
       COMMENT "sealed archive lib${lib}.a (only the ${A_PREFIX}* exports global)"
       VERBATIM)
     add_custom_target(${lib}_sealed ALL DEPENDS ${sealed})
+    # the objects are another target's outputs: build that target first
+    add_dependencies(${lib}_sealed ${lib}_objects ${lib}_map)
     set_target_properties(${lib} PROPERTIES COMLEARN_SEALED ${sealed})
     # after install(TARGETS): the sealed archive replaces the in-tree one in the prefix
     install(FILES ${sealed} DESTINATION ${CMAKE_INSTALL_LIBDIR})
