@@ -104,6 +104,66 @@ static void json_vec(const char *key, const double *v, int n) {
   cli_json_array(stdout, v, n > 0 ? (size_t)n : 0);
 }
 
+/* The JSON arrays of the checked faces, the searches and every trial (print_json). */
+static void json_faces(const estimate_result_t *r) {
+  for (size_t i = 0; i < r->face_count; ++i) {
+    const estimate_face_t *f = &r->face[i];
+    printf("%s{", i ? ", " : "");
+    json_vec("normal_link", f->normal_link, 3);
+    printf(", \"area_m2\": ");
+    cli_json_number(stdout, f->area_m2);
+    printf(", \"contact_area_m2\": ");
+    cli_json_number(stdout, f->contact_area_m2);
+    printf(", \"regions\": %zu", f->regions);
+    printf(", \"com_margin_m\": ");
+    cli_json_number(stdout, f->com_margin_m);
+    printf(", \"stable\": %s}", f->confirmed ? "true" : "false");
+  }
+}
+
+static void json_searches(const estimate_result_t *r) {
+  for (size_t i = 0; i < r->search_count; ++i) {
+    const estimate_search_t *s = &r->search[i];
+    printf("%s{\"face\": %d, \"yaw_rad\": ", i ? ", " : "", s->face);
+    cli_json_number(stdout, s->yaw_rad);
+    printf(", ");
+    json_vec("dir_link", s->dir_link, 3);
+    printf(", \"chord_margin_m\": ");
+    cli_json_number(stdout, s->chord_margin_m);
+    printf(", \"prior_m\": ");
+    cli_json_number(stdout, s->prior_m);
+    printf(", \"range_m\": [");
+    cli_json_number(stdout, s->range_lo_m);
+    printf(", ");
+    cli_json_number(stdout, s->range_hi_m);
+    printf("], \"c_m\": ");
+    cli_json_number(stdout, s->c_m);
+    printf(", \"halfwidth_m\": ");
+    cli_json_number(stdout, s->halfwidth_m);
+    printf(", \"bias_m\": ");
+    cli_json_number(stdout, s->bias_m);
+    printf(", \"verified_margin_m\": ");
+    cli_json_number(stdout, s->verified_margin_m);
+    printf(
+        ", \"trials\": %u, \"handover_trials\": %u, \"retest_of\": %d, \"fed\": %s, "
+        "\"note\": ",
+        s->trials, s->handover_trials, s->retest_of, s->fed ? "true" : "false");
+    cli_json_string(stdout, s->note, 0);
+    printf("}");
+  }
+}
+
+static void json_trials(const estimate_result_t *r) {
+  for (size_t i = 0; i < r->trial_count; ++i) {
+    const estimate_trial_t *t = &r->trial[i];
+    printf("%s{\"kind\": \"%s\", \"face\": %d, \"search\": %d, \"x_m\": ", i ? ", " : "",
+           t->kind == ESTIMATE_TRIAL_STABLE ? "stable" : "edge", t->face, t->search);
+    cli_json_number(stdout, t->x_m);
+    printf(", \"outcome\": \"%s\", \"regime\": \"%s\", \"flagged\": %s}", outcome_name(t->outcome),
+           regime_name(t->regime), t->flagged ? "true" : "false");
+  }
+}
+
 static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res_m,
                        const char *backend, const estimate_result_t *r, double wall_s,
                        const model_mass_t *truth) {
@@ -145,58 +205,11 @@ static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res
   printf(", \"note\": ");
   cli_json_string(stdout, r->msg, 0);
   printf(", \"faces\": [");
-  for (size_t i = 0; i < r->face_count; ++i) {
-    const estimate_face_t *f = &r->face[i];
-    printf("%s{", i ? ", " : "");
-    json_vec("normal_link", f->normal_link, 3);
-    printf(", \"area_m2\": ");
-    cli_json_number(stdout, f->area_m2);
-    printf(", \"contact_area_m2\": ");
-    cli_json_number(stdout, f->contact_area_m2);
-    printf(", \"regions\": %zu", f->regions);
-    printf(", \"com_margin_m\": ");
-    cli_json_number(stdout, f->com_margin_m);
-    printf(", \"stable\": %s}", f->confirmed ? "true" : "false");
-  }
+  json_faces(r);
   printf("], \"searches\": [");
-  for (size_t i = 0; i < r->search_count; ++i) {
-    const estimate_search_t *s = &r->search[i];
-    printf("%s{\"face\": %d, \"yaw_rad\": ", i ? ", " : "", s->face);
-    cli_json_number(stdout, s->yaw_rad);
-    printf(", ");
-    json_vec("dir_link", s->dir_link, 3);
-    printf(", \"chord_margin_m\": ");
-    cli_json_number(stdout, s->chord_margin_m);
-    printf(", \"prior_m\": ");
-    cli_json_number(stdout, s->prior_m);
-    printf(", \"range_m\": [");
-    cli_json_number(stdout, s->range_lo_m);
-    printf(", ");
-    cli_json_number(stdout, s->range_hi_m);
-    printf("], \"c_m\": ");
-    cli_json_number(stdout, s->c_m);
-    printf(", \"halfwidth_m\": ");
-    cli_json_number(stdout, s->halfwidth_m);
-    printf(", \"bias_m\": ");
-    cli_json_number(stdout, s->bias_m);
-    printf(", \"verified_margin_m\": ");
-    cli_json_number(stdout, s->verified_margin_m);
-    printf(
-        ", \"trials\": %u, \"handover_trials\": %u, \"retest_of\": %d, \"fed\": %s, "
-        "\"note\": ",
-        s->trials, s->handover_trials, s->retest_of, s->fed ? "true" : "false");
-    cli_json_string(stdout, s->note, 0);
-    printf("}");
-  }
+  json_searches(r);
   printf("], \"trial_log\": [");
-  for (size_t i = 0; i < r->trial_count; ++i) {
-    const estimate_trial_t *t = &r->trial[i];
-    printf("%s{\"kind\": \"%s\", \"face\": %d, \"search\": %d, \"x_m\": ", i ? ", " : "",
-           t->kind == ESTIMATE_TRIAL_STABLE ? "stable" : "edge", t->face, t->search);
-    cli_json_number(stdout, t->x_m);
-    printf(", \"outcome\": \"%s\", \"regime\": \"%s\", \"flagged\": %s}", outcome_name(t->outcome),
-           regime_name(t->regime), t->flagged ? "true" : "false");
-  }
+  json_trials(r);
   printf("]}\n");
 }
 
