@@ -393,20 +393,17 @@ static void publish_trial(estimate_lcm_t *l, const estimate_trial_request_t *req
     logf_(l, "publish %s failed", COMLEARN_MSG_CHANNEL_COM_TRIAL);
 }
 
-/* One attempt of a trial. 0 ok (reply filled), 1 retryable failure, -1 fatal (err filled). */
-static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
-                         estimate_trial_reply_t *reply, char *err, size_t err_size) {
-  placement_grasp_t tp;
-  if (plan_trial(l, &req->release, &tp, err, err_size) != 0) return -1;
-  /* 1. the object into the gripper */
-  int r = sim_control(l, l->loaded ? SC(ACTION_RESET) : SC(ACTION_LOAD), (int)tp.side,
-                      tp.object_in_tcp.position_m, tp.object_in_tcp.orientation_wxyz,
-                      tp.grip_width_m, err, err_size);
+/* Step 1 of a trial: the object into the gripper (SIM_CONTROL LOAD, or RESET once loaded; a
+ * simulator that forgot the object loads it again). 0 ok, 1 retryable, -1 fatal (err filled). */
+static int trial_load(estimate_lcm_t *l, const placement_grasp_t *tp, char *err, size_t err_size) {
+  int r = sim_control(l, l->loaded ? SC(ACTION_RESET) : SC(ACTION_LOAD), (int)tp->side,
+                      tp->object_in_tcp.position_m, tp->object_in_tcp.orientation_wxyz,
+                      tp->grip_width_m, err, err_size);
   if (r == OS(SIM_CONTROL_ERR_UNKNOWN_ID)) { /* the simulator restarted: load again */
     logf_(l, "the simulator does not know %s (restarted?); loading it again", l->object_id);
     l->loaded = 0;
-    r = sim_control(l, SC(ACTION_LOAD), (int)tp.side, tp.object_in_tcp.position_m,
-                    tp.object_in_tcp.orientation_wxyz, tp.grip_width_m, err, err_size);
+    r = sim_control(l, SC(ACTION_LOAD), (int)tp->side, tp->object_in_tcp.position_m,
+                    tp->object_in_tcp.orientation_wxyz, tp->grip_width_m, err, err_size);
   }
   if (r < 0) return 1;
   if (r != OS(SIM_CONTROL_APPLIED)) {
@@ -418,13 +415,18 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
     return -1;
   }
   l->loaded = 1;
+  return 0;
+}
+
+/* Steps 2-3: pre-place, place, release; reply->released is the held object as perceived at
+ * PLACE, before the fingers open. 0 ok, 1 retryable, -1 fatal. */
+static int trial_place(estimate_lcm_t *l, const placement_grasp_t *tp,
+                       estimate_trial_reply_t *reply, char *err, size_t err_size) {
   /* A fresh status after the reset, for the plan's start. The plan was made from the status
    * before; the arm did not move in between (a reset does not move it). */
-  /* 2-3. pre-place, place, release */
   for (int k = 0; k <= PLACEMENT_WAYPOINT_RELEASE; ++k) {
-    if (send_waypoint(l, (int)tp.side, &tp.plan.waypoints[k], err, err_size) != 0) return 1;
+    if (send_waypoint(l, (int)tp->side, &tp->plan.waypoints[k], err, err_size) != 0) return 1;
     if (k == PLACEMENT_WAYPOINT_PLACE) {
-      /* the released pose: the held object as perceived at PLACE, before the fingers open */
       const int64_t t = l->st.utime;
       if (wait_for(l, os_after, &t, l->cfg.ack_timeout_s) != 1) {
         snprintf(err, err_size, "no OBJECT_STATE at the place pose");
@@ -443,7 +445,13 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
              (long long)l->st.utime);
     return -1;
   }
-  /* 4. the outcome, on the controller's clock */
+  return 0;
+}
+
+/* Step 4: the outcome, on the controller's clock: reply->settled and reply->outcome. 0 ok, 1
+ * retryable. */
+static int trial_outcome(estimate_lcm_t *l, estimate_trial_reply_t *reply, char *err,
+                         size_t err_size) {
   balance_config_t bc;
   balance_config_default(&bc);
   outcome_arg_t oa = {
@@ -479,6 +487,18 @@ static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
             : ESTIMATE_TIPS;
   } else
     reply->outcome = ESTIMATE_INVALID;
+  return 0;
+}
+
+/* One attempt of a trial. 0 ok (reply filled), 1 retryable failure, -1 fatal (err filled). */
+static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
+                         estimate_trial_reply_t *reply, char *err, size_t err_size) {
+  placement_grasp_t tp;
+  if (plan_trial(l, &req->release, &tp, err, err_size) != 0) return -1;
+  int r = trial_load(l, &tp, err, err_size);
+  if (r == 0) r = trial_place(l, &tp, reply, err, err_size);
+  if (r == 0) r = trial_outcome(l, reply, err, err_size);
+  if (r != 0) return r;
   /* 5. retreat (the object is no longer held) */
   if (send_waypoint(l, (int)tp.side, &tp.plan.waypoints[PLACEMENT_WAYPOINT_RETREAT], err,
                     err_size) != 0)
@@ -525,22 +545,10 @@ void estimate_lcm_config_default(estimate_lcm_config_t *cfg) {
   cfg->publish_records = 1;
 }
 
-int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
-                      estimate_backend_t *backend, char *err, size_t err_size) {
-  if (out) *out = NULL;
-  if (!cfg || !out || !backend || !cfg->urdf_path || !cfg->mesh_link || !cfg->yumi_urdf ||
-      cfg->mesh_link->vertex_count == 0 || !(cfg->ack_timeout_s > 0) ||
-      !(cfg->motion_timeout_s > 0) || !(cfg->outcome_timeout_s > 0) ||
-      !(cfg->startup_timeout_s > 0) || cfg->max_resends < 0 || cfg->max_trial_attempts < 1) {
-    snprintf(err, err_size, "estimate_lcm_open: bad argument");
-    return 2;
-  }
-  memset(backend, 0, sizeof *backend);
-  estimate_lcm_t *l = calloc(1, sizeof *l);
-  if (!l) {
-    snprintf(err, err_size, "out of memory");
-    return 1;
-  }
+/* The backend's names: its copy of the settings, the LCM URL, the URDF's absolute path, the
+ * object id (the option, or the URDF's file name without .urdf), the policy label, the run id,
+ * and the placement plan settings. */
+static void lcm_identity(estimate_lcm_t *l, const estimate_lcm_config_t *cfg) {
   l->cfg = *cfg;
   snprintf(l->url, sizeof l->url, "%s", cfg->lcm_url ? cfg->lcm_url : COMLEARN_MSG_LCM_URL_DEFAULT);
   char *abs = realpath(cfg->urdf_path, NULL);
@@ -563,16 +571,11 @@ int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
   /* the estimator's trials are 1 um pre-penetrated; plan the same touching depth */
   l->plan_cfg.touch_depth_m = 1e-6;
   model_rot_to_quat((const double(*)[3])l->plan_cfg.block_in_base.rot, l->bib_wxyz);
-  placement_error_t pe = {{0}};
-  placement_status_t ps =
-      placement_arm_load_yumi(&l->arm[0], cfg->yumi_urdf, PLACEMENT_ARM_LEFT, &pe);
-  if (ps == PLACEMENT_OK)
-    ps = placement_arm_load_yumi(&l->arm[1], cfg->yumi_urdf, PLACEMENT_ARM_RIGHT, &pe);
-  if (ps != PLACEMENT_OK) {
-    snprintf(err, err_size, "%s: %s %s", cfg->yumi_urdf, placement_status_str(ps), pe.msg);
-    free(l);
-    return 1;
-  }
+}
+
+/* LCM up, both status channels subscribed and heard from within the startup timeout. 0 ok; -1
+ * with err filled and l freed. */
+static int lcm_connect(estimate_lcm_t *l, char *err, size_t err_size) {
   l->lcm = lcm_create(l->url);
   if (!l->lcm) {
     snprintf(err, err_size,
@@ -580,7 +583,7 @@ int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
              "`ip route add 224.0.0.0/4 dev lo` as root, see scripts/setup.sh)",
              l->url);
     free(l);
-    return 1;
+    return -1;
   }
   comlearn_msg_sub_config_t c1 = {.type = comlearn_yumi_status_t_get_type_info(),
                                   .on_message = on_status,
@@ -596,16 +599,47 @@ int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
           COMLEARN_MSG_OK) {
     snprintf(err, err_size, "subscribing on %s failed", l->url);
     estimate_lcm_close(l);
-    return 1;
+    return -1;
   }
-  if (wait_for(l, have_both, NULL, cfg->startup_timeout_s) != 1) {
+  if (wait_for(l, have_both, NULL, l->cfg.startup_timeout_s) != 1) {
     snprintf(err, err_size,
              "no YUMI_STATUS / OBJECT_STATE on %s within %.1f s: is comlearn-sim "
              "(or a YuMi driver) running there? (--spawn-sim starts one)",
-             l->url, cfg->startup_timeout_s);
+             l->url, l->cfg.startup_timeout_s);
     estimate_lcm_close(l);
+    return -1;
+  }
+  return 0;
+}
+
+int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
+                      estimate_backend_t *backend, char *err, size_t err_size) {
+  if (out) *out = NULL;
+  if (!cfg || !out || !backend || !cfg->urdf_path || !cfg->mesh_link || !cfg->yumi_urdf ||
+      cfg->mesh_link->vertex_count == 0 || !(cfg->ack_timeout_s > 0) ||
+      !(cfg->motion_timeout_s > 0) || !(cfg->outcome_timeout_s > 0) ||
+      !(cfg->startup_timeout_s > 0) || cfg->max_resends < 0 || cfg->max_trial_attempts < 1) {
+    snprintf(err, err_size, "estimate_lcm_open: bad argument");
+    return 2;
+  }
+  memset(backend, 0, sizeof *backend);
+  estimate_lcm_t *l = calloc(1, sizeof *l);
+  if (!l) {
+    snprintf(err, err_size, "out of memory");
     return 1;
   }
+  lcm_identity(l, cfg);
+  placement_error_t pe = {{0}};
+  placement_status_t ps =
+      placement_arm_load_yumi(&l->arm[0], cfg->yumi_urdf, PLACEMENT_ARM_LEFT, &pe);
+  if (ps == PLACEMENT_OK)
+    ps = placement_arm_load_yumi(&l->arm[1], cfg->yumi_urdf, PLACEMENT_ARM_RIGHT, &pe);
+  if (ps != PLACEMENT_OK) {
+    snprintf(err, err_size, "%s: %s %s", cfg->yumi_urdf, placement_status_str(ps), pe.msg);
+    free(l);
+    return 1;
+  }
+  if (lcm_connect(l, err, err_size) != 0) return 1; /* l freed */
   l->seq = l->st.last_accepted_seq > 0 ? l->st.last_accepted_seq : 0;
   l->sc_seq = l->os.sim_control_seq > 0 ? l->os.sim_control_seq : 0;
   backend->ctx = l;
