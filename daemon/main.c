@@ -158,8 +158,8 @@ static int drop(daemon_t *d) {
   return cl_rng_uniform(&d->drop_rng) < d->drop_rate;
 }
 
-/* Raw handlers: the drop dice first (a dropped message never arrived), then comlearn_msg_decode's schema
- * check, which counts every buffer that does not decode. */
+/* Raw handlers: the drop dice first (a dropped message never arrived), then comlearn_msg_decode's
+ * schema check, which counts every buffer that does not decode. */
 /* One incoming buffer: 1 when it arrived (not dropped) and decoded into msg, else 0 (counted). */
 static int receive(daemon_t *d, const lcm_recv_buf_t *rbuf, const char *channel,
                    const lcm_type_info_t *type, void *msg) {

@@ -137,8 +137,8 @@ static int object_pose(sim_t *s, placement_pose_t *out, int *moving) {
         return 1;
       }
       /* Played back on the sim clock: lib/balance decided the whole trial at release (its result
-     * is the authority, bit-identical to `comlearn estimate --direct`); in between, the pose is
-     * interpolated from the released to the final one. */
+       * is the authority, bit-identical to `comlearn estimate --direct`); in between, the pose is
+       * interpolated from the released to the final one. */
       const double t = (double)(s->utime - s->trial_t0) / (double)(s->trial_t1 - s->trial_t0);
       model_pose_t a, b;
       pose_to_balance(&s->rel_world, &a);
@@ -571,8 +571,8 @@ void sim_object_fill(sim_t *s, comlearn_object_state_t *os) {
         os->on_base = 1;
       } else {
         /* After the trial: STAYS rests on B; TIPS has gone over the edge (B's world has no floor,
-       * so it is reported off B and not at rest); SLIDES / INVALID: on B while the CoM is over
-       * B's top. */
+         * so it is reported off B and not at rest); SLIDES / INVALID: on B while the CoM is over
+         * B's top. */
         placement_pose_t blk;
         pose_from_balance(&s->trial.settled, &blk);
         double com[3];

@@ -862,7 +862,8 @@ START_TEST(drop_rate_survives) {
   /* About half of what is sent is dropped. (Not "fewer received than sent" in the loop above:
    * when the statuses are dropped instead, every command of a short run can arrive.) Forty more
    * commands: the received count must grow by 8..32 (binomial(40, 0.5) is outside that with
-   * probability 1e-4); the status that reports it can itself be dropped, so wait for a later one. */
+   * probability 1e-4); the status that reports it can itself be dropped, so wait for a later one.
+   */
   const int64_t before = f.st.messages_received;
   for (int i = 0; i < 40; i++) {
     send_cmd(&f, ++seq, CMD(MODE_HOLD), (const double(*)[7])q, w, 1.0, f.st.utime + 60000000);

@@ -147,7 +147,8 @@ END_TEST
 
 /* A prior off the grid of the range bounds (e.g. a mesh CoM): the grid x = prior + k res then
  * stops short of range_lo / range_hi by up to a resolution. A c in that strip, inside the range,
- * must still be bracketed (bench_qlearn, mesh-CoM rows: 2 of 1000 runs came back QLEARN_E_RANGE). */
+ * must still be bracketed (bench_qlearn, mesh-CoM rows: 2 of 1000 runs came back QLEARN_E_RANGE).
+ */
 static void check_bracket(qlearn_policy_kind_t kind, const qlearn_policy_config_t *cfg, double c) {
   static qlearn_paper_t p;
   const int n = walk(&p, cfg, c, NULL, 0);

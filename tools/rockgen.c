@@ -45,7 +45,7 @@ static double radius_at(const rockgen_spec_t *spec, const lobes_t *lobes, const 
   return f / sqrt(q);
 }
 
-/* ---- geodesic sphere -------------------------------------------------------------------------- */
+/* ---- geodesic sphere ------------------------------------------------------------------------- */
 
 static const double kGolden = 1.6180339887498948482;
 
@@ -285,7 +285,7 @@ static model_status_t snap_to_rims(const surface_t *s, double (*d)[3], size_t nv
   return MODEL_OK;
 }
 
-/* ---- the rock --------------------------------------------------------------------------------- */
+/* ---- the rock -------------------------------------------------------------------------------- */
 
 static int spec_valid(const rockgen_spec_t *spec) {
   if (spec == NULL || spec->frequency == 0 || spec->frequency > 64) return 0;

@@ -84,9 +84,9 @@ const rockgen_spec_t *rockgen_spec_get(size_t index);
 enum { ROCKGEN_RANDOM_MAX_ATTEMPTS = 32 };
 
 /* Acceptance: the mesh builds (closed by construction), its convex hull builds (model_mesh_hull;
- * quickhull fails on ~2 % of these shapes, docs/model.md), its largest planar patch (area >= 1 cm^2)
- * is the bottom face with normal (0, 0, -1), that face is >= ROCKGEN_RANDOM_MIN_WIDTH_M wide, and
- * both the uniform and the uneven CoM project >= ROCKGEN_RANDOM_MIN_MARGIN_M inside its support
+ * quickhull fails on ~2 % of these shapes, docs/model.md), its largest planar patch (area >= 1
+ * cm^2) is the bottom face with normal (0, 0, -1), that face is >= ROCKGEN_RANDOM_MIN_WIDTH_M wide,
+ * and both the uniform and the uneven CoM project >= ROCKGEN_RANDOM_MIN_MARGIN_M inside its support
  * polygon (the rock rests upright for either material). */
 #define ROCKGEN_RANDOM_MIN_MARGIN_M 0.005
 #define ROCKGEN_RANDOM_MIN_WIDTH_M 0.020
@@ -136,7 +136,8 @@ typedef struct {
 
 /* Coplanarity: every vertex within ROCKGEN_PLANE_TOL_M of the plane and every normal within
  * ROCKGEN_PLANE_COS of the patch's first triangle's. The tolerance covers float32 rounding of
- * vertices (~4e-9 m at 5 cm) and stays far below how much a curved 3 mm triangle bends (~1e-4 m). */
+ * vertices (~4e-9 m at 5 cm) and stays far below how much a curved 3 mm triangle bends (~1e-4 m).
+ */
 #define ROCKGEN_PLANE_TOL_M 1e-6
 #define ROCKGEN_PLANE_COS 0.99999999 /* ~1.4e-4 rad */
 

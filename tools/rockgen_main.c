@@ -38,7 +38,7 @@ static int make_dir(const char *path) {
   return objfile_mkdir(path) == 0 ? 0 : fail("cannot create", path);
 }
 
-/* ---- writers ---------------------------------------------------------------------------------- */
+/* ---- writers --------------------------------------------------------------------------------- */
 
 static int write_stl(const model_mesh_t *m, const char *path, const char *name) {
   char text[81];
@@ -207,7 +207,7 @@ static int generate_random(const char *out_dir, uint64_t seed, uint64_t count) {
   return fflush(stdout) == 0 ? 0 : 1;
 }
 
-/* ---- the documentation table ------------------------------------------------------------------ */
+/* ---- the documentation table ----------------------------------------------------------------- */
 
 static void mm3(const double v[3], char *buf, size_t n) {
   snprintf(buf, n, "(%.2f, %.2f, %.2f)", 1e3 * v[0], 1e3 * v[1], 1e3 * v[2]);
@@ -335,7 +335,7 @@ static int table(const char *dir) {
   return table_base(dir);
 }
 
-/* ---- command line ----------------------------------------------------------------------------- */
+/* ---- command line ---------------------------------------------------------------------------- */
 
 static void usage(FILE *f) {
   fprintf(

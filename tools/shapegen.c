@@ -51,7 +51,7 @@ model_status_t shapegen_spec_draw(shapegen_family_t family, uint64_t seed, unsig
   return MODEL_OK;
 }
 
-/* ---- the mesh ---------------------------------------------------------------------------------- */
+/* ---- the mesh -------------------------------------------------------------------------------- */
 
 static model_status_t build_from_mesh(const model_mesh_t *m, sg_build_t *b) {
   for (size_t i = 0; i < m->vertex_count; ++i) {
@@ -104,7 +104,7 @@ model_status_t shapegen_shape_build(const shapegen_spec_t *spec, model_mesh_t *o
   return sg_build_finish(&b, out);
 }
 
-/* ---- the dense region ---------------------------------------------------------------------------- */
+/* ---- the dense region ------------------------------------------------------------------------ */
 
 enum { REGION_NORMAL_TRIES = 32, REGION_SCAN = 32, REGION_BISECT = 48 };
 static const double kRegionMinMax_m = 0.0022;
@@ -179,7 +179,7 @@ model_status_t shapegen_mass(const shapegen_spec_t *spec, const model_mesh_t *me
   return MODEL_OK;
 }
 
-/* ---- resting margins ---------------------------------------------------------------------------- */
+/* ---- resting margins ------------------------------------------------------------------------- */
 
 model_status_t shapegen_rest_margin(const model_mesh_t *mesh, const model_mesh_t *hull,
                                     const double com_m[3], double *margin_m,
@@ -244,7 +244,7 @@ model_status_t shapegen_rest_margin(const model_mesh_t *mesh, const model_mesh_t
   return MODEL_OK;
 }
 
-/* ---- acceptance ---------------------------------------------------------------------------------- */
+/* ---- acceptance ------------------------------------------------------------------------------ */
 
 /* Statuses that mean "this draw is not a valid object" rather than a failure. */
 static int rejects(model_status_t st) {

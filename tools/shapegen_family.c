@@ -11,7 +11,7 @@
 #define MM 1e-3
 #define DEG (CL_PI / 180.0)
 
-/* ---- materials -------------------------------------------------------------------------------- */
+/* ---- materials ------------------------------------------------------------------------------- */
 
 typedef struct {
   const char *name;
@@ -56,7 +56,7 @@ static void set_variant(shapegen_spec_t *out, const char *text) {
   snprintf(out->variant, sizeof out->variant, "%s", text);
 }
 
-/* ---- boxes ------------------------------------------------------------------------------------ */
+/* ---- boxes ----------------------------------------------------------------------------------- */
 
 static int draw_box(uint64_t *st, shapegen_spec_t *out) {
   out->shape = SHAPEGEN_SHAPE_BOX;
@@ -81,7 +81,7 @@ static int draw_domino(uint64_t *st, shapegen_spec_t *out) {
   return 0;
 }
 
-/* ---- revolve profiles -------------------------------------------------------------------------- */
+/* ---- revolve profiles ------------------------------------------------------------------------ */
 
 static int profile_add(shapegen_revolve_t *rev, double r, double z) {
   if (rev->point_count >= SHAPEGEN_MAX_PROFILE) return -1;
@@ -302,7 +302,7 @@ static int draw_mug(uint64_t *st, shapegen_spec_t *out) {
   return 0;
 }
 
-/* ---- slabs -------------------------------------------------------------------------------------- */
+/* ---- slabs ----------------------------------------------------------------------------------- */
 
 static int cmp_double(const void *a, const void *b) {
   const double x = *(const double *)a, y = *(const double *)b;
@@ -339,7 +339,8 @@ static int lines_make(double half, double *req, size_t nreq, double coarse, doub
   return 0;
 }
 
-/* The required lines of the feet along axis a (square: edges and slope ends; round: a fine comb). */
+/* The required lines of the feet along axis a (square: edges and slope ends; round: a fine comb).
+ */
 static size_t feet_lines(const shapegen_slab_t *s, int a, double fine, double *req) {
   size_t n = 0;
   for (size_t f = 0; f < s->foot_count; ++f) {
@@ -488,7 +489,7 @@ static int draw_tilted(uint64_t *st, shapegen_spec_t *out) {
   return 0;
 }
 
-/* ---- rocks ------------------------------------------------------------------------------------ */
+/* ---- rocks ----------------------------------------------------------------------------------- */
 
 /* Semi-axes a >= b >= c drawn into the rock spec; returns their mean. */
 static double rock_axes(uint64_t *st, rockgen_spec_t *r, double a_lo, double a_hi, double c_lo) {

@@ -407,7 +407,7 @@ static double pct_of(const double *v, size_t n, double p) {
   return v[r - 1];
 }
 
-/* ---- the table (markdown) --------------------------------------------------------------------- */
+/* ---- the table (markdown) -------------------------------------------------------------------- */
 
 static void md_mm(FILE *f, double v_m, int digits) {
   if (isfinite(v_m))
@@ -565,7 +565,7 @@ static void write_table(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, s
   if (o->seeds > 0) table_noisy(f, o, rocks, runs, nruns, scratch);
 }
 
-/* ---- JSON --------------------------------------------------------------------------------------- */
+/* ---- JSON ------------------------------------------------------------------------------------ */
 
 static void js_vec(FILE *f, const char *key, const double v[3]) {
   fprintf(f, "\"%s\": ", key);
@@ -762,7 +762,7 @@ static void write_json(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks, si
   fputs("\n]}\n", f);
 }
 
-/* ---- Fig. 2 ------------------------------------------------------------------------------------ */
+/* ---- Fig. 2 ---------------------------------------------------------------------------------- */
 
 static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *rock, size_t ri,
                       const exp_run_t *runs, size_t nruns) {
@@ -826,7 +826,7 @@ static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *r
   return rc;
 }
 
-/* ---- the command ------------------------------------------------------------------------------- */
+/* ---- the command ----------------------------------------------------------------------------- */
 
 static int write_file(const char *dir, const char *name, int json, const exp_opts_t *o,
                       const exp_rock_t *rocks, size_t nrocks, const exp_run_t *runs, size_t nruns,

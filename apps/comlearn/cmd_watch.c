@@ -1,8 +1,8 @@
 /*
  * cmd_watch.c - `comlearn watch`: subscribes COM_TRIAL and COM_ESTIMATE (counted decoding,
- * comlearn_msg_subscribe) and prints a live table of the trials and the running / final estimate, or one
- * JSON object per record (--json). It reads only LCM traffic, so it works the same on a running
- * `comlearn estimate` and on an lcm-logplayer replay of a recorded one (docs/replay.md).
+ * comlearn_msg_subscribe) and prints a live table of the trials and the running / final estimate,
+ * or one JSON object per record (--json). It reads only LCM traffic, so it works the same on a
+ * running `comlearn estimate` and on an lcm-logplayer replay of a recorded one (docs/replay.md).
  */
 #define _GNU_SOURCE
 #include "cmd_watch.h"

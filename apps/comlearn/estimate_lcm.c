@@ -690,7 +690,7 @@ void estimate_lcm_close(estimate_lcm_t *l) {
   free(l);
 }
 
-/* ---- --spawn-sim ------------------------------------------------------------------------------ */
+/* ---- --spawn-sim ----------------------------------------------------------------------------- */
 
 pid_t estimate_lcm_sim_spawn(const char *exe, const char *url, char *err, size_t err_size) {
   if (!exe || !url) {

@@ -14,10 +14,10 @@
 
 /* A side view (looking along +y: x right, z up) of meshes_link[i] at poses[i] (world, SI), with
  * B's top, each object's believed CoM (com_link_m[i], link frame; the array may be NULL) as a
- * marker, and a title (may be NULL); 1 <= count <= STACK_MAX_OBJECTS. Writes the SVG file at path (PATH.tmp, then renamed; never
- * a partial file at path). All pointers are borrowed. Allocates a working set, freed before it
- * returns. Returns 0, or -1 with errno set (EINVAL for bad input, ENOMEM, ENAMETOOLONG, or the
- * errno of fopen / fprintf / fclose / rename). */
+ * marker, and a title (may be NULL); 1 <= count <= STACK_MAX_OBJECTS. Writes the SVG file at path
+ * (PATH.tmp, then renamed; never a partial file at path). All pointers are borrowed. Allocates a
+ * working set, freed before it returns. Returns 0, or -1 with errno set (EINVAL for bad input,
+ * ENOMEM, ENAMETOOLONG, or the errno of fopen / fprintf / fclose / rename). */
 int stack_svg_write(const char *path, const model_mesh_t *const *meshes_link,
                     const model_pose_t *poses, const double (*com_link_m)[3], size_t count,
                     const char *title);

@@ -9,18 +9,18 @@
  * stderr and drop a buffer they cannot decode, so nobody can count it; and LCM 1.3.1's generated
  * decoder trusts a string's length prefix (-1 crashes it, a length up to 2^31-1 is allocated
  * before the decode fails and leaks unless the caller cleans up, a missing NUL leaves an
- * unterminated string). comlearn_msg_decode() first walks the buffer against the type's schema (from
- * the lcm-gen typeinfo, comlearn_<type>_get_type_info()) and only hands it to the generated
+ * unterminated string). comlearn_msg_decode() first walks the buffer against the type's schema
+ * (from the lcm-gen typeinfo, comlearn_<type>_get_type_info()) and only hands it to the generated
  * decoder when every length is in bounds, every string has exactly one NUL, at its end, and the
  * buffer ends exactly where the message does. Supported schemas: primitive fields, strings and
  * fixed-size arrays of them (all comlearn types). Nested types and variable-length arrays are
  * refused with COMLEARN_MSG_E_UNSUPPORTED.
  *
  * Memory: comlearn_msg_decode() allocates what the generated decoder allocates (the strings of a
- * message), released by the type's decode_cleanup. comlearn_msg_subscribe() allocates one subscription
- * (with one scratch message of its type) released by comlearn_msg_unsubscribe(). comlearn_msg_check() allocates
- * nothing for types whose C struct is at most 4 KiB (all comlearn types; larger ones need one
- * temporary block). Nothing prints.
+ * message), released by the type's decode_cleanup. comlearn_msg_subscribe() allocates one
+ * subscription (with one scratch message of its type) released by comlearn_msg_unsubscribe().
+ * comlearn_msg_check() allocates nothing for types whose C struct is at most 4 KiB (all comlearn
+ * types; larger ones need one temporary block). Nothing prints.
  *
  * Thread safety: the functions touch only their arguments. A subscription's handler runs, and
  * its stats are written, in the thread that calls lcm_handle() / lcm_handle_timeout() on that
@@ -82,8 +82,8 @@ typedef struct {
   uint64_t rejected_fingerprint; /* COMLEARN_MSG_E_FINGERPRINT: another type on this channel */
   uint64_t rejected_truncated;   /* COMLEARN_MSG_E_TRUNCATED */
   uint64_t rejected_malformed;   /* COMLEARN_MSG_E_MALFORMED: garbage that passed the fingerprint */
-  uint64_t
-      failed; /* any other error (COMLEARN_MSG_E_NOMEM, COMLEARN_MSG_E_ARG, COMLEARN_MSG_E_UNSUPPORTED) */
+  uint64_t failed;               /* any other error (COMLEARN_MSG_E_NOMEM, COMLEARN_MSG_E_ARG,
+                                    COMLEARN_MSG_E_UNSUPPORTED) */
 } comlearn_msg_stats_t;
 
 /* Sum of the three rejected_* counters: the buffers that could not be decoded. NULL gives 0. */
@@ -92,17 +92,17 @@ uint64_t comlearn_msg_stats_rejected(const comlearn_msg_stats_t *stats);
 /* Check that buf[0..len) holds exactly one well-formed message of `type` (for example
  * comlearn_yumi_command_t_get_type_info()). Reads only buf[0..len); see Memory above.
  * Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG (type NULL, buf NULL with len > 0, len > INT_MAX),
- * COMLEARN_MSG_E_TRUNCATED (includes len < 8), COMLEARN_MSG_E_FINGERPRINT, COMLEARN_MSG_E_MALFORMED, COMLEARN_MSG_E_UNSUPPORTED or
- * COMLEARN_MSG_E_NOMEM. */
+ * COMLEARN_MSG_E_TRUNCATED (includes len < 8), COMLEARN_MSG_E_FINGERPRINT,
+ * COMLEARN_MSG_E_MALFORMED, COMLEARN_MSG_E_UNSUPPORTED or COMLEARN_MSG_E_NOMEM. */
 comlearn_msg_status_t comlearn_msg_check(const lcm_type_info_t *type, const void *buf, size_t len);
 
-/* Check buf[0..len) as comlearn_msg_check() does, then decode it into *msg, which must point to a struct
- * of `type` (e.g. a comlearn_yumi_command_t). *msg is overwritten without being released first.
- * On COMLEARN_MSG_OK the caller owns the strings inside *msg and releases them with the type's cleanup
- * (comlearn_yumi_command_t_decode_cleanup(&m), or type->decode_cleanup(msg)). On an error, *msg
- * is all zero and owns nothing (the cleanup is still safe to call).
- * stats (may be NULL): `received` and exactly one other counter are incremented.
- * Returns COMLEARN_MSG_OK or a comlearn_msg_check() error, or COMLEARN_MSG_E_NOMEM. May allocate (the strings). */
+/* Check buf[0..len) as comlearn_msg_check() does, then decode it into *msg, which must point to a
+ * struct of `type` (e.g. a comlearn_yumi_command_t). *msg is overwritten without being released
+ * first. On COMLEARN_MSG_OK the caller owns the strings inside *msg and releases them with the
+ * type's cleanup (comlearn_yumi_command_t_decode_cleanup(&m), or type->decode_cleanup(msg)). On an
+ * error, *msg is all zero and owns nothing (the cleanup is still safe to call). stats (may be
+ * NULL): `received` and exactly one other counter are incremented. Returns COMLEARN_MSG_OK or a
+ * comlearn_msg_check() error, or COMLEARN_MSG_E_NOMEM. May allocate (the strings). */
 comlearn_msg_status_t comlearn_msg_decode(const lcm_type_info_t *type, const void *buf, size_t len,
                                           void *msg, comlearn_msg_stats_t *stats);
 
@@ -112,13 +112,13 @@ comlearn_msg_status_t comlearn_msg_decode(const lcm_type_info_t *type, const voi
 typedef void (*comlearn_msg_handler_t)(const lcm_recv_buf_t *rbuf, const char *channel,
                                        const void *msg, void *user);
 
-/* Called with each rejected buffer and the reason (a negative comlearn_msg_status_t), after the stats
- * were updated. rbuf->data holds the raw bytes. For logging or a status text; may be NULL. */
+/* Called with each rejected buffer and the reason (a negative comlearn_msg_status_t), after the
+ * stats were updated. rbuf->data holds the raw bytes. For logging or a status text; may be NULL. */
 typedef void (*comlearn_msg_reject_handler_t)(const lcm_recv_buf_t *rbuf, const char *channel,
                                               comlearn_msg_status_t reason, void *user);
 
-/* What comlearn_msg_subscribe() needs besides the channel. Caller-owned; copied by comlearn_msg_subscribe(), so it
- * may live on the stack. */
+/* What comlearn_msg_subscribe() needs besides the channel. Caller-owned; copied by
+ * comlearn_msg_subscribe(), so it may live on the stack. */
 typedef struct {
   const lcm_type_info_t *type;       /* e.g. comlearn_yumi_status_t_get_type_info(); required */
   comlearn_msg_handler_t on_message; /* required */
@@ -130,26 +130,28 @@ typedef struct {
 /* Opaque subscription handle. */
 typedef struct comlearn_msg_subscription comlearn_msg_subscription_t;
 
-/* Subscribe to `channel` (an LCM channel regex, e.g. COMLEARN_MSG_CHANNEL_YUMI_STATUS) on `lcm`. Every
- * buffer received goes through comlearn_msg_decode(): a decoded message goes to cfg->on_message, a
- * rejected one is counted in cfg->stats and goes to cfg->on_reject; nothing is printed, no buffer
- * crashes the process. Handlers run inside lcm_handle() on the calling thread.
- * On COMLEARN_MSG_OK, *out is the new subscription (owned by the caller until comlearn_msg_unsubscribe()). On an
- * error, *out is NULL. Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG (lcm, channel, cfg, type, on_message or out
- * NULL, channel empty), COMLEARN_MSG_E_UNSUPPORTED, COMLEARN_MSG_E_NOMEM or COMLEARN_MSG_E_LCM. Allocates. */
+/* Subscribe to `channel` (an LCM channel regex, e.g. COMLEARN_MSG_CHANNEL_YUMI_STATUS) on `lcm`.
+ * Every buffer received goes through comlearn_msg_decode(): a decoded message goes to
+ * cfg->on_message, a rejected one is counted in cfg->stats and goes to cfg->on_reject; nothing is
+ * printed, no buffer crashes the process. Handlers run inside lcm_handle() on the calling thread.
+ * On COMLEARN_MSG_OK, *out is the new subscription (owned by the caller until
+ * comlearn_msg_unsubscribe()). On an error, *out is NULL. Returns COMLEARN_MSG_OK,
+ * COMLEARN_MSG_E_ARG (lcm, channel, cfg, type, on_message or out NULL, channel empty),
+ * COMLEARN_MSG_E_UNSUPPORTED, COMLEARN_MSG_E_NOMEM or COMLEARN_MSG_E_LCM. Allocates. */
 comlearn_msg_status_t comlearn_msg_subscribe(lcm_t *lcm, const char *channel,
                                              const comlearn_msg_sub_config_t *cfg,
                                              comlearn_msg_subscription_t **out);
 
 /* Limit the number of received buffers LCM queues for this subscription before it drops the
- * oldest (LCM's default is 30; latest-only consumers may use 1). Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG
- * (sub NULL or capacity < 0; 0 means unlimited), COMLEARN_MSG_E_LCM. */
+ * oldest (LCM's default is 30; latest-only consumers may use 1). Returns COMLEARN_MSG_OK,
+ * COMLEARN_MSG_E_ARG (sub NULL or capacity < 0; 0 means unlimited), COMLEARN_MSG_E_LCM. */
 comlearn_msg_status_t comlearn_msg_subscription_set_queue_capacity(comlearn_msg_subscription_t *sub,
                                                                    int capacity);
 
 /* Remove the subscription from `lcm` (the same lcm_t it was made on) and free it. Call it before
  * lcm_destroy(); not from inside one of its own handlers. sub NULL is fine (COMLEARN_MSG_OK).
- * Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG (lcm NULL with sub non-NULL) or COMLEARN_MSG_E_LCM (sub is freed anyway). */
+ * Returns COMLEARN_MSG_OK, COMLEARN_MSG_E_ARG (lcm NULL with sub non-NULL) or COMLEARN_MSG_E_LCM
+ * (sub is freed anyway). */
 comlearn_msg_status_t comlearn_msg_unsubscribe(lcm_t *lcm, comlearn_msg_subscription_t *sub);
 
 #ifdef __cplusplus

@@ -16,8 +16,8 @@
 
 enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw sweep over [0, pi) */
 
-/* Bound on the threshold bias of one flat-patch edge test in lib/balance (docs/physics.md: <= 2.4 um
- * measured down to a 0.97 mm chord margin, <= 5 um asserted by the accuracy tests). */
+/* Bound on the threshold bias of one flat-patch edge test in lib/balance (docs/physics.md: <= 2.4
+ * um measured down to a 0.97 mm chord margin, <= 5 um asserted by the accuracy tests). */
 #define ESTIMATE_PHYSICS_BIAS_M 5e-6
 /* How far from the estimate (along the test direction) a planned edge line is checked. */
 #define ESTIMATE_PLAN_OFFSET_M 3e-3

@@ -17,9 +17,9 @@
  *
  * Memory: balance_world_create / balance_object_create allocate; nothing allocates inside a trial
  * beyond what ODE does per step (and, on the stock contact path only, a collision scratch buffer
- * that doubles the first time OPCODE returns more contacts than it holds). Thread safety: ODE must be initialised once per process
- * (balance_world_create does it, guarded); a world and its objects belong to one thread at a time.
- * Nothing here prints.
+ * that doubles the first time OPCODE returns more contacts than it holds). Thread safety: ODE must
+ * be initialised once per process (balance_world_create does it, guarded); a world and its objects
+ * belong to one thread at a time. Nothing here prints.
  */
 #ifndef COMLEARN_BALANCE_H
 #define COMLEARN_BALANCE_H
@@ -62,7 +62,7 @@ typedef struct {
   double gravity_m_s2;   /* default 9.81 */
   double dt_s;           /* step; default 1e-3, in [1e-6, 0.1] */
   double friction;       /* Coulomb mu (ODE friction pyramid, dContactApprox1), object-B and
-                              * object-object; default 0.8. Has no effect on the threshold. */
+                          * object-object; default 0.8. Has no effect on the threshold. */
   double soft_erp;       /* default 0.2 */
   double soft_cfm;       /* default 1e-7 */
   balance_contact_t contact; /* default BALANCE_CONTACT_FAST */
@@ -167,9 +167,9 @@ typedef enum {
 typedef struct {
   uint64_t seed;
   double placement_noise_m; /* std. dev. of a horizontal (x and y) offset of the release
-                              * position; [0, 0.1] */
+                             * position; [0, 0.1] */
   double pose_noise_m;      /* std. dev. of the perceived settled position (x, y, z; added to
-                              * result.settled only); [0, 0.1] */
+                             * result.settled only); [0, 0.1] */
 } balance_noise_t;
 
 typedef struct {

@@ -8,8 +8,8 @@
  *   - double precision, SI units (metres, radians).
  *   - Vectors are double[3]. Rotation matrices are double[3][3], row-major, acting on column
  *     vectors: v_parent = rot * v_child.
- *   - Quaternions are double[4] in (w, x, y, z) order, Hamilton convention: q = w + x i + y j + z k,
- *     q and -q are the same rotation. A quaternion q_a_in_b (frame a's orientation in frame b)
+ *   - Quaternions are double[4] in (w, x, y, z) order, Hamilton convention: q = w + x i + y j + z
+ * k, q and -q are the same rotation. A quaternion q_a_in_b (frame a's orientation in frame b)
  *     rotates a vector given in a into b: v_b = q v_a q^-1 = cl_quat_rotate(q, v_a).
  *   - Composition order is right to left, as for matrices: cl_quat_mul(q_b_in_c, q_a_in_b)
  *     = q_a_in_c, i.e. the right factor is applied first.

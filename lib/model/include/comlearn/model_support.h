@@ -191,8 +191,9 @@ typedef struct {
 
 /* Scratch memory for the patch, regime and yaw functions of one mesh: with it (the *_in variants)
  * they allocate nothing. model_support_work_size: the bytes for mesh (0 for NULL or an empty
- * mesh; ~150 KiB for a 1000-vertex rock). model_support_work_init lays a work area out in the
- * caller's `size` bytes at mem (8-byte aligned); NULL when mem is NULL, misaligned or too small.
+ * mesh; 217 592 for rock_1, 1 002 vertices and 2 000 triangles). model_support_work_init lays a
+ * work area out in the caller's `size` bytes at mem (8-byte aligned); NULL when mem is NULL,
+ * misaligned or too small.
  * A work area serves any mesh with the same vertex and triangle counts (others: MODEL_E_ARG),
  * one call at a time. The functions without _in allocate one per call. */
 typedef struct model_support_work model_support_work_t;

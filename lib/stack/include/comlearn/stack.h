@@ -94,8 +94,9 @@ typedef struct {
 
 /* Load each URDF's geometry and <inertial> truth (link: root; a truth that fails
  * model_mass_plausible against its mesh is STACK_E_ARG, msg naming the URDF and the limit), build
- * a lib/balance world (cfg NULL: balance defaults), release the objects at plan->pose and run for scfg->duration_s
- * (NULL: balance_stack_config_default, 5 s). urdf_paths[i] matches the planner's objects[i]. */
+ * a lib/balance world (cfg NULL: balance defaults), release the objects at plan->pose and run for
+ * scfg->duration_s (NULL: balance_stack_config_default, 5 s). urdf_paths[i] matches the planner's
+ * objects[i]. */
 stack_status_t stack_simulate(const char *const *urdf_paths, size_t count, const stack_plan_t *plan,
                               const balance_config_t *cfg, const balance_stack_config_t *scfg,
                               stack_sim_result_t *out);
