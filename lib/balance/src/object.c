@@ -122,39 +122,34 @@ void balance_object_destroy_internal(balance_object_t *o) {
   free(o);
 }
 
-balance_status_t balance_object_create(balance_world_t *w, const model_mesh_t *mesh,
-                                       const model_mass_t *mass, balance_object_t **out) {
-  if (!out) return BALANCE_E_ARG;
-  *out = NULL;
-  if (!w || !mesh || !mass) return BALANCE_E_ARG;
-  balance_status_t st = mesh_validate(mesh);
-  if (st != BALANCE_OK) return st;
-  st = mass_validate(mass, mesh);
-  if (st != BALANCE_OK) return st;
-
-  balance_object_t *o = calloc(1, sizeof *o);
-  if (!o) return BALANCE_E_NOMEM;
-  o->world = w;
-  o->mass = *mass;
-  const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
-  if (model_mesh_copy(mesh, &o->mesh_link) != MODEL_OK) goto nomem;
+/* The per-vertex and per-triangle buffers; *all (every triangle edge, later the unique edges) is
+ * the caller's on success and freed here on failure. */
+static balance_status_t object_buffers_alloc(balance_object_t *o, size_t nv, size_t nt,
+                                             uint32_t (**all)[2]) {
   o->verts_body_m = malloc(nv * sizeof *o->verts_body_m);
   o->tm_vertices = malloc(3 * nv * sizeof *o->tm_vertices);
   o->tm_indices = malloc(3 * nt * sizeof *o->tm_indices);
-  uint32_t(*all)[2] = malloc(3 * nt * sizeof *all);
+  *all = malloc(3 * nt * sizeof **all);
   o->fast.verts = malloc(nv * sizeof *o->fast.verts);
   o->fast.verts_w = malloc(nv * sizeof *o->fast.verts_w);
   o->fast.local = malloc(nv * sizeof *o->fast.local);
   o->sep_cache = calloc(nv * BALANCE_SEP_SLOTS, sizeof *o->sep_cache);
-  if (!o->verts_body_m || !o->tm_vertices || !o->tm_indices || !all || !o->fast.verts ||
+  if (!o->verts_body_m || !o->tm_vertices || !o->tm_indices || !*all || !o->fast.verts ||
       !o->fast.verts_w || !o->fast.local || !o->sep_cache) {
-    free(all);
-    goto nomem;
+    free(*all);
+    *all = NULL;
+    return BALANCE_E_NOMEM;
   }
-  for (size_t i = 0; i < nv; i++) {
+  return BALANCE_OK;
+}
+
+/* Vertices in the body frame (CoM at the origin) and the radius about the CoM. */
+static void object_vertices_fill(balance_object_t *o, const model_mesh_t *mesh,
+                                 const double com_m[3]) {
+  for (size_t i = 0; i < mesh->vertex_count; i++) {
     double r2 = 0.0;
     for (int k = 0; k < 3; k++) {
-      const double v = mesh->vertices_m[i][k] - mass->com_m[k];
+      const double v = mesh->vertices_m[i][k] - com_m[k];
       o->verts_body_m[i][k] = v;
       o->tm_vertices[3 * i + (size_t)k] = v;
       r2 += v * v;
@@ -162,6 +157,13 @@ balance_status_t balance_object_create(balance_world_t *w, const model_mesh_t *m
     o->radius_m = fmax(o->radius_m, sqrt(r2));
     o->fast.local[i] = UINT32_MAX;
   }
+}
+
+/* ODE's triangle indices and the sorted unique edges (taking over `all`), then the edge-sized
+ * buffers of the fast contact path. */
+static balance_status_t object_edges_build(balance_object_t *o, const model_mesh_t *mesh,
+                                           uint32_t (*all)[2]) {
+  const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
   for (size_t t = 0; t < nt; t++)
     for (int k = 0; k < 3; k++) {
       o->tm_indices[3 * t + (size_t)k] = (dTriIndex)mesh->triangles[t][k];
@@ -184,10 +186,15 @@ balance_status_t balance_object_create(balance_world_t *w, const model_mesh_t *m
   o->fast.edges = malloc(ne * sizeof *o->fast.edges);
   o->fast.edge_ids = malloc(ne * sizeof *o->fast.edge_ids);
   o->fast.code = malloc(nv * sizeof *o->fast.code);
-  if (!o->fast.edges || !o->fast.edge_ids || !o->fast.code) goto nomem;
+  if (!o->fast.edges || !o->fast.edge_ids || !o->fast.code) return BALANCE_E_NOMEM;
+  return BALANCE_OK;
+}
 
+/* Unit vertex normals: the sum of the adjacent triangles' area-weighted normals, normalised. */
+static balance_status_t object_vertex_normals(balance_object_t *o, const model_mesh_t *mesh) {
+  const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
   o->vert_normals = calloc(nv, sizeof *o->vert_normals);
-  if (!o->vert_normals) goto nomem;
+  if (!o->vert_normals) return BALANCE_E_NOMEM;
   for (size_t t = 0; t < nt; t++) {
     const uint32_t *tri = mesh->triangles[t];
     const double *a = mesh->vertices_m[tri[0]], *b = mesh->vertices_m[tri[1]],
@@ -207,48 +214,53 @@ balance_status_t balance_object_create(balance_world_t *w, const model_mesh_t *m
     const double len = sqrt(vn[0] * vn[0] + vn[1] * vn[1] + vn[2] * vn[2]);
     for (int k = 0; k < 3; k++) vn[k] = len > 0.0 ? vn[k] / len : 0.0;
   }
-  {
-    /* Convex hull planes for object-object contacts. */
-    model_mesh_t hull;
-    if (model_mesh_hull(mesh, &hull, NULL) != MODEL_OK) {
-      balance_object_destroy_internal(o);
-      return BALANCE_E_MESH;
-    }
-    o->hull_planes = malloc(hull.triangle_count * sizeof *o->hull_planes);
-    if (!o->hull_planes) {
-      model_mesh_free(&hull);
-      goto nomem;
-    }
-    for (size_t t = 0; t < hull.triangle_count; t++) {
-      const double *a = hull.vertices_m[hull.triangles[t][0]];
-      const double *b = hull.vertices_m[hull.triangles[t][1]];
-      const double *c = hull.vertices_m[hull.triangles[t][2]];
-      double u[3], v[3], nrm[3];
-      for (int k = 0; k < 3; k++) {
-        u[k] = b[k] - a[k];
-        v[k] = c[k] - a[k];
-      }
-      nrm[0] = u[1] * v[2] - u[2] * v[1];
-      nrm[1] = u[2] * v[0] - u[0] * v[2];
-      nrm[2] = u[0] * v[1] - u[1] * v[0];
-      const double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-      if (!(len > 0.0)) continue;
-      double *pl = o->hull_planes[o->hull_plane_count];
-      for (int k = 0; k < 3; k++) pl[k] = nrm[k] / len;
-      pl[3] = pl[0] * (a[0] - mass->com_m[0]) + pl[1] * (a[1] - mass->com_m[1]) +
-              pl[2] * (a[2] - mass->com_m[2]);
-      /* coplanar facets come out triangulated: keep one plane each */
-      int dup = 0;
-      for (size_t q = 0; q < o->hull_plane_count && !dup; q++) {
-        const double *r2 = o->hull_planes[q];
-        dup = fabs(r2[0] - pl[0]) < 1e-12 && fabs(r2[1] - pl[1]) < 1e-12 &&
-              fabs(r2[2] - pl[2]) < 1e-12 && fabs(r2[3] - pl[3]) < 1e-12;
-      }
-      if (!dup) o->hull_plane_count++;
-    }
-    model_mesh_free(&hull);
-  }
+  return BALANCE_OK;
+}
 
+/* Convex hull planes for object-object contacts, in the body frame: BALANCE_E_MESH when the hull
+ * fails, BALANCE_E_NOMEM when its planes cannot be stored. */
+static balance_status_t object_hull_planes(balance_object_t *o, const model_mesh_t *mesh,
+                                           const double com_m[3]) {
+  model_mesh_t hull;
+  if (model_mesh_hull(mesh, &hull, NULL) != MODEL_OK) return BALANCE_E_MESH;
+  o->hull_planes = malloc(hull.triangle_count * sizeof *o->hull_planes);
+  if (!o->hull_planes) {
+    model_mesh_free(&hull);
+    return BALANCE_E_NOMEM;
+  }
+  for (size_t t = 0; t < hull.triangle_count; t++) {
+    const double *a = hull.vertices_m[hull.triangles[t][0]];
+    const double *b = hull.vertices_m[hull.triangles[t][1]];
+    const double *c = hull.vertices_m[hull.triangles[t][2]];
+    double u[3], v[3], nrm[3];
+    for (int k = 0; k < 3; k++) {
+      u[k] = b[k] - a[k];
+      v[k] = c[k] - a[k];
+    }
+    nrm[0] = u[1] * v[2] - u[2] * v[1];
+    nrm[1] = u[2] * v[0] - u[0] * v[2];
+    nrm[2] = u[0] * v[1] - u[1] * v[0];
+    const double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+    if (!(len > 0.0)) continue;
+    double *pl = o->hull_planes[o->hull_plane_count];
+    for (int k = 0; k < 3; k++) pl[k] = nrm[k] / len;
+    pl[3] = pl[0] * (a[0] - com_m[0]) + pl[1] * (a[1] - com_m[1]) + pl[2] * (a[2] - com_m[2]);
+    /* coplanar facets come out triangulated: keep one plane each */
+    int dup = 0;
+    for (size_t q = 0; q < o->hull_plane_count && !dup; q++) {
+      const double *r2 = o->hull_planes[q];
+      dup = fabs(r2[0] - pl[0]) < 1e-12 && fabs(r2[1] - pl[1]) < 1e-12 &&
+            fabs(r2[2] - pl[2]) < 1e-12 && fabs(r2[3] - pl[3]) < 1e-12;
+    }
+    if (!dup) o->hull_plane_count++;
+  }
+  model_mesh_free(&hull);
+  return BALANCE_OK;
+}
+
+/* The ODE trimesh, geom and disabled body with the object's mass properties. */
+static void object_ode_build(balance_object_t *o, balance_world_t *w, const model_mass_t *mass,
+                             size_t nv, size_t nt) {
   o->tm_data = dGeomTriMeshDataCreate();
   dGeomTriMeshDataBuildDouble(o->tm_data, o->tm_vertices, 3 * (int)sizeof(double), (int)nv,
                               o->tm_indices, 3 * (int)nt, 3 * (int)sizeof(dTriIndex));
@@ -270,16 +282,48 @@ balance_status_t balance_object_create(balance_world_t *w, const model_mesh_t *m
   dBodySetMass(o->body, &dm);
   dGeomSetBody(o->geom, o->body);
   dBodyDisable(o->body);
-  st = balance_world_add_object_internal(w, o, balance_fast_capacity(o) + 2 * nv);
+}
+
+/* Everything after validation; o is left for the caller to destroy on failure. */
+static balance_status_t object_build(balance_object_t *o, balance_world_t *w,
+                                     const model_mesh_t *mesh, const model_mass_t *mass) {
+  const size_t nv = mesh->vertex_count, nt = mesh->triangle_count;
+  if (model_mesh_copy(mesh, &o->mesh_link) != MODEL_OK) return BALANCE_E_NOMEM;
+  uint32_t(*all)[2] = NULL;
+  balance_status_t st = object_buffers_alloc(o, nv, nt, &all);
+  if (st != BALANCE_OK) return st;
+  object_vertices_fill(o, mesh, mass->com_m);
+  st = object_edges_build(o, mesh, all);
+  if (st != BALANCE_OK) return st;
+  st = object_vertex_normals(o, mesh);
+  if (st != BALANCE_OK) return st;
+  st = object_hull_planes(o, mesh, mass->com_m);
+  if (st != BALANCE_OK) return st;
+  object_ode_build(o, w, mass, nv, nt);
+  return balance_world_add_object_internal(w, o, balance_fast_capacity(o) + 2 * nv);
+}
+
+balance_status_t balance_object_create(balance_world_t *w, const model_mesh_t *mesh,
+                                       const model_mass_t *mass, balance_object_t **out) {
+  if (!out) return BALANCE_E_ARG;
+  *out = NULL;
+  if (!w || !mesh || !mass) return BALANCE_E_ARG;
+  balance_status_t st = mesh_validate(mesh);
+  if (st != BALANCE_OK) return st;
+  st = mass_validate(mass, mesh);
+  if (st != BALANCE_OK) return st;
+
+  balance_object_t *o = calloc(1, sizeof *o);
+  if (!o) return BALANCE_E_NOMEM;
+  o->world = w;
+  o->mass = *mass;
+  st = object_build(o, w, mesh, mass);
   if (st != BALANCE_OK) {
     balance_object_destroy_internal(o);
     return st;
   }
   *out = o;
   return BALANCE_OK;
-nomem:
-  balance_object_destroy_internal(o);
-  return BALANCE_E_NOMEM;
 }
 
 static void link_vertex_world(double r[3][3], const double p[3], const double v[3], double out[3]) {

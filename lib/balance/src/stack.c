@@ -32,6 +32,87 @@ static balance_status_t stack_config_resolve(const balance_stack_config_t *cfg,
   return BALANCE_OK;
 }
 
+/* Every object non-NULL, in this world, listed once; every pose usable. */
+static balance_status_t stack_inputs_check(const balance_world_t *world,
+                                           balance_object_t *const *objects,
+                                           const model_pose_t *poses, size_t count) {
+  for (size_t i = 0; i < count; ++i) {
+    if (objects[i] == NULL || objects[i]->world != world) return BALANCE_E_ARG;
+    for (size_t j = 0; j < i; ++j) {
+      if (objects[j] == objects[i]) return BALANCE_E_ARG;
+    }
+    model_pose_t checked;
+    const balance_status_t st = balance_pose_check(&poses[i], &checked);
+    if (st != BALANCE_OK) return st;
+  }
+  return BALANCE_OK;
+}
+
+/* Per object: the pose at release and the largest displacement and rotation from it so far, and
+ * when it first moved beyond the thresholds (-1 if not yet). */
+typedef struct {
+  model_pose_t *released;
+  double *disp, *rot, *moved;
+  double first_moved;
+} stack_track_t;
+
+static void stack_track_update(balance_object_t *const *objects, size_t count,
+                               const balance_stack_config_t *sc, double t, stack_track_t *tr) {
+  for (size_t i = 0; i < count; ++i) {
+    model_pose_t p;
+    balance_object_pose_get(objects[i], &p);
+    const double dx = p.position_m[0] - tr->released[i].position_m[0];
+    const double dy = p.position_m[1] - tr->released[i].position_m[1];
+    const double dz = p.position_m[2] - tr->released[i].position_m[2];
+    const double d = sqrt(dx * dx + dy * dy + dz * dz);
+    const double a = cl_quat_angle(p.orientation_wxyz, tr->released[i].orientation_wxyz);
+    if (d > tr->disp[i]) tr->disp[i] = d;
+    if (a > tr->rot[i]) tr->rot[i] = a;
+    if (tr->moved[i] < 0.0 && (d > sc->max_displacement_m || a > sc->max_rotation_rad)) {
+      tr->moved[i] = t;
+      if (tr->first_moved < 0.0) tr->first_moved = t;
+    }
+  }
+}
+
+/* Steps the world for sc->duration_s (or until the first object moves, unless run_to_end);
+ * *steps_done is the number of steps taken when the stepping did not fail. */
+static balance_status_t stack_simulate(balance_world_t *world, balance_object_t *const *objects,
+                                       size_t count, const balance_stack_config_t *sc,
+                                       stack_track_t *tr, uint32_t *steps_done) {
+  balance_status_t st = BALANCE_OK;
+  const double dt = balance_world_config(world)->dt_s;
+  const uint32_t steps = (uint32_t)ceil(sc->duration_s / dt - 1e-9);
+  uint32_t s = 0;
+  for (; s < steps; ++s) {
+    st = balance_world_step(world);
+    if (st != BALANCE_OK) break;
+    stack_track_update(objects, count, sc, balance_world_time(world), tr);
+    if (tr->first_moved >= 0.0 && !sc->run_to_end) {
+      ++s;
+      break;
+    }
+  }
+  *steps_done = s;
+  return st;
+}
+
+static void stack_result_fill(balance_world_t *world, balance_object_t *const *objects,
+                              size_t count, const balance_stack_config_t *sc,
+                              const stack_track_t *tr, uint32_t steps,
+                              balance_stack_result_t *result, balance_stack_object_t *per_object) {
+  result->stands = tr->first_moved < 0.0;
+  result->seconds_standing = tr->first_moved < 0.0 ? sc->duration_s : tr->first_moved;
+  result->sim_time_s = balance_world_time(world);
+  result->steps = steps;
+  for (size_t i = 0; per_object != NULL && i < count; ++i) {
+    balance_object_pose_get(objects[i], &per_object[i].final_pose);
+    per_object[i].displacement_m = tr->disp[i];
+    per_object[i].rotation_rad = tr->rot[i];
+    per_object[i].moved_at_s = tr->moved[i];
+  }
+}
+
 balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *const *objects,
                                    const model_pose_t *poses, size_t count,
                                    const balance_stack_config_t *cfg,
@@ -42,15 +123,8 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
   balance_stack_config_t sc;
   balance_status_t st = stack_config_resolve(cfg, &sc);
   if (st != BALANCE_OK) return st;
-  for (size_t i = 0; i < count; ++i) {
-    if (objects[i] == NULL || objects[i]->world != world) return BALANCE_E_ARG;
-    for (size_t j = 0; j < i; ++j) {
-      if (objects[j] == objects[i]) return BALANCE_E_ARG;
-    }
-    model_pose_t checked;
-    st = balance_pose_check(&poses[i], &checked);
-    if (st != BALANCE_OK) return st;
-  }
+  st = stack_inputs_check(world, objects, poses, count);
+  if (st != BALANCE_OK) return st;
   memset(result, 0, sizeof *result);
   balance_world_reset(world);
   for (size_t i = 0; i < count && st == BALANCE_OK; ++i)
@@ -67,53 +141,21 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
     balance_world_reset(world);
     return BALANCE_E_NOMEM;
   }
-  double *disp = track, *rot = track + count, *moved = track + 2 * count;
+  stack_track_t tr = {.released = released,
+                      .disp = track,
+                      .rot = track + count,
+                      .moved = track + 2 * count,
+                      .first_moved = -1.0};
   for (size_t i = 0; i < count; ++i) {
     balance_object_pose_get(objects[i], &released[i]);
-    disp[i] = 0.0;
-    rot[i] = 0.0;
-    moved[i] = -1.0;
+    tr.disp[i] = 0.0;
+    tr.rot[i] = 0.0;
+    tr.moved[i] = -1.0;
   }
-  const double dt = balance_world_config(world)->dt_s;
-  const uint32_t steps = (uint32_t)ceil(sc.duration_s / dt - 1e-9);
-  double first_moved = -1.0;
-  uint32_t s = 0;
-  for (; s < steps; ++s) {
-    st = balance_world_step(world);
-    if (st != BALANCE_OK) break;
-    const double t = balance_world_time(world);
-    for (size_t i = 0; i < count; ++i) {
-      model_pose_t p;
-      balance_object_pose_get(objects[i], &p);
-      const double dx = p.position_m[0] - released[i].position_m[0];
-      const double dy = p.position_m[1] - released[i].position_m[1];
-      const double dz = p.position_m[2] - released[i].position_m[2];
-      const double d = sqrt(dx * dx + dy * dy + dz * dz);
-      const double a = cl_quat_angle(p.orientation_wxyz, released[i].orientation_wxyz);
-      if (d > disp[i]) disp[i] = d;
-      if (a > rot[i]) rot[i] = a;
-      if (moved[i] < 0.0 && (d > sc.max_displacement_m || a > sc.max_rotation_rad)) {
-        moved[i] = t;
-        if (first_moved < 0.0) first_moved = t;
-      }
-    }
-    if (first_moved >= 0.0 && !sc.run_to_end) {
-      ++s;
-      break;
-    }
-  }
-  if (st == BALANCE_OK) {
-    result->stands = first_moved < 0.0;
-    result->seconds_standing = first_moved < 0.0 ? sc.duration_s : first_moved;
-    result->sim_time_s = balance_world_time(world);
-    result->steps = s;
-    for (size_t i = 0; per_object != NULL && i < count; ++i) {
-      balance_object_pose_get(objects[i], &per_object[i].final_pose);
-      per_object[i].displacement_m = disp[i];
-      per_object[i].rotation_rad = rot[i];
-      per_object[i].moved_at_s = moved[i];
-    }
-  }
+  uint32_t steps = 0;
+  st = stack_simulate(world, objects, count, &sc, &tr, &steps);
+  if (st == BALANCE_OK)
+    stack_result_fill(world, objects, count, &sc, &tr, steps, result, per_object);
   for (size_t i = 0; i < count; ++i) balance_object_remove(objects[i]);
   free(released);
   free(track);

@@ -12,6 +12,95 @@ int balance_trial_slid(const balance_config_t *cfg, const double from_m[3], cons
          rotation_rad < 0.25 * cfg->tip_angle_rad;
 }
 
+/* Noise check and the placement perturbation of the release; the RNG and the pose noise for the
+ * settled pose come back through rng and pose_noise. */
+static balance_status_t trial_noise_apply(const balance_noise_t *noise, model_pose_t *rel,
+                                          uint64_t *rng, double *pose_noise) {
+  if (!isfinite(noise->placement_noise_m) || !isfinite(noise->pose_noise_m))
+    return BALANCE_E_NONFINITE;
+  if (noise->placement_noise_m < 0.0 || noise->placement_noise_m > 0.1 ||
+      noise->pose_noise_m < 0.0 || noise->pose_noise_m > 0.1)
+    return BALANCE_E_ARG;
+  *rng = noise->seed;
+  double g[2];
+  cl_rng_normal2(rng, g);
+  rel->position_m[0] += noise->placement_noise_m * g[0];
+  rel->position_m[1] += noise->placement_noise_m * g[1];
+  *pose_noise = noise->pose_noise_m;
+  return BALANCE_OK;
+}
+
+/* What the trial watches from step to step. */
+typedef struct {
+  const balance_config_t *cfg;
+  const model_pose_t *rel;
+  double com0[3];
+  double hx, hy;
+  uint32_t min_rest_steps;
+  uint32_t quiet, grow;
+  double om_prev;
+} trial_watch_t;
+
+/* One step's verdict after `steps` steps: BALANCE_INVALID while undecided. */
+static balance_outcome_t trial_watch_step(trial_watch_t *tw, const balance_object_t *obj,
+                                          uint32_t steps) {
+  const balance_config_t *cfg = tw->cfg;
+  const double hx = tw->hx, hy = tw->hy;
+  model_pose_t now;
+  balance_object_pose_get(obj, &now);
+  double com[3], v[3], om[3];
+  balance_object_com_get(obj, com);
+  balance_object_velocity_get(obj, v, om);
+  const double rot = cl_quat_angle(tw->rel->orientation_wxyz, now.orientation_wxyz);
+  const double wn = cl_vec3_norm(om), vn = cl_vec3_norm(v);
+  const int beyond = fabs(com[0]) > hx || fabs(com[1]) > hy;
+  /* Clearly tipped: turned far, fallen below the top, or gone beyond the edge. */
+  if (rot > cfg->tip_angle_rad || com[2] < 0.0 || fabs(com[0]) > hx + obj->radius_m ||
+      fabs(com[1]) > hy + obj->radius_m)
+    return BALANCE_TIPS;
+  if (balance_trial_slid(cfg, tw->com0, com, rot)) return BALANCE_SLIDES;
+  /* Released at rest, a body that stays only loses the contact transient: its angular speed
+   * decays geometrically (by the ERP fraction per step) down to rounding noise. A body with its
+   * CoM beyond the edge pivots on it like an inverted pendulum: its angular speed grows every
+   * step, from the first milliseconds and however close to the edge the CoM is. Telling the two
+   * apart by the trend, not by a speed threshold, is what makes short trials exact: a speed
+   * threshold calls a slowly tipping body "at rest" (an outward bias of microns). */
+  const int growing = wn > tw->om_prev && wn > 1e-11;
+  tw->grow = growing ? tw->grow + 1 : 0;
+  if (beyond && tw->grow >= (uint32_t)cfg->tip_grow_steps) return BALANCE_TIPS;
+  if (vn < cfg->rest_lin_m_s && wn < cfg->rest_ang_rad_s && !growing)
+    tw->quiet++;
+  else
+    tw->quiet = 0;
+  tw->om_prev = wn;
+  if (steps >= tw->min_rest_steps && tw->quiet >= (uint32_t)cfg->rest_steps) return BALANCE_STAYS;
+  return BALANCE_INVALID;
+}
+
+/* The result fields after the run: settled pose (with pose noise), displacement, rotation, time. */
+static void trial_result_fill(const balance_config_t *cfg, const balance_object_t *obj,
+                              const model_pose_t *rel, uint64_t *rng, double pose_noise,
+                              balance_outcome_t outcome, uint32_t steps,
+                              balance_trial_result_t *out) {
+  out->outcome = outcome;
+  out->released = *rel;
+  balance_object_pose_get(obj, &out->settled);
+  if (pose_noise > 0.0) {
+    double g[2];
+    cl_rng_normal2(rng, g);
+    out->settled.position_m[0] += pose_noise * g[0];
+    out->settled.position_m[1] += pose_noise * g[1];
+    cl_rng_normal2(rng, g);
+    out->settled.position_m[2] += pose_noise * g[0];
+  }
+  double d[3];
+  for (int i = 0; i < 3; i++) d[i] = out->settled.position_m[i] - rel->position_m[i];
+  out->displacement_m = cl_vec3_norm(d);
+  out->rotation_rad = cl_quat_angle(rel->orientation_wxyz, out->settled.orientation_wxyz);
+  out->sim_time_s = (double)steps * cfg->dt_s;
+  out->steps = steps;
+}
+
 balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
                                    const model_pose_t *release, const balance_noise_t *noise,
                                    balance_trial_result_t *out) {
@@ -23,30 +112,23 @@ balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
   uint64_t rng = 0;
   double pose_noise = 0.0;
   if (noise) {
-    if (!isfinite(noise->placement_noise_m) || !isfinite(noise->pose_noise_m))
-      return BALANCE_E_NONFINITE;
-    if (noise->placement_noise_m < 0.0 || noise->placement_noise_m > 0.1 ||
-        noise->pose_noise_m < 0.0 || noise->pose_noise_m > 0.1)
-      return BALANCE_E_ARG;
-    rng = noise->seed;
-    double g[2];
-    cl_rng_normal2(&rng, g);
-    rel.position_m[0] += noise->placement_noise_m * g[0];
-    rel.position_m[1] += noise->placement_noise_m * g[1];
-    pose_noise = noise->pose_noise_m;
+    st = trial_noise_apply(noise, &rel, &rng, &pose_noise);
+    if (st != BALANCE_OK) return st;
   }
   balance_world_reset(w);
   st = balance_object_place(obj, &rel);
   if (st != BALANCE_OK) return st;
 
   const balance_config_t *cfg = &w->cfg;
-  const double hx = 0.5 * cfg->base_size_m[0], hy = 0.5 * cfg->base_size_m[1];
-  double com0[3];
-  balance_object_com_get(obj, com0);
+  trial_watch_t tw = {.cfg = cfg,
+                      .rel = &rel,
+                      .hx = 0.5 * cfg->base_size_m[0],
+                      .hy = 0.5 * cfg->base_size_m[1],
+                      .om_prev = INFINITY};
+  balance_object_com_get(obj, tw.com0);
   const uint32_t max_steps = (uint32_t)ceil(cfg->horizon_s / cfg->dt_s - 1e-9);
-  const uint32_t min_rest_steps = (uint32_t)ceil(cfg->rest_min_time_s / cfg->dt_s - 1e-9);
-  uint32_t quiet = 0, grow = 0, steps = 0;
-  double om_prev = INFINITY;
+  tw.min_rest_steps = (uint32_t)ceil(cfg->rest_min_time_s / cfg->dt_s - 1e-9);
+  uint32_t steps = 0;
   balance_outcome_t outcome = BALANCE_INVALID;
   while (steps < max_steps) {
     st = balance_world_step(w);
@@ -55,63 +137,10 @@ balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
       balance_object_remove(obj);
       return st;
     }
-    model_pose_t now;
-    balance_object_pose_get(obj, &now);
-    double com[3], v[3], om[3];
-    balance_object_com_get(obj, com);
-    balance_object_velocity_get(obj, v, om);
-    const double rot = cl_quat_angle(rel.orientation_wxyz, now.orientation_wxyz);
-    const double wn = cl_vec3_norm(om), vn = cl_vec3_norm(v);
-    const int beyond = fabs(com[0]) > hx || fabs(com[1]) > hy;
-    /* Clearly tipped: turned far, fallen below the top, or gone beyond the edge. */
-    if (rot > cfg->tip_angle_rad || com[2] < 0.0 || fabs(com[0]) > hx + obj->radius_m ||
-        fabs(com[1]) > hy + obj->radius_m) {
-      outcome = BALANCE_TIPS;
-      break;
-    }
-    if (balance_trial_slid(cfg, com0, com, rot)) {
-      outcome = BALANCE_SLIDES;
-      break;
-    }
-    /* Released at rest, a body that stays only loses the contact transient: its angular speed
-     * decays geometrically (by the ERP fraction per step) down to rounding noise. A body with its
-     * CoM beyond the edge pivots on it like an inverted pendulum: its angular speed grows every
-     * step, from the first milliseconds and however close to the edge the CoM is. Telling the two
-     * apart by the trend, not by a speed threshold, is what makes short trials exact: a speed
-     * threshold calls a slowly tipping body "at rest" (an outward bias of microns). */
-    const int growing = wn > om_prev && wn > 1e-11;
-    grow = growing ? grow + 1 : 0;
-    if (beyond && grow >= (uint32_t)cfg->tip_grow_steps) {
-      outcome = BALANCE_TIPS;
-      break;
-    }
-    if (vn < cfg->rest_lin_m_s && wn < cfg->rest_ang_rad_s && !growing)
-      quiet++;
-    else
-      quiet = 0;
-    om_prev = wn;
-    if (steps >= min_rest_steps && quiet >= (uint32_t)cfg->rest_steps) {
-      outcome = BALANCE_STAYS;
-      break;
-    }
+    outcome = trial_watch_step(&tw, obj, steps);
+    if (outcome != BALANCE_INVALID) break;
   }
-  out->outcome = outcome;
-  out->released = rel;
-  balance_object_pose_get(obj, &out->settled);
-  if (pose_noise > 0.0) {
-    double g[2];
-    cl_rng_normal2(&rng, g);
-    out->settled.position_m[0] += pose_noise * g[0];
-    out->settled.position_m[1] += pose_noise * g[1];
-    cl_rng_normal2(&rng, g);
-    out->settled.position_m[2] += pose_noise * g[0];
-  }
-  double d[3];
-  for (int i = 0; i < 3; i++) d[i] = out->settled.position_m[i] - rel.position_m[i];
-  out->displacement_m = cl_vec3_norm(d);
-  out->rotation_rad = cl_quat_angle(rel.orientation_wxyz, out->settled.orientation_wxyz);
-  out->sim_time_s = (double)steps * cfg->dt_s;
-  out->steps = steps;
+  trial_result_fill(cfg, obj, &rel, &rng, pose_noise, outcome, steps, out);
   balance_object_remove(obj);
   return BALANCE_OK;
 }

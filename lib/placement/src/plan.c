@@ -307,14 +307,12 @@ static placement_status_t solve_straight(const placement_arm_t *arm,
   return PLACEMENT_OK;
 }
 
-placement_status_t placement_plan_build(const placement_arm_t *arm,
-                                        const placement_plan_config_t *cfg,
-                                        const placement_plan_request_t *req, placement_plan_t *out,
-                                        placement_error_t *err) {
-  if (!arm || !cfg || !req || !out) {
-    set_err(err, "placement_plan_build: NULL argument");
-    return PLACEMENT_E_ARG;
-  }
+/* Arguments, config, arm limits, mesh, finiteness, grip width, rotations and start joints, in
+ * that order; err says which failed. */
+static placement_status_t plan_request_check(const placement_arm_t *arm,
+                                             const placement_plan_config_t *cfg,
+                                             const placement_plan_request_t *req,
+                                             placement_error_t *err) {
   placement_status_t st = placement_plan_config_check(cfg);
   if (st != PLACEMENT_OK) {
     set_err(err, "placement_plan_build: bad config (%s)", placement_status_str(st));
@@ -350,29 +348,38 @@ placement_status_t placement_plan_build(const placement_arm_t *arm,
     set_err(err, "placement_plan_build: start joints: %s", placement_status_str(st));
     return st;
   }
+  return PLACEMENT_OK;
+}
 
-  placement_plan_t plan;
-  memset(&plan, 0, sizeof plan);
-  plan.object_in_block = req->object_in_block;
-  st = placement_plan_touch_z(req->mesh_link, &req->object_in_block, cfg->block_size_m,
-                              cfg->touch_depth_m, &plan.object_in_block.pos_m[2]);
+/* The object lowered to touch B, the tcp in block at every waypoint (PLACE, then PREPLACE /
+ * RETREAT raised along block z) and the gripper width at each, with the gripper clear of B. */
+static placement_status_t plan_tcp_in_block(const placement_plan_config_t *cfg,
+                                            const placement_plan_request_t *req,
+                                            placement_plan_t *plan,
+                                            placement_pose_t tcp_in_block[PLACEMENT_PLAN_WAYPOINTS],
+                                            double widths[PLACEMENT_PLAN_WAYPOINTS],
+                                            placement_error_t *err) {
+  plan->object_in_block = req->object_in_block;
+  const placement_status_t st =
+      placement_plan_touch_z(req->mesh_link, &req->object_in_block, cfg->block_size_m,
+                             cfg->touch_depth_m, &plan->object_in_block.pos_m[2]);
   if (st != PLACEMENT_OK) {
     set_err(err, "placement_plan_build: no part of the object over B's top");
     return st;
   }
-
-  /* tcp in block at PLACE, then PREPLACE / RETREAT raised along block z. */
-  placement_pose_t tcp_in_obj, tcp_in_block[PLACEMENT_PLAN_WAYPOINTS];
+  placement_pose_t tcp_in_obj;
   placement_pose_inverse(&req->object_in_tcp, &tcp_in_obj);
-  placement_pose_mul(&plan.object_in_block, &tcp_in_obj, &tcp_in_block[1]);
+  placement_pose_mul(&plan->object_in_block, &tcp_in_obj, &tcp_in_block[1]);
   tcp_in_block[0] = tcp_in_block[1];
   tcp_in_block[0].pos_m[2] += cfg->preplace_height_m;
   tcp_in_block[2] = tcp_in_block[1];
   tcp_in_block[3] = tcp_in_block[1];
   tcp_in_block[3].pos_m[2] += cfg->retreat_height_m;
   const double release_w = req->grip_width_m + cfg->release_opening_m;
-  const double widths[PLACEMENT_PLAN_WAYPOINTS] = {req->grip_width_m, req->grip_width_m, release_w,
-                                                   release_w};
+  widths[0] = req->grip_width_m;
+  widths[1] = req->grip_width_m;
+  widths[2] = release_w;
+  widths[3] = release_w;
   for (int w = 0; w < PLACEMENT_PLAN_WAYPOINTS; ++w) {
     if (!placement_plan_gripper_clear(cfg, &tcp_in_block[w], widths[w])) {
       set_err(err, "placement_plan_build: the gripper would reach into B at %s",
@@ -380,15 +387,18 @@ placement_status_t placement_plan_build(const placement_arm_t *arm,
       return PLACEMENT_E_COLLISION;
     }
   }
+  return PLACEMENT_OK;
+}
 
-  /* PLACE first (it is what the learner asked for), then the lines up to PREPLACE and RETREAT
-   * from it. When a line cannot be followed on PLACE's branch, PLACE is solved again from another
-   * start posture (deterministic, from cfg->ik.rng_seed). */
-  placement_pose_t tcp_in_base[PLACEMENT_PLAN_WAYPOINTS];
-  for (int w = 0; w < PLACEMENT_PLAN_WAYPOINTS; ++w) {
-    placement_pose_mul(&cfg->block_in_base, &tcp_in_block[w], &tcp_in_base[w]);
-  }
-  double q_place[PLACEMENT_JOINTS], q_pre[PLACEMENT_JOINTS], q_ret[PLACEMENT_JOINTS];
+/* PLACE first (it is what the learner asked for), then the lines up to PREPLACE and RETREAT
+ * from it. When a line cannot be followed on PLACE's branch, PLACE is solved again from another
+ * start posture (deterministic, from cfg->ik.rng_seed). */
+static placement_status_t plan_solve_joints(
+    const placement_arm_t *arm, const placement_plan_config_t *cfg,
+    const placement_plan_request_t *req,
+    const placement_pose_t tcp_in_base[PLACEMENT_PLAN_WAYPOINTS], double q_place[PLACEMENT_JOINTS],
+    double q_pre[PLACEMENT_JOINTS], double q_ret[PLACEMENT_JOINTS], unsigned *iterations,
+    placement_error_t *err) {
   uint64_t rng = cfg->ik.rng_seed ^ 0x9e3779b97f4a7c15ull;
   for (unsigned attempt = 0;; ++attempt) {
     double start[PLACEMENT_JOINTS];
@@ -400,18 +410,16 @@ placement_status_t placement_plan_build(const placement_arm_t *arm,
         start[k] = arm->lower_rad[k] + u * (arm->upper_rad[k] - arm->lower_rad[k]);
       }
     }
-    st = solve_free(arm, cfg, &tcp_in_base[1], start, q_place, &plan.ik_iterations);
+    placement_status_t st = solve_free(arm, cfg, &tcp_in_base[1], start, q_place, iterations);
     if (st != PLACEMENT_OK) {
       set_err(err, "placement_plan_build: place unreachable (%s)", placement_status_str(st));
       return st;
     }
-    st = solve_straight(arm, cfg, &tcp_in_base[1], &tcp_in_base[0], q_place, q_pre,
-                        &plan.ik_iterations);
+    st = solve_straight(arm, cfg, &tcp_in_base[1], &tcp_in_base[0], q_place, q_pre, iterations);
     if (st == PLACEMENT_OK) {
-      st = solve_straight(arm, cfg, &tcp_in_base[2], &tcp_in_base[3], q_place, q_ret,
-                          &plan.ik_iterations);
+      st = solve_straight(arm, cfg, &tcp_in_base[2], &tcp_in_base[3], q_place, q_ret, iterations);
     }
-    if (st == PLACEMENT_OK) break;
+    if (st == PLACEMENT_OK) return PLACEMENT_OK;
     if (attempt + 1 >= cfg->branch_attempts) {
       set_err(err,
               "placement_plan_build: no IK branch follows the vertical line through place "
@@ -420,6 +428,34 @@ placement_status_t placement_plan_build(const placement_arm_t *arm,
       return st;
     }
   }
+}
+
+placement_status_t placement_plan_build(const placement_arm_t *arm,
+                                        const placement_plan_config_t *cfg,
+                                        const placement_plan_request_t *req, placement_plan_t *out,
+                                        placement_error_t *err) {
+  if (!arm || !cfg || !req || !out) {
+    set_err(err, "placement_plan_build: NULL argument");
+    return PLACEMENT_E_ARG;
+  }
+  placement_status_t st = plan_request_check(arm, cfg, req, err);
+  if (st != PLACEMENT_OK) return st;
+
+  placement_plan_t plan;
+  memset(&plan, 0, sizeof plan);
+  placement_pose_t tcp_in_block[PLACEMENT_PLAN_WAYPOINTS];
+  double widths[PLACEMENT_PLAN_WAYPOINTS];
+  st = plan_tcp_in_block(cfg, req, &plan, tcp_in_block, widths, err);
+  if (st != PLACEMENT_OK) return st;
+
+  placement_pose_t tcp_in_base[PLACEMENT_PLAN_WAYPOINTS];
+  for (int w = 0; w < PLACEMENT_PLAN_WAYPOINTS; ++w) {
+    placement_pose_mul(&cfg->block_in_base, &tcp_in_block[w], &tcp_in_base[w]);
+  }
+  double q_place[PLACEMENT_JOINTS], q_pre[PLACEMENT_JOINTS], q_ret[PLACEMENT_JOINTS];
+  st = plan_solve_joints(arm, cfg, req, tcp_in_base, q_place, q_pre, q_ret, &plan.ik_iterations,
+                         err);
+  if (st != PLACEMENT_OK) return st;
 
   const double *const qs[PLACEMENT_PLAN_WAYPOINTS] = {q_pre, q_place, q_place, q_ret};
   const double *prev = req->q_start_rad;
