@@ -12,63 +12,53 @@ enum { JACOBI_MAX_SWEEPS = 64 };
 static const double SYMMETRY_TOL = 1e-9;
 static const double TRIANGLE_TOL = 1e-9;
 
-model_status_t model_inertia_principal(const double inertia_kg_m2[3][3], double moments[3],
-                                       double axes[3][3]) {
-  if (inertia_kg_m2 == NULL || moments == NULL || axes == NULL) {
-    return MODEL_E_ARG;
+/* Rotates the (p, q) pair of a to zero: a <- J^T a J and v <- v J, with J the Jacobi rotation
+ * in the (p, q) plane. */
+static void jacobi_rotate(double a[3][3], double v[3][3], int p, int q) {
+  double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+  double t = (theta >= 0.0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+  double c = 1.0 / sqrt(t * t + 1.0);
+  double s = t * c;
+  for (int k = 0; k < 3; ++k) {
+    double akp = a[k][p], akq = a[k][q];
+    a[k][p] = c * akp - s * akq;
+    a[k][q] = s * akp + c * akq;
   }
-  double a[3][3], v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  double scale = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      if (!isfinite(inertia_kg_m2[i][j])) {
-        return MODEL_E_INERTIAL;
-      }
-      /* Symmetrise: only the symmetric part has real eigenvalues and orthogonal axes. */
-      a[i][j] = 0.5 * (inertia_kg_m2[i][j] + inertia_kg_m2[j][i]);
-      scale += a[i][j] * a[i][j];
-    }
+  for (int k = 0; k < 3; ++k) {
+    double apk = a[p][k], aqk = a[q][k];
+    a[p][k] = c * apk - s * aqk;
+    a[q][k] = s * apk + c * aqk;
   }
-  /* Cyclic Jacobi: rotate each off-diagonal pair to zero; converges quadratically. */
-  int converged = 0;
+  for (int k = 0; k < 3; ++k) {
+    double vkp = v[k][p], vkq = v[k][q];
+    v[k][p] = c * vkp - s * vkq;
+    v[k][q] = s * vkp + c * vkq;
+  }
+}
+
+/* Cyclic Jacobi: rotate each off-diagonal pair to zero; converges quadratically. `scale` is
+ * the squared Frobenius norm of a. Returns 1 when converged within JACOBI_MAX_SWEEPS. */
+static int jacobi_diagonalize(double a[3][3], double v[3][3], double scale) {
   for (int sweep = 0; sweep < JACOBI_MAX_SWEEPS; ++sweep) {
     double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
     if (off <= 1e-32 * scale) {
-      converged = 1;
-      break;
+      return 1;
     }
     for (int p = 0; p < 2; ++p) {
       for (int q = p + 1; q < 3; ++q) {
         if (a[p][q] == 0.0) {
           continue;
         }
-        double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-        double t = (theta >= 0.0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
-        double c = 1.0 / sqrt(t * t + 1.0);
-        double s = t * c;
-        /* a <- J^T a J with J the rotation in the (p, q) plane. */
-        for (int k = 0; k < 3; ++k) {
-          double akp = a[k][p], akq = a[k][q];
-          a[k][p] = c * akp - s * akq;
-          a[k][q] = s * akp + c * akq;
-        }
-        for (int k = 0; k < 3; ++k) {
-          double apk = a[p][k], aqk = a[q][k];
-          a[p][k] = c * apk - s * aqk;
-          a[q][k] = s * apk + c * aqk;
-        }
-        for (int k = 0; k < 3; ++k) {
-          double vkp = v[k][p], vkq = v[k][q];
-          v[k][p] = c * vkp - s * vkq;
-          v[k][q] = s * vkp + c * vkq;
-        }
+        jacobi_rotate(a, v, p, q);
       }
     }
   }
-  if (!converged) {
-    return MODEL_E_INERTIAL;
-  }
-  /* Sort ascending (columns move with their moments), then make the frame right-handed. */
+  return 0;
+}
+
+/* Sort ascending (columns move with their moments), then make the frame right-handed. */
+static void principal_sort(const double a[3][3], const double v[3][3], double moments[3],
+                           double axes[3][3]) {
   int order[3] = {0, 1, 2};
   for (int i = 0; i < 3; ++i) {
     for (int j = i + 1; j < 3; ++j) {
@@ -93,6 +83,29 @@ model_status_t model_inertia_principal(const double inertia_kg_m2[3][3], double 
       axes[k][2] = -axes[k][2];
     }
   }
+}
+
+model_status_t model_inertia_principal(const double inertia_kg_m2[3][3], double moments[3],
+                                       double axes[3][3]) {
+  if (inertia_kg_m2 == NULL || moments == NULL || axes == NULL) {
+    return MODEL_E_ARG;
+  }
+  double a[3][3], v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  double scale = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (!isfinite(inertia_kg_m2[i][j])) {
+        return MODEL_E_INERTIAL;
+      }
+      /* Symmetrise: only the symmetric part has real eigenvalues and orthogonal axes. */
+      a[i][j] = 0.5 * (inertia_kg_m2[i][j] + inertia_kg_m2[j][i]);
+      scale += a[i][j] * a[i][j];
+    }
+  }
+  if (!jacobi_diagonalize(a, v, scale)) {
+    return MODEL_E_INERTIAL;
+  }
+  principal_sort((const double(*)[3])a, (const double(*)[3])v, moments, axes);
   return MODEL_OK;
 }
 

@@ -167,16 +167,9 @@ static model_status_t check_edges(uint32_t (*tris)[3], size_t tri_count, double 
   return st;
 }
 
-model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
-                                model_error_t *err) {
-  model_mesh_report_t rep;
-  memset(&rep, 0, sizeof rep);
-  if (report != NULL) {
-    *report = rep;
-  }
-  if (mesh == NULL) {
-    return model_fail(err, MODEL_E_ARG, "mesh is NULL");
-  }
+/* The input checks of model_mesh_check, in their order: counts, arrays, size, finite vertices,
+ * indices in range. */
+static model_status_t mesh_check_input(const model_mesh_t *mesh, model_error_t *err) {
   const size_t nv = mesh->vertex_count;
   const size_t nt = mesh->triangle_count;
   if (nv == 0 || nt == 0) {
@@ -203,18 +196,13 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
       }
     }
   }
+  return MODEL_OK;
+}
 
-  model_status_t st = MODEL_OK;
-  vertex_key_t *keys = malloc(nv * sizeof *keys);
-  uint32_t *map = malloc(nv * sizeof *map);
-  uint32_t(*tris)[3] = malloc(nt * sizeof *tris);
-  double(*verts)[3] = NULL;
-  if (keys == NULL || map == NULL || tris == NULL) {
-    st = MODEL_E_NOMEM;
-    goto done;
-  }
-
-  /* Join bit-identical vertices: sort, and map every member of a run to its lowest index. */
+/* Joins bit-identical vertices: sort, and map every member of a run to its lowest index.
+ * Returns the number of distinct vertices. */
+static size_t mesh_join_vertices(const model_mesh_t *mesh, vertex_key_t *keys, uint32_t *map) {
+  const size_t nv = mesh->vertex_count;
   for (size_t i = 0; i < nv; ++i) {
     memcpy(keys[i].p, mesh->vertices_m[i], sizeof keys[i].p);
     keys[i].index = (uint32_t)i;
@@ -233,16 +221,20 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
     ++distinct;
     i = j;
   }
-  rep.merged_vertices = nv - distinct;
+  return distinct;
+}
 
-  /* Drop degenerate triangles. */
+/* Drops degenerate triangles (a repeated corner after the join, or a zero normal) and writes
+ * the others, through map[], to tris. Returns how many are kept. */
+static size_t mesh_drop_degenerate(const model_mesh_t *mesh, const uint32_t *map,
+                                   uint32_t (*tris)[3], size_t *removed_degenerate) {
   size_t kept = 0;
-  for (size_t t = 0; t < nt; ++t) {
+  for (size_t t = 0; t < mesh->triangle_count; ++t) {
     uint32_t a = map[mesh->triangles[t][0]];
     uint32_t b = map[mesh->triangles[t][1]];
     uint32_t c = map[mesh->triangles[t][2]];
     if (a == b || b == c || a == c) {
-      ++rep.removed_degenerate;
+      ++*removed_degenerate;
       continue;
     }
     double ab[3], ac[3], n[3];
@@ -250,7 +242,7 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
     cl_vec3_sub(mesh->vertices_m[c], mesh->vertices_m[a], ac);
     cl_vec3_cross(ab, ac, n);
     if (n[0] == 0.0 && n[1] == 0.0 && n[2] == 0.0) {
-      ++rep.removed_degenerate;
+      ++*removed_degenerate;
       continue;
     }
     tris[kept][0] = a;
@@ -258,9 +250,12 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
     tris[kept][2] = c;
     ++kept;
   }
+  return kept;
+}
 
-  /* Renumber the used vertices in their original order; map[] is reused as old -> new. */
-  uint32_t *newindex = map;
+/* Numbers the vertices the kept triangles use in their original order: newindex[old] = new, or
+ * UINT32_MAX when unused. Returns how many are used. */
+static size_t mesh_number_used(uint32_t *newindex, size_t nv, uint32_t (*tris)[3], size_t kept) {
   for (size_t i = 0; i < nv; ++i) {
     newindex[i] = UINT32_MAX;
   }
@@ -275,6 +270,114 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
       newindex[i] = (uint32_t)used++;
     }
   }
+  return used;
+}
+
+/* Copies the used vertices to verts and renumbers tris, both through newindex[]. */
+static void mesh_compact(const model_mesh_t *mesh, const uint32_t *newindex, double (*verts)[3],
+                         uint32_t (*tris)[3], size_t kept) {
+  for (size_t i = 0; i < mesh->vertex_count; ++i) {
+    if (newindex[i] != UINT32_MAX) {
+      memcpy(verts[newindex[i]], mesh->vertices_m[i], sizeof verts[0]);
+    }
+  }
+  for (size_t t = 0; t < kept; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      tris[t][k] = newindex[tris[t][k]];
+    }
+  }
+}
+
+/* Signed volume about the bbox center (smaller rounding than about the origin); the largest
+ * bbox extent goes to *extent. */
+static double mesh_signed_volume(double (*verts)[3], size_t used, uint32_t (*tris)[3], size_t kept,
+                                 double *extent) {
+  double lo[3], hi[3];
+  memcpy(lo, verts[0], sizeof lo);
+  memcpy(hi, verts[0], sizeof hi);
+  for (size_t i = 1; i < used; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = fmin(lo[k], verts[i][k]);
+      hi[k] = fmax(hi[k], verts[i][k]);
+    }
+  }
+  double ref[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  *extent = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
+  double volume6 = 0.0;
+  for (size_t t = 0; t < kept; ++t) {
+    double a[3], b[3], c[3], bc[3];
+    cl_vec3_sub(verts[tris[t][0]], ref, a);
+    cl_vec3_sub(verts[tris[t][1]], ref, b);
+    cl_vec3_sub(verts[tris[t][2]], ref, c);
+    cl_vec3_cross(b, c, bc);
+    volume6 += a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2];
+  }
+  return volume6 / 6.0;
+}
+
+/* Fails on a mesh that encloses no volume; turns an inward mesh outward (*flipped = 1). */
+static model_status_t mesh_orient(double (*verts)[3], size_t used, uint32_t (*tris)[3], size_t kept,
+                                  int *flipped, model_error_t *err) {
+  double extent;
+  double volume = mesh_signed_volume(verts, used, tris, kept, &extent);
+  if (!(fabs(volume) > 1e-12 * extent * extent * extent)) {
+    return model_fail(err, MODEL_E_DEGENERATE,
+                      "closed mesh encloses no volume (%g m^3 for a size of %g m)", volume, extent);
+  }
+  if (volume < 0.0) {
+    for (size_t t = 0; t < kept; ++t) {
+      uint32_t tmp = tris[t][1];
+      tris[t][1] = tris[t][2];
+      tris[t][2] = tmp;
+    }
+    *flipped = 1;
+  }
+  return MODEL_OK;
+}
+
+/* Hands the repaired arrays to the mesh, freeing its old ones. */
+static void mesh_commit(model_mesh_t *mesh, double (*verts)[3], size_t used, uint32_t (*tris)[3],
+                        size_t kept) {
+  free(mesh->vertices_m);
+  free(mesh->triangles);
+  mesh->vertices_m = verts;
+  mesh->vertex_count = used;
+  uint32_t(*shrunk)[3] = realloc(tris, kept * sizeof *tris);
+  mesh->triangles = shrunk != NULL ? shrunk : tris;
+  mesh->triangle_count = kept;
+}
+
+model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
+                                model_error_t *err) {
+  model_mesh_report_t rep;
+  memset(&rep, 0, sizeof rep);
+  if (report != NULL) {
+    *report = rep;
+  }
+  if (mesh == NULL) {
+    return model_fail(err, MODEL_E_ARG, "mesh is NULL");
+  }
+  model_status_t st = mesh_check_input(mesh, err);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  const size_t nv = mesh->vertex_count;
+  const size_t nt = mesh->triangle_count;
+  vertex_key_t *keys = malloc(nv * sizeof *keys);
+  uint32_t *map = malloc(nv * sizeof *map);
+  uint32_t(*tris)[3] = malloc(nt * sizeof *tris);
+  double(*verts)[3] = NULL;
+  if (keys == NULL || map == NULL || tris == NULL) {
+    st = MODEL_E_NOMEM;
+    goto done;
+  }
+
+  const size_t distinct = mesh_join_vertices(mesh, keys, map);
+  rep.merged_vertices = nv - distinct;
+  const size_t kept = mesh_drop_degenerate(mesh, map, tris, &rep.removed_degenerate);
+  /* map[] is reused as old -> new. */
+  uint32_t *newindex = map;
+  const size_t used = mesh_number_used(newindex, nv, tris, kept);
   rep.removed_unreferenced = distinct - used;
   if (report != NULL) {
     *report = rep;
@@ -290,66 +393,19 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
     st = MODEL_E_NOMEM;
     goto done;
   }
-  for (size_t i = 0; i < nv; ++i) {
-    if (newindex[i] != UINT32_MAX) {
-      memcpy(verts[newindex[i]], mesh->vertices_m[i], sizeof verts[0]);
-    }
-  }
-  for (size_t t = 0; t < kept; ++t) {
-    for (int k = 0; k < 3; ++k) {
-      tris[t][k] = newindex[tris[t][k]];
-    }
-  }
+  mesh_compact(mesh, newindex, verts, tris, kept);
 
   st = check_edges(tris, kept, verts, rep.removed_degenerate, err);
   if (st != MODEL_OK) {
     goto done;
   }
 
-  /* Signed volume about the bbox center (smaller rounding than about the origin). */
-  double lo[3], hi[3];
-  memcpy(lo, verts[0], sizeof lo);
-  memcpy(hi, verts[0], sizeof hi);
-  for (size_t i = 1; i < used; ++i) {
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = fmin(lo[k], verts[i][k]);
-      hi[k] = fmax(hi[k], verts[i][k]);
-    }
-  }
-  double ref[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-  double extent = fmax(hi[0] - lo[0], fmax(hi[1] - lo[1], hi[2] - lo[2]));
-  double volume6 = 0.0;
-  for (size_t t = 0; t < kept; ++t) {
-    double a[3], b[3], c[3], bc[3];
-    cl_vec3_sub(verts[tris[t][0]], ref, a);
-    cl_vec3_sub(verts[tris[t][1]], ref, b);
-    cl_vec3_sub(verts[tris[t][2]], ref, c);
-    cl_vec3_cross(b, c, bc);
-    volume6 += a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2];
-  }
-  double volume = volume6 / 6.0;
-  if (!(fabs(volume) > 1e-12 * extent * extent * extent)) {
-    st = model_fail(err, MODEL_E_DEGENERATE,
-                    "closed mesh encloses no volume (%g m^3 for a size of %g m)", volume, extent);
+  st = mesh_orient(verts, used, tris, kept, &rep.flipped, err);
+  if (st != MODEL_OK) {
     goto done;
   }
-  if (volume < 0.0) {
-    for (size_t t = 0; t < kept; ++t) {
-      uint32_t tmp = tris[t][1];
-      tris[t][1] = tris[t][2];
-      tris[t][2] = tmp;
-    }
-    rep.flipped = 1;
-  }
 
-  /* Commit. */
-  free(mesh->vertices_m);
-  free(mesh->triangles);
-  mesh->vertices_m = verts;
-  mesh->vertex_count = used;
-  uint32_t(*shrunk)[3] = realloc(tris, kept * sizeof *tris);
-  mesh->triangles = shrunk != NULL ? shrunk : tris;
-  mesh->triangle_count = kept;
+  mesh_commit(mesh, verts, used, tris, kept);
   verts = NULL;
   tris = NULL;
   if (report != NULL) {

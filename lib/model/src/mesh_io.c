@@ -142,37 +142,29 @@ static model_status_t probe_readable(const char *path, model_error_t *err) {
   return MODEL_OK;
 }
 
-model_status_t model_mesh_load(const char *path, const double scale[3], model_mesh_t *out,
-                               model_mesh_report_t *report, model_error_t *err) {
-  if (report != NULL) {
-    memset(report, 0, sizeof *report);
+/* Checks the caller's scale and copies it to w_scale (which stays 1, 1, 1 for NULL). */
+static model_status_t load_scale(const char *path, const double scale[3], double w_scale[3],
+                                 model_error_t *err) {
+  if (scale == NULL) {
+    return MODEL_OK;
   }
-  if (out == NULL) {
-    return model_fail(err, MODEL_E_ARG, "output mesh is NULL");
-  }
-  memset(out, 0, sizeof *out);
-  if (path == NULL || path[0] == '\0') {
-    return model_fail(err, MODEL_E_ARG, "mesh path is NULL or empty");
-  }
-  walk_t w = {.path = path, .scale = {1.0, 1.0, 1.0}, .err = err};
-  if (scale != NULL) {
-    for (int k = 0; k < 3; ++k) {
-      if (!isfinite(scale[k])) {
-        return model_fail(err, MODEL_E_NONFINITE, "mesh %s: scale (%g, %g, %g) is not finite", path,
-                          scale[0], scale[1], scale[2]);
-      }
-      if (scale[k] == 0.0) {
-        return model_fail(err, MODEL_E_ARG, "mesh %s: scale (%g, %g, %g) has a zero component",
-                          path, scale[0], scale[1], scale[2]);
-      }
-      w.scale[k] = scale[k];
+  for (int k = 0; k < 3; ++k) {
+    if (!isfinite(scale[k])) {
+      return model_fail(err, MODEL_E_NONFINITE, "mesh %s: scale (%g, %g, %g) is not finite", path,
+                        scale[0], scale[1], scale[2]);
     }
+    if (scale[k] == 0.0) {
+      return model_fail(err, MODEL_E_ARG, "mesh %s: scale (%g, %g, %g) has a zero component", path,
+                        scale[0], scale[1], scale[2]);
+    }
+    w_scale[k] = scale[k];
   }
-  model_status_t st = probe_readable(path, err);
-  if (st != MODEL_OK) {
-    return st;
-  }
+  return MODEL_OK;
+}
 
+/* Imports the file with assimp; the caller releases *scene_out with aiReleaseImport. */
+static model_status_t load_scene(const char *path, const struct aiScene **scene_out,
+                                 model_error_t *err) {
   /* Keep positions only: without normals and texture coordinates JoinIdenticalVertices joins by
    * position, which STL (one vertex triple per facet) needs. Points and lines are dropped. The
    * Collada up axis is ignored (the file's coordinates are the link frame, as in ROS); its unit
@@ -203,25 +195,62 @@ model_status_t model_mesh_load(const char *path, const double scale[3], model_me
     aiReleaseImport(scene);
     return model_fail(err, MODEL_E_PARSE, "mesh %s: incomplete scene (no meshes)", path);
   }
+  *scene_out = scene;
+  return MODEL_OK;
+}
 
-  w.scene = scene;
+/* Two walks over the node tree: count, allocate `out`, then fill it. */
+static model_status_t load_walk(walk_t *w, model_mesh_t *out) {
+  const char *path = w->path;
   xform_t identity = {{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
-  st = walk_node(&w, scene->mRootNode, &identity, 0);
-  if (st == MODEL_OK && w.triangle_count == 0) {
-    st = model_fail(err, MODEL_E_PARSE, "mesh %s contains no triangles", path);
+  model_status_t st = walk_node(w, w->scene->mRootNode, &identity, 0);
+  if (st == MODEL_OK && w->triangle_count == 0) {
+    st = model_fail(w->err, MODEL_E_PARSE, "mesh %s contains no triangles", path);
   }
   if (st == MODEL_OK) {
-    st = model_mesh_alloc(out, w.vertex_count, w.triangle_count);
+    st = model_mesh_alloc(out, w->vertex_count, w->triangle_count);
     if (st != MODEL_OK) {
-      st = model_fail(err, st, "mesh %s: out of memory for %zu triangles", path, w.triangle_count);
+      st = model_fail(w->err, st, "mesh %s: out of memory for %zu triangles", path,
+                      w->triangle_count);
     }
   }
   if (st == MODEL_OK) {
-    w.out = out;
-    w.vertex_count = 0;
-    w.triangle_count = 0;
-    st = walk_node(&w, scene->mRootNode, &identity, 0);
+    w->out = out;
+    w->vertex_count = 0;
+    w->triangle_count = 0;
+    st = walk_node(w, w->scene->mRootNode, &identity, 0);
   }
+  return st;
+}
+
+model_status_t model_mesh_load(const char *path, const double scale[3], model_mesh_t *out,
+                               model_mesh_report_t *report, model_error_t *err) {
+  if (report != NULL) {
+    memset(report, 0, sizeof *report);
+  }
+  if (out == NULL) {
+    return model_fail(err, MODEL_E_ARG, "output mesh is NULL");
+  }
+  memset(out, 0, sizeof *out);
+  if (path == NULL || path[0] == '\0') {
+    return model_fail(err, MODEL_E_ARG, "mesh path is NULL or empty");
+  }
+  walk_t w = {.path = path, .scale = {1.0, 1.0, 1.0}, .err = err};
+  model_status_t st = load_scale(path, scale, w.scale, err);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  st = probe_readable(path, err);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  const struct aiScene *scene = NULL;
+  st = load_scene(path, &scene, err);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  w.scene = scene;
+  st = load_walk(&w, out);
   aiReleaseImport(scene);
   if (st == MODEL_OK) {
     st = model_mesh_check(out, report, err);
@@ -250,11 +279,9 @@ static int export_format_known(const char *format) {
   return found;
 }
 
-model_status_t model_mesh_save(const model_mesh_t *mesh, const char *path, const char *format,
-                               model_error_t *err) {
-  if (mesh == NULL || path == NULL || path[0] == '\0' || format == NULL) {
-    return model_fail(err, MODEL_E_ARG, "model_mesh_save: NULL mesh, path or format");
-  }
+/* The checks of model_mesh_save on its mesh, in their order. */
+static model_status_t save_check_mesh(const model_mesh_t *mesh, const char *path,
+                                      model_error_t *err) {
   if (mesh->vertex_count == 0 || mesh->triangle_count == 0 || mesh->vertices_m == NULL ||
       mesh->triangles == NULL || mesh->vertex_count > UINT32_MAX ||
       mesh->triangle_count > UINT32_MAX) {
@@ -276,83 +303,123 @@ model_status_t model_mesh_save(const model_mesh_t *mesh, const char *path, const
       }
     }
   }
-  if (!export_format_known(format)) {
-    return model_fail(err, MODEL_E_UNSUPPORTED, "cannot save %s: assimp has no exporter '%s'", path,
-                      format);
-  }
+  return MODEL_OK;
+}
 
-  /* A scene of one node, one mesh and one empty material, all owned here (assimp's exporter
-   * deep-copies a user-built scene; it never frees ours). */
-  const unsigned nv = (unsigned)mesh->vertex_count;
-  const unsigned nt = (unsigned)mesh->triangle_count;
-  model_status_t st = MODEL_OK;
-  struct aiScene *scene = calloc(1, sizeof *scene);
-  struct aiNode *root = calloc(1, sizeof *root);
-  struct aiMesh *am = calloc(1, sizeof *am);
-  struct aiMaterial *mat = calloc(1, sizeof *mat);
-  struct aiMesh **mesh_list = calloc(1, sizeof *mesh_list);
-  struct aiMaterial **mat_list = calloc(1, sizeof *mat_list);
-  unsigned *node_meshes = calloc(1, sizeof *node_meshes);
-  struct aiVector3D *vertices = calloc(nv, sizeof *vertices);
-  struct aiFace *faces = calloc(nt, sizeof *faces);
-  unsigned *indices = calloc((size_t)nt * 3, sizeof *indices);
-  if (scene == NULL || root == NULL || am == NULL || mat == NULL || mesh_list == NULL ||
-      mat_list == NULL || node_meshes == NULL || vertices == NULL || faces == NULL ||
-      indices == NULL) {
-    st = model_fail(err, MODEL_E_NOMEM, "cannot save %s: out of memory", path);
-    goto done;
-  }
+/* A scene of one node, one mesh and one empty material, all owned here (assimp's exporter
+ * deep-copies a user-built scene; it never frees ours). */
+typedef struct {
+  struct aiScene *scene;
+  struct aiNode *root;
+  struct aiMesh *am;
+  struct aiMaterial *mat;
+  struct aiMesh **mesh_list;
+  struct aiMaterial **mat_list;
+  unsigned *node_meshes;
+  struct aiVector3D *vertices;
+  struct aiFace *faces;
+  unsigned *indices;
+} save_scene_t;
+
+/* Allocates every part of s (zeroed); returns 0 when one is missing (save_scene_free frees the
+ * others). */
+static int save_scene_alloc(save_scene_t *s, unsigned nv, unsigned nt) {
+  s->scene = calloc(1, sizeof *s->scene);
+  s->root = calloc(1, sizeof *s->root);
+  s->am = calloc(1, sizeof *s->am);
+  s->mat = calloc(1, sizeof *s->mat);
+  s->mesh_list = calloc(1, sizeof *s->mesh_list);
+  s->mat_list = calloc(1, sizeof *s->mat_list);
+  s->node_meshes = calloc(1, sizeof *s->node_meshes);
+  s->vertices = calloc(nv, sizeof *s->vertices);
+  s->faces = calloc(nt, sizeof *s->faces);
+  s->indices = calloc((size_t)nt * 3, sizeof *s->indices);
+  return s->scene != NULL && s->root != NULL && s->am != NULL && s->mat != NULL &&
+         s->mesh_list != NULL && s->mat_list != NULL && s->node_meshes != NULL &&
+         s->vertices != NULL && s->faces != NULL && s->indices != NULL;
+}
+
+/* Copies the mesh into s and links its parts into one scene. */
+static void save_scene_fill(save_scene_t *s, const model_mesh_t *mesh, unsigned nv, unsigned nt) {
   for (unsigned i = 0; i < nv; ++i) {
-    vertices[i].x = (ai_real)mesh->vertices_m[i][0];
-    vertices[i].y = (ai_real)mesh->vertices_m[i][1];
-    vertices[i].z = (ai_real)mesh->vertices_m[i][2];
+    s->vertices[i].x = (ai_real)mesh->vertices_m[i][0];
+    s->vertices[i].y = (ai_real)mesh->vertices_m[i][1];
+    s->vertices[i].z = (ai_real)mesh->vertices_m[i][2];
   }
   for (unsigned t = 0; t < nt; ++t) {
     for (int k = 0; k < 3; ++k) {
-      indices[3 * (size_t)t + (size_t)k] = mesh->triangles[t][k];
+      s->indices[3 * (size_t)t + (size_t)k] = mesh->triangles[t][k];
     }
-    faces[t].mNumIndices = 3;
-    faces[t].mIndices = &indices[3 * (size_t)t];
+    s->faces[t].mNumIndices = 3;
+    s->faces[t].mIndices = &s->indices[3 * (size_t)t];
   }
+  struct aiMesh *am = s->am;
   am->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
   am->mNumVertices = nv;
-  am->mVertices = vertices;
+  am->mVertices = s->vertices;
   am->mNumFaces = nt;
-  am->mFaces = faces;
+  am->mFaces = s->faces;
   am->mMaterialIndex = 0;
   am->mName.length = 4;
   memcpy(am->mName.data, "mesh", 5);
+  struct aiNode *root = s->root;
   root->mName.length = 4;
   memcpy(root->mName.data, "root", 5);
   root->mTransformation.a1 = root->mTransformation.b2 = 1;
   root->mTransformation.c3 = root->mTransformation.d4 = 1;
   root->mNumMeshes = 1;
-  root->mMeshes = node_meshes;
-  mesh_list[0] = am;
-  mat_list[0] = mat;
+  root->mMeshes = s->node_meshes;
+  s->mesh_list[0] = am;
+  s->mat_list[0] = s->mat;
+  struct aiScene *scene = s->scene;
   scene->mFlags = AI_SCENE_FLAGS_NON_VERBOSE_FORMAT; /* vertices are shared between faces */
   scene->mRootNode = root;
   scene->mNumMeshes = 1;
-  scene->mMeshes = mesh_list;
+  scene->mMeshes = s->mesh_list;
   scene->mNumMaterials = 1;
-  scene->mMaterials = mat_list;
+  scene->mMaterials = s->mat_list;
+}
 
-  if (aiExportScene(scene, format, path, 0) != aiReturn_SUCCESS) {
-    st = model_fail(err, MODEL_E_NOFILE,
-                    "assimp could not write %s as '%s' (folder missing or not writable?)", path,
-                    format);
+static void save_scene_free(save_scene_t *s) {
+  free(s->indices);
+  free(s->faces);
+  free(s->vertices);
+  free(s->node_meshes);
+  free(s->mat_list);
+  free(s->mesh_list);
+  free(s->mat);
+  free(s->am);
+  free(s->root);
+  free(s->scene);
+}
+
+model_status_t model_mesh_save(const model_mesh_t *mesh, const char *path, const char *format,
+                               model_error_t *err) {
+  if (mesh == NULL || path == NULL || path[0] == '\0' || format == NULL) {
+    return model_fail(err, MODEL_E_ARG, "model_mesh_save: NULL mesh, path or format");
+  }
+  model_status_t st = save_check_mesh(mesh, path, err);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  if (!export_format_known(format)) {
+    return model_fail(err, MODEL_E_UNSUPPORTED, "cannot save %s: assimp has no exporter '%s'", path,
+                      format);
   }
 
-done:
-  free(indices);
-  free(faces);
-  free(vertices);
-  free(node_meshes);
-  free(mat_list);
-  free(mesh_list);
-  free(mat);
-  free(am);
-  free(root);
-  free(scene);
+  const unsigned nv = (unsigned)mesh->vertex_count;
+  const unsigned nt = (unsigned)mesh->triangle_count;
+  save_scene_t s;
+  if (!save_scene_alloc(&s, nv, nt)) {
+    st = model_fail(err, MODEL_E_NOMEM, "cannot save %s: out of memory", path);
+  } else {
+    save_scene_fill(&s, mesh, nv, nt);
+    if (aiExportScene(s.scene, format, path, 0) != aiReturn_SUCCESS) {
+      st = model_fail(err, MODEL_E_NOFILE,
+                      "assimp could not write %s as '%s' (folder missing or not writable?)", path,
+                      format);
+    }
+  }
+  save_scene_free(&s);
   return st;
 }
