@@ -260,19 +260,14 @@ END_TEST
 
 /* ---- real contact: separate feet, a ring ----------------------------------------------- */
 
-START_TEST(two_feet_chord_is_the_real_contact) {
-  /* Feet 20 x 40 mm (x, y), 20 mm apart: x in [-30, -10] and [10, 30]. */
-  const double h[3] = {0.01, 0.02, 0.005};
-  model_mesh_t m = {0};
-  bp_two_feet(&m, h, 0.02);
-  model_mesh_check(&m, NULL, NULL);
-  const double mid[3] = {0.0, 0.0, 0.0};
+/* Feet 20 x 40 mm (x, y), 20 mm apart: x in [-30, -10] and [10, 30]. */
+static void two_feet_check_chords(const model_mesh_t *m, const double mid[3]) {
   /* Over a Y edge (edge line along x) the line crosses both feet: the chord runs from one
    * foot's outer end to the other's, bridging the gap, and the edge line bounds the support
    * polygon all along it. */
-  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PY, mid, 0.0);
+  model_pose_t pose = over_edge(m, kIdentity, MODEL_EDGE_PY, mid, 0.0);
   model_regime_t r;
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, mid, NULL, &r), MODEL_OK);
+  ck_assert_int_eq(model_regime_classify(m, &pose, kBase, MODEL_EDGE_PY, mid, NULL, &r), MODEL_OK);
   ck_assert_uint_eq(r.patch.face_count, 4);
   ck_assert_uint_eq(r.patch.region_count, 2);
   ck_assert_double_eq_tol(r.patch.faces_area_m2, 2 * 0.02 * 0.04, 1e-15);
@@ -286,49 +281,59 @@ START_TEST(two_feet_chord_is_the_real_contact) {
   /* Over an X edge with the gap's middle on the edge line: the line meets no foot (the outline
    * would give a 40 mm chord there). The object rests on the inner foot, whose edge is 10 mm
    * inside: not a flat-patch trial. */
-  pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, mid, 0.0);
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r), MODEL_OK);
+  pose = over_edge(m, kIdentity, MODEL_EDGE_PX, mid, 0.0);
+  ck_assert_int_eq(model_regime_classify(m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r), MODEL_OK);
   ck_assert(!r.chord_valid);
   ck_assert(r.chord_margin_m == -HUGE_VAL);
   ck_assert_int_eq(r.kind, MODEL_REGIME_POINT_SUPPORT);
   /* The edge line through one foot (x = 20 mm): that foot's chord, [-20, 20] mm in y. */
   const double on_foot[3] = {0.02, 0.005, 0.0};
-  pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, on_foot, 0.0);
-  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, on_foot, NULL, &r),
+  pose = over_edge(m, kIdentity, MODEL_EDGE_PX, on_foot, 0.0);
+  ck_assert_int_eq(model_regime_classify(m, &pose, kBase, MODEL_EDGE_PX, on_foot, NULL, &r),
                    MODEL_OK);
   ck_assert_double_eq_tol(r.chord_m[0] - r.com_along_m, -0.025, 1e-15);
   ck_assert_double_eq_tol(r.chord_m[1] - r.com_along_m, 0.015, 1e-15);
   ck_assert_double_eq_tol(r.chord_margin_m, 0.015, 1e-15);
   ck_assert_int_eq(r.kind, MODEL_REGIME_FLAT_PATCH);
-  /* Yaw: the best line through the gap's middle runs corner to corner across both feet (half
-   * length hypot(30, 20) mm); at yaw 0 the line runs in the gap. */
+}
+
+/* Yaw: the best line through the gap's middle runs corner to corner across both feet (half
+ * length hypot(30, 20) mm); at yaw 0 the line runs in the gap. Returns the best yaw. */
+static double two_feet_check_yaw(const model_mesh_t *m, const double mid[3]) {
   double yaw = 0.0, best = 0.0, at0 = 0.0;
-  ck_assert_int_eq(model_yaw_best(&m, kIdentity, mid, MODEL_EDGE_PX, NULL, &yaw, &best), MODEL_OK);
+  ck_assert_int_eq(model_yaw_best(m, kIdentity, mid, MODEL_EDGE_PX, NULL, &yaw, &best), MODEL_OK);
   ck_assert_double_eq_tol(best, hypot(0.03, 0.02), 1e-9);
   ck_assert(fabs(yaw - CL_PI / 2) > 0.1);
-  ck_assert_int_eq(model_yaw_margin(&m, kIdentity, mid, MODEL_EDGE_PX, 0.0, NULL, &at0), MODEL_OK);
+  ck_assert_int_eq(model_yaw_margin(m, kIdentity, mid, MODEL_EDGE_PX, 0.0, NULL, &at0), MODEL_OK);
   ck_assert(at0 == -HUGE_VAL);
-  /* The batch form gives what the single calls give, pair by pair. */
+  return yaw;
+}
+
+/* The batch form gives what the single calls give, pair by pair. */
+static void two_feet_check_yaw_batch(const model_mesh_t *m, double yaw) {
   const double yaws[4] = {0.0, yaw, 1.0, 2.5};
   const double pts[4][3] = {{0, 0, 0}, {0, 0, 0}, {0.02, 0.005, 0}, {-0.015, 0.01, 0}};
   double batch[4];
-  ck_assert_int_eq(model_yaw_margins(&m, kIdentity, MODEL_EDGE_PX, NULL, 4, yaws, pts, batch),
+  ck_assert_int_eq(model_yaw_margins(m, kIdentity, MODEL_EDGE_PX, NULL, 4, yaws, pts, batch),
                    MODEL_OK);
   for (int i = 0; i < 4; ++i) {
     double one = 0.0;
-    ck_assert_int_eq(model_yaw_margin(&m, kIdentity, pts[i], MODEL_EDGE_PX, yaws[i], NULL, &one),
+    ck_assert_int_eq(model_yaw_margin(m, kIdentity, pts[i], MODEL_EDGE_PX, yaws[i], NULL, &one),
                      MODEL_OK);
     ck_assert(batch[i] == one);
   }
   const double bad_yaws[2] = {0.0, NAN};
-  ck_assert_int_eq(model_yaw_margins(&m, kIdentity, MODEL_EDGE_PX, NULL, 2, bad_yaws, pts, batch),
+  ck_assert_int_eq(model_yaw_margins(m, kIdentity, MODEL_EDGE_PX, NULL, 2, bad_yaws, pts, batch),
                    MODEL_E_NONFINITE);
-  ck_assert_int_eq(model_yaw_margins(&m, kIdentity, MODEL_EDGE_PX, NULL, 0, NULL, NULL, NULL),
+  ck_assert_int_eq(model_yaw_margins(m, kIdentity, MODEL_EDGE_PX, NULL, 0, NULL, NULL, NULL),
                    MODEL_OK);
-  /* The hull face under the feet: real area of one foot, two regions. */
+}
+
+/* The hull face under the feet: real area of one foot, two regions. */
+static void two_feet_check_bottom_face(const model_mesh_t *m, const double mid[3]) {
   model_face_t f[16];
   size_t n = 0;
-  ck_assert_int_eq(model_faces_find(&m, mid, NULL, f, 16, &n), MODEL_OK);
+  ck_assert_int_eq(model_faces_find(m, mid, NULL, f, 16, &n), MODEL_OK);
   int bottom = 0;
   for (size_t i = 0; i < (n < 16 ? n : 16); ++i) {
     if (f[i].normal_link[2] > -1.0 + 1e-12) continue;
@@ -339,6 +344,18 @@ START_TEST(two_feet_chord_is_the_real_contact) {
     ck_assert_double_eq_tol(f[i].patch_width_m, 0.02, 1e-15);
   }
   ck_assert(bottom);
+}
+
+START_TEST(two_feet_chord_is_the_real_contact) {
+  const double h[3] = {0.01, 0.02, 0.005};
+  model_mesh_t m = {0};
+  bp_two_feet(&m, h, 0.02);
+  model_mesh_check(&m, NULL, NULL);
+  const double mid[3] = {0.0, 0.0, 0.0};
+  two_feet_check_chords(&m, mid);
+  const double yaw = two_feet_check_yaw(&m, mid);
+  two_feet_check_yaw_batch(&m, yaw);
+  two_feet_check_bottom_face(&m, mid);
   model_mesh_free(&m);
 }
 END_TEST

@@ -527,97 +527,124 @@ static void assert_com(const char *name, const double got[3], const double want[
   }
 }
 
+/* An unscanned box: volume, CoM at the origin and the diagonal inertia, exactly. */
+static void closed_form_box(const shapegen_spec_t *s, const model_mass_t *m) {
+  const double com[3] = {0, 0, 0};
+  double dim[3];
+  for (int k = 0; k < 3; ++k) dim[k] = 2.0 * to_f32(0.5 * s->box.size_m[k]);
+  const double v = dim[0] * dim[1] * dim[2];
+  ck_assert_double_eq_tol(m->mass_kg, v, 1e-12 * v);
+  assert_com(s->name, m->com_m, com, 1e-15);
+  for (int k = 0; k < 3; ++k) {
+    const double want =
+        v / 12.0 * (dim[(k + 1) % 3] * dim[(k + 1) % 3] + dim[(k + 2) % 3] * dim[(k + 2) % 3]);
+    ck_assert_double_eq_tol(m->inertia_kg_m2[k][k], want, 1e-12 * want);
+    ck_assert_double_eq_tol(m->inertia_kg_m2[k][(k + 1) % 3], 0.0, 1e-12 * want);
+  }
+}
+
+/* A scanned box: volume and CoM within its noise. */
+static void closed_form_scanned_box(const shapegen_spec_t *s, const model_mass_t *m) {
+  const double com[3] = {0, 0, 0};
+  double surf = 0.0, dim[3];
+  for (int k = 0; k < 3; ++k) dim[k] = s->box.size_m[k];
+  const double v = dim[0] * dim[1] * dim[2];
+  for (int k = 0; k < 3; ++k) surf += 2.0 * dim[(k + 1) % 3] * dim[(k + 2) % 3];
+  ck_assert_msg(fabs(m->mass_kg - v) <= 2.0 * s->noise_m * surf, "%s: volume %.9g vs %.9g", s->name,
+                m->mass_kg, v);
+  assert_com(s->name, m->com_m, com, 2.0 * s->noise_m);
+}
+
+/* A slab: square feet against the closed form; round feet between disks of radius
+ * r - 1.5 mm and r + slope + 1.5 mm. */
+static void closed_form_slab(const shapegen_spec_t *s, const model_mass_t *m) {
+  int round = 0;
+  for (size_t f = 0; f < s->slab.foot_count; ++f) round |= s->slab.feet[f].round;
+  if (!round) {
+    double v = 0.0, com[3] = {0, 0, 0};
+    slab_closed_form(&s->slab, &v, com);
+    ck_assert_msg(fabs(m->mass_kg - v) <= 2e-6 * v, "%s: volume %.9g, closed form %.9g", s->name,
+                  m->mass_kg, v);
+    assert_com(s->name, m->com_m, com, 1e-7);
+    return;
+  }
+  shapegen_slab_t bare = s->slab;
+  bare.foot_count = 0;
+  double v0, c0[3];
+  slab_closed_form(&bare, &v0, c0);
+  v0 -= s->slab.clearance_m * 4.0 * s->slab.half_m[0] * s->slab.half_m[1];
+  double lo = v0, hi = v0;
+  for (size_t f = 0; f < s->slab.foot_count; ++f) {
+    const double r = s->slab.feet[f].half_m[0];
+    lo += s->slab.clearance_m * CL_PI * (r - 1.5 * MM) * (r - 1.5 * MM);
+    hi += s->slab.clearance_m * CL_PI * (r + s->slab.slope_m + 1.5 * MM) *
+          (r + s->slab.slope_m + 1.5 * MM);
+  }
+  ck_assert_msg(m->mass_kg > lo && m->mass_kg < hi, "%s: volume %.9g not in [%.9g, %.9g]", s->name,
+                m->mass_kg, lo, hi);
+}
+
+/* A solid of revolution without a handle: the closed form; a ring also against the ideal
+ * elliptic torus. */
+static void closed_form_revolve(const shapegen_spec_t *s, const model_mass_t *m) {
+  double v = 0.0, com[3] = {0, 0, 0};
+  revolve_closed_form(s, &v, com);
+  ck_assert_msg(fabs(m->mass_kg - v) <= 2e-6 * v, "%s: volume %.9g, closed form %.9g", s->name,
+                m->mass_kg, v);
+  assert_com(s->name, m->com_m, com, 1e-7);
+  if (s->family != SHAPEGEN_RING) return;
+  const size_t pm = s->rev.point_count;
+  const double big = s->rev.rz_m[0][0], az = -s->rev.rz_m[0][1];
+  const double ar = s->rev.rz_m[pm / 4][0] - big;
+  const double ideal = 2.0 * CL_PI * CL_PI * big * ar * az;
+  const double n2 = (double)s->rev.segments * s->rev.segments;
+  const double bound = 2.0 * CL_PI * CL_PI / 3.0 * (1.0 / n2 + 1.0 / ((double)pm * (double)pm));
+  ck_assert_msg(m->mass_kg <= ideal && m->mass_kg >= ideal * (1.0 - bound),
+                "%s: volume %.9g, ideal torus %.9g, bound %.3g", s->name, m->mass_kg, ideal, bound);
+}
+
+/* The mug: cup + a tube along the handle. */
+static void closed_form_mug(const shapegen_object_t *o, const model_mass_t *m) {
+  const shapegen_spec_t *s = &o->spec;
+  double v = 0.0, com[3] = {0, 0, 0};
+  revolve_closed_form(s, &v, com);
+  const shapegen_handle_t *h = &s->handle;
+  const unsigned n = s->rev.segments;
+  const double a = h->radius_m * sin(2 * CL_PI * h->columns / n);
+  const double bh = 0.5 * (s->rev.rz_m[h->upper_row + h->rows][1] - s->rev.rz_m[h->upper_row][1]);
+  double len = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    const double p0 = CL_PI / 2 - CL_PI * k / 1000, p1 = CL_PI / 2 - CL_PI * (k + 1) / 1000;
+    len += hypot(h->reach_m * (cos(p1) - cos(p0)), h->half_height_m * (sin(p1) - sin(p0)));
+  }
+  const double lo = v + 0.5 * CL_PI * a * bh * len, hi = v + 1.1 * 4.0 * a * bh * len;
+  ck_assert_msg(m->mass_kg > lo && m->mass_kg < hi, "%s: volume %.9g not in [%.9g, %.9g]", s->name,
+                m->mass_kg, lo, hi);
+  /* the handle pulls the CoM off the cup's axis towards +x (the axis: min x + radius) */
+  double blo[3], bhi[3];
+  bbox(&o->mesh, blo, bhi);
+  ck_assert_msg(m->com_m[0] - (blo[0] + h->radius_m) > 0.5 * MM, "%s: CoM x %.4g, axis %.4g",
+                s->name, m->com_m[0], blo[0] + h->radius_m);
+  ck_assert_double_eq_tol(m->com_m[1], 0.0, 1e-9);
+}
+
 START_TEST(closed_forms) {
   for (uint64_t seed = 1; seed <= SEEDS; ++seed) {
     shapegen_object_t o;
     gen(_i, seed, &o);
     const shapegen_spec_t *s = &o.spec;
-    const char *name = s->name;
     model_mass_t m;
     ck_assert_int_eq(model_mesh_mass(&o.mesh, 1.0, &m), MODEL_OK);
-    double v = 0.0, com[3] = {0, 0, 0};
     if (s->shape == SHAPEGEN_SHAPE_BOX && s->noise_m == 0.0) {
-      double dim[3];
-      for (int k = 0; k < 3; ++k) dim[k] = 2.0 * to_f32(0.5 * s->box.size_m[k]);
-      v = dim[0] * dim[1] * dim[2];
-      ck_assert_double_eq_tol(m.mass_kg, v, 1e-12 * v);
-      assert_com(name, m.com_m, com, 1e-15);
-      for (int k = 0; k < 3; ++k) {
-        const double want =
-            v / 12.0 * (dim[(k + 1) % 3] * dim[(k + 1) % 3] + dim[(k + 2) % 3] * dim[(k + 2) % 3]);
-        ck_assert_double_eq_tol(m.inertia_kg_m2[k][k], want, 1e-12 * want);
-        ck_assert_double_eq_tol(m.inertia_kg_m2[k][(k + 1) % 3], 0.0, 1e-12 * want);
-      }
-    } else if (s->shape == SHAPEGEN_SHAPE_BOX) { /* scanned box: within its noise */
-      double surf = 0.0, dim[3];
-      for (int k = 0; k < 3; ++k) dim[k] = s->box.size_m[k];
-      v = dim[0] * dim[1] * dim[2];
-      for (int k = 0; k < 3; ++k) surf += 2.0 * dim[(k + 1) % 3] * dim[(k + 2) % 3];
-      ck_assert_msg(fabs(m.mass_kg - v) <= 2.0 * s->noise_m * surf, "%s: volume %.9g vs %.9g", name,
-                    m.mass_kg, v);
-      assert_com(name, m.com_m, com, 2.0 * s->noise_m);
+      closed_form_box(s, &m);
+    } else if (s->shape == SHAPEGEN_SHAPE_BOX) {
+      closed_form_scanned_box(s, &m);
     } else if (s->shape == SHAPEGEN_SHAPE_SLAB) {
-      int round = 0;
-      for (size_t f = 0; f < s->slab.foot_count; ++f) round |= s->slab.feet[f].round;
-      if (!round) {
-        slab_closed_form(&s->slab, &v, com);
-        ck_assert_msg(fabs(m.mass_kg - v) <= 2e-6 * v, "%s: volume %.9g, closed form %.9g", name,
-                      m.mass_kg, v);
-        assert_com(name, m.com_m, com, 1e-7);
-      } else { /* round feet: between disks of radius r - 1.5 mm and r + slope + 1.5 mm */
-        shapegen_slab_t bare = s->slab;
-        bare.foot_count = 0;
-        double v0, c0[3];
-        slab_closed_form(&bare, &v0, c0);
-        v0 -= s->slab.clearance_m * 4.0 * s->slab.half_m[0] * s->slab.half_m[1];
-        double lo = v0, hi = v0;
-        for (size_t f = 0; f < s->slab.foot_count; ++f) {
-          const double r = s->slab.feet[f].half_m[0];
-          lo += s->slab.clearance_m * CL_PI * (r - 1.5 * MM) * (r - 1.5 * MM);
-          hi += s->slab.clearance_m * CL_PI * (r + s->slab.slope_m + 1.5 * MM) *
-                (r + s->slab.slope_m + 1.5 * MM);
-        }
-        ck_assert_msg(m.mass_kg > lo && m.mass_kg < hi, "%s: volume %.9g not in [%.9g, %.9g]", name,
-                      m.mass_kg, lo, hi);
-      }
+      closed_form_slab(s, &m);
     } else if (s->shape == SHAPEGEN_SHAPE_REVOLVE && !s->handle.present) {
-      revolve_closed_form(s, &v, com);
-      ck_assert_msg(fabs(m.mass_kg - v) <= 2e-6 * v, "%s: volume %.9g, closed form %.9g", name,
-                    m.mass_kg, v);
-      assert_com(name, m.com_m, com, 1e-7);
-      if (s->family == SHAPEGEN_RING) { /* against the ideal elliptic torus */
-        const size_t pm = s->rev.point_count;
-        const double big = s->rev.rz_m[0][0], az = -s->rev.rz_m[0][1];
-        const double ar = s->rev.rz_m[pm / 4][0] - big;
-        const double ideal = 2.0 * CL_PI * CL_PI * big * ar * az;
-        const double n2 = (double)s->rev.segments * s->rev.segments;
-        const double bound =
-            2.0 * CL_PI * CL_PI / 3.0 * (1.0 / n2 + 1.0 / ((double)pm * (double)pm));
-        ck_assert_msg(m.mass_kg <= ideal && m.mass_kg >= ideal * (1.0 - bound),
-                      "%s: volume %.9g, ideal torus %.9g, bound %.3g", name, m.mass_kg, ideal,
-                      bound);
-      }
-    } else if (s->shape == SHAPEGEN_SHAPE_REVOLVE) { /* the mug: cup + a tube along the handle */
-      revolve_closed_form(s, &v, com);
-      const shapegen_handle_t *h = &s->handle;
-      const unsigned n = s->rev.segments;
-      const double a = h->radius_m * sin(2 * CL_PI * h->columns / n);
-      const double bh =
-          0.5 * (s->rev.rz_m[h->upper_row + h->rows][1] - s->rev.rz_m[h->upper_row][1]);
-      double len = 0.0;
-      for (int k = 0; k < 1000; ++k) {
-        const double p0 = CL_PI / 2 - CL_PI * k / 1000, p1 = CL_PI / 2 - CL_PI * (k + 1) / 1000;
-        len += hypot(h->reach_m * (cos(p1) - cos(p0)), h->half_height_m * (sin(p1) - sin(p0)));
-      }
-      const double lo = v + 0.5 * CL_PI * a * bh * len, hi = v + 1.1 * 4.0 * a * bh * len;
-      ck_assert_msg(m.mass_kg > lo && m.mass_kg < hi, "%s: volume %.9g not in [%.9g, %.9g]", name,
-                    m.mass_kg, lo, hi);
-      /* the handle pulls the CoM off the cup's axis towards +x (the axis: min x + radius) */
-      double blo[3], bhi[3];
-      bbox(&o.mesh, blo, bhi);
-      ck_assert_msg(m.com_m[0] - (blo[0] + h->radius_m) > 0.5 * MM, "%s: CoM x %.4g, axis %.4g",
-                    name, m.com_m[0], blo[0] + h->radius_m);
-      ck_assert_double_eq_tol(m.com_m[1], 0.0, 1e-9);
+      closed_form_revolve(s, &m);
+    } else if (s->shape == SHAPEGEN_SHAPE_REVOLVE) {
+      closed_form_mug(&o, &m);
     }
     shapegen_object_free(&o);
   }
@@ -981,22 +1008,8 @@ static void assert_mass_eq(const char *what, const model_mass_t *got, const mode
 
 enum { BATCH = SHAPEGEN_FAMILY_COUNT, FIRST = 100 };
 
-START_TEST(files_round_trip) {
-  mt_tmpdir_t a, b, c;
-  mt_tmpdir_make(&a);
-  mt_tmpdir_make(&b);
-  mt_tmpdir_make(&c);
-  char first[32], count[32], pa[512], pb[512], list[512], rel[128];
-  snprintf(first, sizeof first, "%d", FIRST);
-  snprintf(count, sizeof count, "%d", BATCH);
-  snprintf(list, sizeof list, "%s.txt", a.path);
-  char *const run_a[] = {"g",       "--family", "all",       "--seed", first,
-                         "--count", count,      "--out-dir", a.path,   NULL};
-  char *const run_b[] = {"g",       "--family", "all",       "--seed", first,
-                         "--count", count,      "--out-dir", b.path,   NULL};
-  ck_assert_int_eq(run_shapegen(run_a, list), 0);
-  ck_assert_int_eq(run_shapegen(run_b, NULL), 0);
-  /* one line per object, in order, each family once */
+/* The batch's list file: one line per object, in order, each family once. Removes it. */
+static void round_trip_check_list(const char *list) {
   size_t size = 0;
   char *text = test_slurp(list, &size);
   char *line = text;
@@ -1014,48 +1027,54 @@ START_TEST(files_round_trip) {
   ck_assert_int_eq(*line, '\0');
   free(text);
   remove(list);
-  /* a seed written alone equals the same object in the batch */
-  char *const run_c[] = {"g", "--family", "mug", "--seed", "107", "--out-dir", c.path, NULL};
-  ck_assert_int_eq(run_shapegen(run_c, NULL), 0);
-  ck_assert(test_same_file(mt_join(&a, "mug_s107_uneven.urdf", pa, sizeof pa),
-                           mt_join(&c, "mug_s107_uneven.urdf", pb, sizeof pb)));
-  ck_assert(test_same_file(mt_join(&a, "meshes/mug_s107.stl", pa, sizeof pa),
-                           mt_join(&c, "meshes/mug_s107.stl", pb, sizeof pb)));
+}
+
+/* One URDF of o (k: 0 even, 1 uneven), the same in both runs, loads back to o's mesh and mass. */
+static void round_trip_check_urdf(const shapegen_object_t *o, const mt_tmpdir_t *a,
+                                  const mt_tmpdir_t *b, int k) {
   static const char *const kinds[2] = {"even", "uneven"};
+  char pa[512], pb[512], rel[128];
+  snprintf(rel, sizeof rel, "%s_%s.urdf", o->spec.name, kinds[k]);
+  ck_assert_msg(test_same_file(mt_join(a, rel, pa, sizeof pa), mt_join(b, rel, pb, sizeof pb)),
+                "%s differs between two runs", rel);
+  model_object_t obj;
+  model_mass_t mass;
+  model_error_t err = {{0}};
+  ck_assert_msg(model_object_load(pa, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_msg(model_inertial_load(pa, NULL, &mass, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_str_eq(obj.link_name, o->spec.name);
+  ck_assert_uint_eq(obj.mesh.triangle_count, o->mesh.triangle_count);
+  ck_assert_msg(mt_same_vertices(&obj.mesh, &o->mesh, 0.0), "%s: vertices differ", rel);
+  assert_mass_eq(rel, &mass, k ? &o->uneven : &o->even);
+  model_mass_t again;
+  ck_assert_int_eq(model_mesh_mass(&obj.mesh, o->spec.density_kg_m3, &again), MODEL_OK);
+  assert_mass_eq(rel, &again, &o->even);
+  if (k) { /* the URDF comment documents the region */
+    size_t n = 0;
+    char *u = test_slurp(pa, &n), want[128];
+    snprintf(want, sizeof want, "n = (%.17g, ", o->region.normal[0]);
+    ck_assert_ptr_nonnull(strstr(u, want));
+    free(u);
+  }
+  model_object_free(&obj);
+}
+
+/* Every object of the batch: its mesh and both URDFs the same in runs a and b, and loadable. */
+static void round_trip_check_objects(const mt_tmpdir_t *a, const mt_tmpdir_t *b) {
+  char pa[512], pb[512], rel[128];
   for (int i = 0; i < BATCH; ++i) {
     shapegen_object_t o;
     gen(i, (uint64_t)(FIRST + i), &o);
     snprintf(rel, sizeof rel, "meshes/%s.stl", o.spec.name);
-    ck_assert_msg(test_same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
+    ck_assert_msg(test_same_file(mt_join(a, rel, pa, sizeof pa), mt_join(b, rel, pb, sizeof pb)),
                   "%s differs between two runs", rel);
-    for (int k = 0; k < 2; ++k) {
-      snprintf(rel, sizeof rel, "%s_%s.urdf", o.spec.name, kinds[k]);
-      ck_assert_msg(
-          test_same_file(mt_join(&a, rel, pa, sizeof pa), mt_join(&b, rel, pb, sizeof pb)),
-          "%s differs between two runs", rel);
-      model_object_t obj;
-      model_mass_t mass;
-      model_error_t err = {{0}};
-      ck_assert_msg(model_object_load(pa, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
-      ck_assert_msg(model_inertial_load(pa, NULL, &mass, &err) == MODEL_OK, "%s", err.msg);
-      ck_assert_str_eq(obj.link_name, o.spec.name);
-      ck_assert_uint_eq(obj.mesh.triangle_count, o.mesh.triangle_count);
-      ck_assert_msg(mt_same_vertices(&obj.mesh, &o.mesh, 0.0), "%s: vertices differ", rel);
-      assert_mass_eq(rel, &mass, k ? &o.uneven : &o.even);
-      model_mass_t again;
-      ck_assert_int_eq(model_mesh_mass(&obj.mesh, o.spec.density_kg_m3, &again), MODEL_OK);
-      assert_mass_eq(rel, &again, &o.even);
-      if (k) { /* the URDF comment documents the region */
-        size_t n = 0;
-        char *u = test_slurp(pa, &n), want[128];
-        snprintf(want, sizeof want, "n = (%.17g, ", o.region.normal[0]);
-        ck_assert_ptr_nonnull(strstr(u, want));
-        free(u);
-      }
-      model_object_free(&obj);
-    }
+    for (int k = 0; k < 2; ++k) round_trip_check_urdf(&o, a, b, k);
     shapegen_object_free(&o);
   }
+}
+
+/* Remove the batch's files from a and b, the single mug's from c, and the folders. */
+static void round_trip_remove(mt_tmpdir_t *a, mt_tmpdir_t *b, mt_tmpdir_t *c) {
   const char *names[3 * BATCH + 1];
   char store[3 * BATCH][64];
   for (int i = 0; i < BATCH; ++i) {
@@ -1066,11 +1085,38 @@ START_TEST(files_round_trip) {
   }
   for (int i = 0; i < 3 * BATCH; ++i) names[i] = store[i];
   names[3 * BATCH] = "meshes";
-  mt_tmpdir_remove(&a, names, 3 * BATCH + 1);
-  mt_tmpdir_remove(&b, names, 3 * BATCH + 1);
+  mt_tmpdir_remove(a, names, 3 * BATCH + 1);
+  mt_tmpdir_remove(b, names, 3 * BATCH + 1);
   const char *one[] = {"meshes/mug_s107.stl", "mug_s107_even.urdf", "mug_s107_uneven.urdf",
                        "meshes"};
-  mt_tmpdir_remove(&c, one, 4);
+  mt_tmpdir_remove(c, one, 4);
+}
+
+START_TEST(files_round_trip) {
+  mt_tmpdir_t a, b, c;
+  mt_tmpdir_make(&a);
+  mt_tmpdir_make(&b);
+  mt_tmpdir_make(&c);
+  char first[32], count[32], pa[512], pb[512], list[512];
+  snprintf(first, sizeof first, "%d", FIRST);
+  snprintf(count, sizeof count, "%d", BATCH);
+  snprintf(list, sizeof list, "%s.txt", a.path);
+  char *const run_a[] = {"g",       "--family", "all",       "--seed", first,
+                         "--count", count,      "--out-dir", a.path,   NULL};
+  char *const run_b[] = {"g",       "--family", "all",       "--seed", first,
+                         "--count", count,      "--out-dir", b.path,   NULL};
+  ck_assert_int_eq(run_shapegen(run_a, list), 0);
+  ck_assert_int_eq(run_shapegen(run_b, NULL), 0);
+  round_trip_check_list(list);
+  /* a seed written alone equals the same object in the batch */
+  char *const run_c[] = {"g", "--family", "mug", "--seed", "107", "--out-dir", c.path, NULL};
+  ck_assert_int_eq(run_shapegen(run_c, NULL), 0);
+  ck_assert(test_same_file(mt_join(&a, "mug_s107_uneven.urdf", pa, sizeof pa),
+                           mt_join(&c, "mug_s107_uneven.urdf", pb, sizeof pb)));
+  ck_assert(test_same_file(mt_join(&a, "meshes/mug_s107.stl", pa, sizeof pa),
+                           mt_join(&c, "meshes/mug_s107.stl", pb, sizeof pb)));
+  round_trip_check_objects(&a, &b);
+  round_trip_remove(&a, &b, &c);
 }
 END_TEST
 
