@@ -53,6 +53,25 @@ START_TEST(test_vec3_known) {
 }
 END_TEST
 
+/* cl_tri_normal: a right triangle in the x-y plane points +z (ccw) or -z (cw), returns twice its
+ * area; a tilted one gives the known unit normal; a degenerate one gives 0 and a zero normal. */
+START_TEST(test_tri_normal) {
+  const double a[3] = {1.0, 1.0, 0.5}, b[3] = {4.0, 1.0, 0.5}, c[3] = {1.0, 3.0, 0.5};
+  double n[3];
+  ck_assert_double_eq_tol(cl_tri_normal(a, b, c, n), 6.0, 1e-15); /* legs 3 and 2 */
+  ck_assert_double_eq_tol(n[2], 1.0, 1e-15);
+  ck_assert_double_eq_tol(fabs(n[0]) + fabs(n[1]), 0.0, 1e-15);
+  ck_assert_double_eq_tol(cl_tri_normal(a, c, b, n), 6.0, 1e-15);
+  ck_assert_double_eq_tol(n[2], -1.0, 1e-15);
+  const double p[3] = {1.0, 0.0, 0.0}, q[3] = {0.0, 1.0, 0.0}, r[3] = {0.0, 0.0, 1.0};
+  ck_assert_double_eq_tol(cl_tri_normal(p, q, r, n), sqrt(3.0), 1e-15);
+  for (int k = 0; k < 3; ++k) ck_assert_double_eq_tol(n[k], 1.0 / sqrt(3.0), 1e-15);
+  const double m[3] = {2.5, 1.0, 0.5}; /* on a-b */
+  ck_assert_double_eq(cl_tri_normal(a, b, m, n), 0.0);
+  for (int k = 0; k < 3; ++k) ck_assert_double_eq(n[k], 0.0);
+}
+END_TEST
+
 START_TEST(test_pi) {
   ck_assert_double_eq(CL_PI, acos(-1.0));
   ck_assert_double_eq(2.0 * CL_PI, 6.283185307179586);
@@ -322,6 +341,7 @@ static Suite *math_suite(void) {
   TCase *v = tcase_create("vec3");
   tcase_add_test(v, test_vec3_known);
   tcase_add_test(v, test_pi);
+  tcase_add_test(v, test_tri_normal);
   suite_add_tcase(s, v);
   TCase *q = tcase_create("quat");
   tcase_add_test(q, test_quat_rotate_known);

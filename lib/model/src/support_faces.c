@@ -38,13 +38,8 @@ model_status_t model_hull_faces(const model_mesh_t *hull, double merge_cos, doub
     const double *a = hull->vertices_m[hull->triangles[t][0]];
     const double *b = hull->vertices_m[hull->triangles[t][1]];
     const double *d = hull->vertices_m[hull->triangles[t][2]];
-    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double e2[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
-    cl_vec3_cross(e1, e2, fac[t].n);
-    const double len = sqrt(cl_vec3_dot(fac[t].n, fac[t].n));
-    fac[t].area = 0.5 * len;
+    fac[t].area = 0.5 * cl_tri_normal(a, b, d, fac[t].n);
     fac[t].index = t;
-    for (int k = 0; k < 3; ++k) fac[t].n[k] = len > 0.0 ? fac[t].n[k] / len : 0.0;
     facet_face[t] = -1;
   }
   qsort(fac, nf, sizeof *fac, cmp_facet);

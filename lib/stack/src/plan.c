@@ -282,12 +282,8 @@ static void hull_planes(const model_mesh_t *hull, double (*planes)[4]) {
     const double *a = hull->vertices_m[hull->triangles[t][0]];
     const double *b = hull->vertices_m[hull->triangles[t][1]];
     const double *c = hull->vertices_m[hull->triangles[t][2]];
-    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                   e1[0] * e2[1] - e1[1] * e2[0]};
-    const double len = sqrt(cl_vec3_dot(n, n));
-    for (int k = 0; k < 3 && len > 0.0; ++k) n[k] /= len;
+    double n[3];
+    cl_tri_normal(a, b, c, n);
     for (int k = 0; k < 3; ++k) planes[t][k] = n[k];
     planes[t][3] = cl_vec3_dot(n, a);
   }

@@ -83,6 +83,19 @@ static inline double cl_vec3_normalize(const double a[3], double out[3]) {
   return n;
 }
 
+/* The unit normal of triangle (a, b, c), counter-clockwise seen from where it points: the cross
+ * product (b - a) x (c - a) divided by its length, which is returned (twice the area). A degenerate
+ * triangle (length 0) gives n = 0 and 0. */
+static inline double cl_tri_normal(const double a[3], const double b[3], const double c[3],
+                                   double n[3]) {
+  const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  cl_vec3_cross(e1, e2, n);
+  const double len = sqrt(cl_vec3_dot(n, n));
+  for (int k = 0; k < 3; ++k) n[k] = len > 0.0 ? n[k] / len : 0.0;
+  return len;
+}
+
 /* ---- unit quaternions (w, x, y, z) ------------------------------------------------------ */
 
 /* out = a * b (Hamilton product; rotation b first, then a). out may alias a or b. */
