@@ -1321,6 +1321,8 @@ estimate_status_t estimate_next(estimate_t *est, estimate_trial_request_t *req) 
     return est->status;
   if (est->phase == PHASE_FAILED) return est->status;
   if (est->phase == PHASE_DONE) return ESTIMATE_DONE;
+  if (!est->pending) /* every step ends with a request, the end, or a failure */
+    return settle(est, fail(est, ESTIMATE_E_STATE, "internal: no trial planned and not done"));
   *req = est->req;
   return ESTIMATE_OK;
 }
