@@ -7,6 +7,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "comlearn/math3d.h"
+
 int objfile_mkdir(const char *path) { return mkdir(path, 0777) == 0 || errno == EEXIST ? 0 : -1; }
 
 static void put_u32(unsigned char *b, uint32_t v) {
@@ -31,17 +33,10 @@ int objfile_write_stl(const model_mesh_t *m, const char *path, const char *heade
   for (size_t t = 0; ok && t < m->triangle_count; ++t) {
     const double *a = m->vertices_m[m->triangles[t][0]], *b = m->vertices_m[m->triangles[t][1]],
                  *c = m->vertices_m[m->triangles[t][2]];
-    double e1[3], e2[3], nv[3];
-    for (int k = 0; k < 3; ++k) {
-      e1[k] = b[k] - a[k];
-      e2[k] = c[k] - a[k];
-    }
-    nv[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    nv[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    nv[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    const double len = sqrt(nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2]);
+    double nv[3];
+    cl_tri_normal(a, b, c, nv);
     unsigned char rec[50];
-    for (int k = 0; k < 3; ++k) put_f32(rec + 4 * k, (float)(nv[k] / len));
+    for (int k = 0; k < 3; ++k) put_f32(rec + 4 * k, (float)nv[k]);
     for (int i = 0; i < 3; ++i) {
       for (int k = 0; k < 3; ++k) {
         put_f32(rec + 12 + 12 * i + 4 * k, (float)m->vertices_m[m->triangles[t][i]][k]);

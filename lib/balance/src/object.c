@@ -232,18 +232,8 @@ static balance_status_t object_hull_planes(balance_object_t *o, const model_mesh
     const double *a = hull.vertices_m[hull.triangles[t][0]];
     const double *b = hull.vertices_m[hull.triangles[t][1]];
     const double *c = hull.vertices_m[hull.triangles[t][2]];
-    double u[3], v[3], nrm[3];
-    for (int k = 0; k < 3; k++) {
-      u[k] = b[k] - a[k];
-      v[k] = c[k] - a[k];
-    }
-    nrm[0] = u[1] * v[2] - u[2] * v[1];
-    nrm[1] = u[2] * v[0] - u[0] * v[2];
-    nrm[2] = u[0] * v[1] - u[1] * v[0];
-    const double len = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
-    if (!(len > 0.0)) continue;
     double *pl = o->hull_planes[o->hull_plane_count];
-    for (int k = 0; k < 3; k++) pl[k] = nrm[k] / len;
+    if (!(cl_tri_normal(a, b, c, pl) > 0.0)) continue;
     pl[3] = pl[0] * (a[0] - com_m[0]) + pl[1] * (a[1] - com_m[1]) + pl[2] * (a[2] - com_m[2]);
     /* coplanar facets come out triangulated: keep one plane each */
     int dup = 0;
