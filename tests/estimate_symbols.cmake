@@ -6,18 +6,17 @@
 # physics engine (ODE's d*, lib/balance's balance_*), no LCM, no file or stream I/O (fopen,
 # printf, ...).
 cmake_minimum_required(VERSION 3.20)
-execute_process(COMMAND ${NM} -u ${LIB} OUTPUT_VARIABLE text RESULT_VARIABLE rc)
-if(NOT rc EQUAL 0)
-  message(FATAL_ERROR "${NM} -u ${LIB} failed (${rc})")
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/nm_lines.cmake)
+nm_lines(lines ${LIB} -u)
 set(libc acos asin atan atan2 ceil cos exp fabs floor fmax fmin hypot log pow sin sqrt tan
     free malloc calloc memcmp memcpy memmove memset qsort snprintf strcmp strlen strncmp)
-string(REGEX MATCHALL "U [^\n]+" undefined "${text}")
 set(bad "")
 set(count 0)
-foreach(u IN LISTS undefined)
-  string(REGEX REPLACE "^U +" "" sym "${u}")
-  string(STRIP "${sym}" sym)
+foreach(line IN LISTS lines)
+  if(NOT line MATCHES "^ *U +([^ ]+)")
+    continue() # member headers ("x.o:") and blank lines
+  endif()
+  set(sym "${CMAKE_MATCH_1}")
   math(EXPR count "${count} + 1")
   if(sym MATCHES "^(model_|qlearn_|__)" OR sym STREQUAL "_GLOBAL_OFFSET_TABLE_")
     continue()

@@ -7,17 +7,7 @@ foreach(var NM ESTIMATOR_LIB SIM_LIB)
   endif()
 endforeach()
 
-# Lines of `nm ARGS archive`, as a CMake list.
-function(nm_lines out archive)
-  execute_process(COMMAND ${NM} ${ARGN} ${archive}
-                  OUTPUT_VARIABLE text ERROR_VARIABLE errtext RESULT_VARIABLE rc)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${NM} ${ARGN} ${archive} failed (${rc}): ${errtext}")
-  endif()
-  string(REPLACE ";" "," text "${text}")
-  string(REPLACE "\n" ";" text "${text}")
-  set(${out} "${text}" PARENT_SCOPE)
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/nm_lines.cmake)
 
 # Symbols (defined or undefined, demangled) whose name mentions "inertial", any case.
 function(inertial_symbols out archive)

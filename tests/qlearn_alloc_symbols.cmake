@@ -6,14 +6,10 @@ if(NOT DEFINED NM OR NOT DEFINED LIB)
   message(FATAL_ERROR "qlearn_alloc_symbols.cmake: NM and LIB must be set")
 endif()
 
+include(${CMAKE_CURRENT_LIST_DIR}/nm_lines.cmake)
+
 function(alloc_symbols out archive)
-  execute_process(COMMAND ${NM} ${archive} OUTPUT_VARIABLE text ERROR_VARIABLE errtext
-                  RESULT_VARIABLE rc)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${NM} ${archive} failed (${rc}): ${errtext}")
-  endif()
-  string(REPLACE ";" "," text "${text}")
-  string(REPLACE "\n" ";" text "${text}")
+  nm_lines(text ${archive})
   set(hits "")
   set(nsyms 0)
   foreach(line IN LISTS text)

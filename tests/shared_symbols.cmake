@@ -13,15 +13,11 @@ foreach(var NM LIB ARCHIVE PREFIX)
   endif()
 endforeach()
 
+include(${CMAKE_CURRENT_LIST_DIR}/nm_lines.cmake)
+
 # Names of the defined global symbols `nm ARGS file` lists, as a sorted CMake list.
 function(defined_globals out file)
-  execute_process(COMMAND ${NM} ${ARGN} ${file}
-                  OUTPUT_VARIABLE text ERROR_VARIABLE errtext RESULT_VARIABLE rc)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${NM} ${ARGN} ${file} failed (${rc}): ${errtext}")
-  endif()
-  string(REPLACE ";" "," text "${text}")
-  string(REPLACE "\n" ";" lines "${text}")
+  nm_lines(lines ${file} ${ARGN})
   set(names "")
   foreach(line IN LISTS lines)
     # "address type name"; a global definition has an upper-case type (or u, i: unique, ifunc)
