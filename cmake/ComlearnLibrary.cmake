@@ -44,6 +44,20 @@ if(COMLEARN_SANITIZE)
   set(comlearn_consumer_link_options -fsanitize=address,undefined)
 endif()
 
+# The shared twin of each compiled comlearn_* dependency among the arguments; others
+# (comlearn_math, the header-only one, and third-party targets) as given.
+function(comlearn_shared_twins out)
+  set(deps "")
+  foreach(dep IN LISTS ARGN)
+    if(TARGET ${dep}_shared)
+      list(APPEND deps ${dep}_shared)
+    else()
+      list(APPEND deps ${dep})
+    endif()
+  endforeach()
+  set(${out} "${deps}" PARENT_SCOPE)
+endfunction()
+
 function(comlearn_add_library name)
   cmake_parse_arguments(A "GENERATED" "PREFIX;INCLUDE_DIR;DESCRIPTION"
     "SOURCES;HEADERS;PUBLIC;PRIVATE;DEFINITIONS;INTERNAL_EXPORTS;PC_REQUIRES;PC_REQUIRES_PRIVATE;PC_LIBS_PRIVATE"
@@ -64,24 +78,8 @@ function(comlearn_add_library name)
     set(system SYSTEM)
   endif()
 
-  # The shared twin of each compiled comlearn_* dependency; others (comlearn_math, the header-only
-  # one, and third-party targets) as given.
-  set(public_shared "")
-  foreach(dep IN LISTS A_PUBLIC)
-    if(TARGET ${dep}_shared)
-      list(APPEND public_shared ${dep}_shared)
-    else()
-      list(APPEND public_shared ${dep})
-    endif()
-  endforeach()
-  set(private_shared "")
-  foreach(dep IN LISTS A_PRIVATE)
-    if(TARGET ${dep}_shared)
-      list(APPEND private_shared ${dep}_shared)
-    else()
-      list(APPEND private_shared ${dep})
-    endif()
-  endforeach()
+  comlearn_shared_twins(public_shared ${A_PUBLIC})
+  comlearn_shared_twins(private_shared ${A_PRIVATE})
 
   add_library(${lib}_objects OBJECT ${A_SOURCES} ${A_HEADERS})
   set_target_properties(${lib}_objects PROPERTIES POSITION_INDEPENDENT_CODE ON)
