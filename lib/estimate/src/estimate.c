@@ -116,16 +116,13 @@ typedef struct {
   char stopped[ESTIMATE_NOTE_SIZE]; /* why the walk ended early ("" when it did not) */
 } walk_t;
 
-/* Everything one estimate needs, in the one allocation of estimate_create; nothing is allocated
- * after that by the estimator itself (lib/model's geometry allocates temporary memory inside its
- * calls, and frees it before returning). */
+/* Everything one estimate needs, in the block of estimate_create / estimate_init, followed there
+ * by lib/model's work area (work): no trial allocates. */
 struct estimate {
   const model_mesh_t *mesh; /* the caller's, link frame; must outlive the estimate */
   double base_size_m[3];    /* B */
-  estimate_config_t cfg_copy;
-  const estimate_config_t *cfg; /* = &cfg_copy */
-  estimate_result_t result;
-  estimate_result_t *out; /* = &result */
+  estimate_config_t cfg;    /* the caller's, copied */
+  estimate_result_t result; /* what estimate_result shows */
   phase_t phase;
   estimate_status_t status; /* of the failure, once phase is PHASE_FAILED */
   /* The trial asked for and not yet observed, with what its log entry needs. */
@@ -143,11 +140,10 @@ struct estimate {
   uint32_t retests; /* verify_loop: retests spent, the pass, the search redone */
   int pass;
   int retest_of;
-  double uniform_com_m[3]; /* the mesh's uniform-density CoM (planning) */
-  double guess_m[3];       /* current CoM estimate, link frame (planning) */
-  double start_m[3];       /* where the next search starts: cfg->start, moved alike */
-  double halfwidth_m[3];   /* its half widths (INFINITY until a solve finds the component) */
-  int noisy;               /* cfg->noise_sigma_m > 0 */
+  double guess_m[3];     /* current CoM estimate, link frame (planning) */
+  double start_m[3];     /* where the next search starts: cfg->start, moved alike */
+  double halfwidth_m[3]; /* its half widths (INFINITY until a solve finds the component) */
+  int noisy;             /* cfg->noise_sigma_m > 0 */
   char face2_note[ESTIMATE_NOTE_SIZE]; /* why the second face gave no search ("" if it did) */
   int face_src[ESTIMATE_MAX_FACES];    /* out->face[i] is faces[face_src[i]] */
   model_face_t faces[FACE_CAP];
@@ -158,8 +154,7 @@ struct estimate {
   qlearn_policy_t policy;      /* the current search (~12 KiB for PBA) */
   qlearn_policy_t handover;    /* PBA after a noisy walk */
   qlearn_solve_t solve;
-  qlearn_solve_result_t res;  /* the latest solve */
-  qlearn_solve_result_t last; /* the latest solve (update_guess), for planning */
+  qlearn_solve_result_t res; /* the latest solve (update_guess) */
   int have_solve;
 };
 typedef struct estimate est_t;
@@ -181,7 +176,7 @@ static void trial_plane(const est_t *est, const model_pose_t *pose, double n_obj
 }
 
 static estimate_status_t fail(est_t *est, estimate_status_t s, const char *what) {
-  snprintf(est->out->msg, sizeof est->out->msg, "%s", what);
+  snprintf(est->result.msg, sizeof est->result.msg, "%s", what);
   return s;
 }
 
@@ -194,7 +189,7 @@ static void request_common(const est_t *est, estimate_trial_request_t *req) {
 /* Ask for a trial: it is pending until estimate_observe brings its reply. */
 static estimate_status_t request(est_t *est, const estimate_trial_request_t *req, int face,
                                  double x_m) {
-  if (est->out->trial_count >= ESTIMATE_MAX_TRIALS)
+  if (est->result.trial_count >= ESTIMATE_MAX_TRIALS)
     return fail(est, ESTIMATE_E_CAPACITY, "trial log full");
   est->req = *req;
   est->req_face = face;
@@ -205,7 +200,7 @@ static estimate_status_t request(est_t *est, const estimate_trial_request_t *req
 
 /* Log the pending trial with its reply. */
 static estimate_trial_t *log_trial(est_t *est, const estimate_trial_reply_t *reply) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   const estimate_trial_request_t *req = &est->req;
   estimate_trial_t *t = &out->trial[out->trial_count++];
   memset(t, 0, sizeof *t);
@@ -294,7 +289,7 @@ static void search_range(const est_t *est, const double u[3], double *lo, double
 
 /* Plan the placement of link point g + (x - u.g) u over the +X edge and ask for it. */
 static estimate_status_t edge_request(est_t *est, const search_ctx_t *sc, double xa) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   double p_link[3];
   const double gx = cl_vec3_dot(est->guess_m, sc->u);
   for (int k = 0; k < 3; ++k) p_link[k] = est->guess_m[k] + (xa - gx) * sc->u[k];
@@ -330,7 +325,7 @@ static estimate_trial_t *edge_logged(est_t *est, const search_ctx_t *sc,
                                      const estimate_trial_reply_t *reply) {
   const double xa = est->req_x_m;
   estimate_trial_t *t = log_trial(est, reply);
-  ++est->out->search[sc->si].trials;
+  ++est->result.search[sc->si].trials;
   /* The placement actually achieved: its plane's offset along u (equal to xa when exact). */
   double n_obj[3], d;
   trial_plane(est, &t->released, n_obj, &d);
@@ -354,15 +349,15 @@ static qlearn_status_t observe_trial(qlearn_policy_t *pol, const estimate_trial_
  * bracketing trials; with a noise model: it lies within c +- (h + 3 sigma). */
 static int deciding_trial(const est_t *est, const estimate_search_t *sr, size_t i) {
   if (!est->noisy) return (int)i == sr->lo_trial || (int)i == sr->hi_trial;
-  return fabs(est->out->trial[i].x_m - sr->c_m) <= sr->halfwidth_m + 3.0 * est->cfg->noise_sigma_m;
+  return fabs(est->result.trial[i].x_m - sr->c_m) <= sr->halfwidth_m + 3.0 * est->cfg.noise_sigma_m;
 }
 
 /* The probit noise model of cfg->noise_sigma_m in a PBA config; its searches stop at
  * max(resolution, sigma), at most the range. */
 static void probit_config(const est_t *est, qlearn_policy_config_t *pc) {
   pc->noise = QLEARN_NOISE_PROBIT;
-  pc->sigma_m = est->cfg->noise_sigma_m;
-  pc->resolution_m = fmax(est->cfg->resolution_m, est->cfg->noise_sigma_m);
+  pc->sigma_m = est->cfg.noise_sigma_m;
+  pc->resolution_m = fmax(est->cfg.resolution_m, est->cfg.noise_sigma_m);
   if (pc->resolution_m > pc->range_hi_m - pc->range_lo_m)
     pc->resolution_m = pc->range_hi_m - pc->range_lo_m;
 }
@@ -376,7 +371,7 @@ static void search_estimate(est_t *est, const search_ctx_t *sc, const qlearn_pol
 static estimate_status_t walk_request(est_t *est) {
   walk_t *w = &est->walk;
   const int attempt = w->attempt;
-  double xa = w->x + 0.25 * est->cfg->resolution_m * attempt * (attempt % 2 ? 1.0 : -1.0);
+  double xa = w->x + 0.25 * est->cfg.resolution_m * attempt * (attempt % 2 ? 1.0 : -1.0);
   if (xa < w->sc.lo) xa = w->sc.lo;
   if (xa > w->sc.hi) xa = w->sc.hi;
   return edge_request(est, &w->sc, xa);
@@ -389,7 +384,7 @@ static estimate_status_t walk_next(est_t *est) {
   qlearn_status_t qs = qlearn_policy_next(w->pol, &w->x);
   if (qs == QLEARN_E_DONE) return walk_end(est);
   if (qs != QLEARN_OK) {
-    snprintf(est->out->msg, sizeof est->out->msg, "policy next: %s", qlearn_status_str(qs));
+    snprintf(est->result.msg, sizeof est->result.msg, "policy next: %s", qlearn_status_str(qs));
     return ESTIMATE_E_LEARNER;
   }
   w->attempt = 0;
@@ -420,8 +415,8 @@ static estimate_status_t walk_reply(est_t *est, const estimate_trial_reply_t *re
     return walk_end(est);
   }
   if (qs != QLEARN_OK) {
-    snprintf(est->out->msg, sizeof est->out->msg, "search %d: outcome refused by the policy: %s",
-             w->sc.si, qlearn_status_str(qs));
+    snprintf(est->result.msg, sizeof est->result.msg,
+             "search %d: outcome refused by the policy: %s", w->sc.si, qlearn_status_str(qs));
     return ESTIMATE_E_LEARNER;
   }
   ++w->n;
@@ -431,7 +426,7 @@ static estimate_status_t walk_reply(est_t *est, const estimate_trial_reply_t *re
 /* Noisy walk: hand over to PBA with the probit noise model, starting from the posterior of every
  * clear trial the walk made, and run it until its interval is narrow enough. */
 static estimate_status_t handover_start(est_t *est) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   walk_t *w = &est->walk;
   const search_ctx_t *sc = &w->sc;
   estimate_search_t *sr = &out->search[sc->si];
@@ -456,7 +451,7 @@ static estimate_status_t handover_start(est_t *est) {
     snprintf(out->msg, sizeof out->msg, "search %d: handover: %s", sc->si, qlearn_status_str(qs));
     return ESTIMATE_E_LEARNER;
   }
-  pba->cfg.max_trials = seen + est->cfg->noise_max_trials; /* cap the extra trials */
+  pba->cfg.max_trials = seen + est->cfg.noise_max_trials; /* cap the extra trials */
   if (pba->cfg.max_trials > QLEARN_MAX_TRIALS) pba->cfg.max_trials = QLEARN_MAX_TRIALS;
   w->in_handover = 1;
   w->pol = pba;
@@ -469,9 +464,9 @@ static estimate_status_t handover_start(est_t *est) {
 /* The walk ended: hand over (noisy, not PBA), or take the search's estimate and plane. */
 static estimate_status_t walk_end(est_t *est) {
   walk_t *w = &est->walk;
-  estimate_search_t *sr = &est->out->search[w->sc.si];
+  estimate_search_t *sr = &est->result.search[w->sc.si];
   if (!w->in_handover) {
-    if (est->noisy && est->cfg->policy != QLEARN_POLICY_PBA) return handover_start(est);
+    if (est->noisy && est->cfg.policy != QLEARN_POLICY_PBA) return handover_start(est);
     if (w->stopped[0]) {
       snprintf(sr->note, sizeof sr->note, "%s", w->stopped);
       return search_done(est);
@@ -489,7 +484,7 @@ static estimate_status_t walk_end(est_t *est) {
  * were in the flat-patch regime; with a noise model every trial within c +- (h + 3 sigma) must
  * be. Otherwise the search gets a note and is not fed. */
 static void search_plane(est_t *est, const search_ctx_t *sc) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   estimate_search_t *sr = &out->search[sc->si];
   const double c = sr->c_m;
   const int ends[2] = {sr->lo_trial, sr->hi_trial};
@@ -541,7 +536,7 @@ static void search_plane(est_t *est, const search_ctx_t *sc) {
  * tipped, the smallest that stayed), whatever the policy; with a noise model, the policy's
  * posterior (PBA). */
 static void search_estimate(est_t *est, const search_ctx_t *sc, const qlearn_policy_t *pol) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   estimate_search_t *sr = &out->search[sc->si];
   sr->lo_trial = sr->hi_trial = -1;
   for (size_t i = 0; i < out->trial_count; ++i) {
@@ -581,7 +576,7 @@ static void search_estimate(est_t *est, const search_ctx_t *sc, const qlearn_pol
  * when its trials are over. */
 static estimate_status_t search_start(est_t *est, int face_index, int log_face, double yaw_rad,
                                       double margin_m, int retest_of) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   if (out->search_count >= ESTIMATE_MAX_SEARCHES)
     return fail(est, ESTIMATE_E_CAPACITY, "too many searches");
   walk_t *w = &est->walk;
@@ -612,13 +607,13 @@ static estimate_status_t search_start(est_t *est, int face_index, int log_face, 
   sr->range_hi_m = sc->hi;
 
   qlearn_policy_config_t *pc = &w->pc;
-  qlearn_policy_config_default(est->cfg->policy, pc);
+  qlearn_policy_config_default(est->cfg.policy, pc);
   pc->range_lo_m = sc->lo;
   pc->range_hi_m = sc->hi;
   pc->prior_m = prior;
-  pc->resolution_m = est->cfg->resolution_m;
-  pc->seed = est->cfg->seed;
-  if (est->cfg->policy == QLEARN_POLICY_PBA && est->noisy) probit_config(est, pc);
+  pc->resolution_m = est->cfg.resolution_m;
+  pc->seed = est->cfg.seed;
+  if (est->cfg.policy == QLEARN_POLICY_PBA && est->noisy) probit_config(est, pc);
   w->pol = &est->policy;
   qlearn_status_t qs = qlearn_policy_init(w->pol, pc);
   if (qs != QLEARN_OK) {
@@ -641,13 +636,13 @@ static double plane_sigma(const est_t *est, const estimate_search_t *sr) {
 static estimate_status_t solve_all(est_t *est, qlearn_solve_result_t *res) {
   qlearn_solve_t *solve = &est->solve;
   qlearn_solve_init(solve);
-  for (size_t i = 0; i < est->out->search_count; ++i) {
-    const estimate_search_t *sr = &est->out->search[i];
+  for (size_t i = 0; i < est->result.search_count; ++i) {
+    const estimate_search_t *sr = &est->result.search[i];
     if (!sr->fed) continue;
     qlearn_status_t qs =
         qlearn_solve_add_plane(solve, sr->plane_n_obj, sr->plane_d_m, plane_sigma(est, sr));
     if (qs != QLEARN_OK) {
-      snprintf(est->out->msg, sizeof est->out->msg, "solve: %s", qlearn_status_str(qs));
+      snprintf(est->result.msg, sizeof est->result.msg, "solve: %s", qlearn_status_str(qs));
       return ESTIMATE_E_LEARNER;
     }
   }
@@ -656,9 +651,9 @@ static estimate_status_t solve_all(est_t *est, qlearn_solve_result_t *res) {
     for (int k = 0; k < 3; ++k) res->halfwidth_m[k] = INFINITY;
     return ESTIMATE_OK;
   }
-  qlearn_status_t qs = qlearn_solve_compute(solve, est->cfg->z, 1e9, res);
+  qlearn_status_t qs = qlearn_solve_compute(solve, est->cfg.z, 1e9, res);
   if (qs != QLEARN_OK && qs != QLEARN_E_SINGULAR) {
-    snprintf(est->out->msg, sizeof est->out->msg, "solve: %s", qlearn_status_str(qs));
+    snprintf(est->result.msg, sizeof est->result.msg, "solve: %s", qlearn_status_str(qs));
     return ESTIMATE_E_LEARNER;
   }
   return ESTIMATE_OK;
@@ -702,21 +697,21 @@ static double dir_halfwidth(const est_t *est, const qlearn_solve_result_t *res, 
     const double p = cl_vec3_dot(res->eigenvector[e], a);
     var += p * p / res->eigenvalue[e];
   }
-  for (size_t i = 0; i < est->out->search_count; ++i) {
-    const estimate_search_t *sr = &est->out->search[i];
+  for (size_t i = 0; i < est->result.search_count; ++i) {
+    const estimate_search_t *sr = &est->result.search[i];
     if (!sr->fed) continue;
     const double p = plane_coef(est, res, a, sr);
     bound += fabs(p) * (sr->halfwidth_m + sr->bias_m);
     bias += fabs(p) * sr->bias_m;
   }
-  return est->noisy ? est->cfg->z * sqrt(var) + bias : bound;
+  return est->noisy ? est->cfg.z * sqrt(var) + bias : bound;
 }
 
 /* The first fed search that a . c depends on (a coefficient above rounding) but that is not
  * verified, or -1. */
 static int dir_unverified(const est_t *est, const qlearn_solve_result_t *res, const double a[3]) {
-  for (size_t i = 0; i < est->out->search_count; ++i) {
-    const estimate_search_t *sr = &est->out->search[i];
+  for (size_t i = 0; i < est->result.search_count; ++i) {
+    const estimate_search_t *sr = &est->result.search[i];
     if (sr->fed && !sr->verified && fabs(plane_coef(est, res, a, sr)) > 1e-9) return (int)i;
   }
   return -1;
@@ -724,15 +719,15 @@ static int dir_unverified(const est_t *est, const qlearn_solve_result_t *res, co
 
 /* Solve and move the estimate: the guess (and the start point) take the solution's components in
  * the determined subspace, keep theirs in the null space; est->halfwidth_m per link axis. */
-static estimate_status_t update_guess(est_t *est, qlearn_solve_result_t *res) {
+static estimate_status_t update_guess(est_t *est) {
+  qlearn_solve_result_t *res = &est->res;
   estimate_status_t s = solve_all(est, res);
   if (s != ESTIMATE_OK) return s;
-  est->last = *res;
   est->have_solve = 1;
   for (int k = 0; k < 3; ++k) { /* INFINITY while a component is not found */
     const double e[3] = {k == 0, k == 1, k == 2};
     const double hw = dir_halfwidth(est, res, e);
-    est->halfwidth_m[k] = hw <= est->cfg->max_halfwidth_m ? hw : INFINITY;
+    est->halfwidth_m[k] = hw <= est->cfg.max_halfwidth_m ? hw : INFINITY;
   }
   if (res->rank == 0) return ESTIMATE_OK;
   double *pts[2] = {est->guess_m, est->start_m};
@@ -762,7 +757,7 @@ static estimate_status_t yaw_margins(est_t *est, const model_face_t *f, double m
     model_orientation_yawed(f->orientation_wxyz, k * CL_PI / YAW_STEPS, q);
     dir_of(q, u);
     const double e = est->have_solve
-                         ? fmin(dir_halfwidth(est, &est->last, u), ESTIMATE_PLAN_OFFSET_M)
+                         ? fmin(dir_halfwidth(est, &est->res, u), ESTIMATE_PLAN_OFFSET_M)
                          : ESTIMATE_PLAN_OFFSET_M;
     for (int j = 0; j < 3; ++j) {
       yaw[3 * k + j] = k * CL_PI / YAW_STEPS;
@@ -783,7 +778,7 @@ static estimate_status_t plan_first(est_t *est, int fi, face_plan_t *p) {
   if (s != ESTIMATE_OK) return s;
   p->face = fi;
   p->score = -HUGE_VAL;
-  int min_sep = (int)ceil(est->cfg->min_dir_angle_rad / (CL_PI / YAW_STEPS) - 1e-9);
+  int min_sep = (int)ceil(est->cfg.min_dir_angle_rad / (CL_PI / YAW_STEPS) - 1e-9);
   for (int i = 0; i < YAW_STEPS; ++i) {
     for (int j = i + min_sep; j <= i + YAW_STEPS - min_sep; ++j) {
       int jj = j % YAW_STEPS;
@@ -813,11 +808,11 @@ static estimate_status_t plan_partner(est_t *est, int fi, double yaw0, double *y
   estimate_status_t s = yaw_margins(est, &est->faces[fi], m);
   if (s != ESTIMATE_OK) return s;
   for (int pass = 0; pass < 2; ++pass) {
-    const double need = est->cfg->min_chord_margin_m * (pass == 0 ? 2.0 : 1.0);
+    const double need = est->cfg.min_chord_margin_m * (pass == 0 ? 2.0 : 1.0);
     double best = -1.0;
     for (int k = 0; k < YAW_STEPS; ++k) {
       const double sep = fabs(sin(k * CL_PI / YAW_STEPS - yaw0));
-      if (!(m[k] >= need) || sep < sin(est->cfg->min_dir_angle_rad) - 1e-9) continue;
+      if (!(m[k] >= need) || sep < sin(est->cfg.min_dir_angle_rad) - 1e-9) continue;
       const double sc = sep + 1e-6 * m[k]; /* ties: the larger margin */
       if (sc > best) {
         best = sc;
@@ -839,7 +834,7 @@ static estimate_status_t plan_second(est_t *est, int fi, const double n1[3], fac
   p->face = fi;
   p->score = -HUGE_VAL;
   for (int pass = 0; pass < 2 && p->score == -HUGE_VAL; ++pass) {
-    double need = est->cfg->min_chord_margin_m * (pass == 0 ? 2.0 : 1.0);
+    double need = est->cfg.min_chord_margin_m * (pass == 0 ? 2.0 : 1.0);
     for (int k = 0; k < YAW_STEPS; ++k) {
       if (!(m[k] >= need)) continue;
       double q[4], u[3];
@@ -862,7 +857,7 @@ static int plan_cmp(const void *a, const void *b) {
 }
 
 static int record_face(est_t *est, int fi) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   if (out->face_count >= ESTIMATE_MAX_FACES) return -1;
   estimate_face_t *f = &out->face[out->face_count];
   memcpy(f->normal_link, est->faces[fi].normal_link, sizeof f->normal_link);
@@ -891,7 +886,7 @@ static estimate_status_t confirm_next(est_t *est) {
 static estimate_status_t confirm_reply(est_t *est, const estimate_trial_reply_t *reply) {
   const estimate_trial_t *t = log_trial(est, reply);
   const int conf = stable_confirmed(t);
-  est->out->face[est->chosen_log].confirmed = conf;
+  est->result.face[est->chosen_log].confirmed = conf;
   if (conf) {
     est->chosen = est->plans[est->ci];
     return confirmed(est);
@@ -908,7 +903,7 @@ static estimate_status_t face_one(est_t *est) {
     if (!est->faces[i].flat || !est->faces[i].candidate) continue;
     estimate_status_t s = plan_first(est, (int)i, &est->plans[np]);
     if (s != ESTIMATE_OK) return s;
-    if (est->plans[np].score >= est->cfg->min_chord_margin_m) ++np;
+    if (est->plans[np].score >= est->cfg.min_chord_margin_m) ++np;
   }
   if (np == 0)
     return fail(est, ESTIMATE_E_GEOMETRY, "no flat face with two usable edge directions");
@@ -925,7 +920,7 @@ static estimate_status_t verify_begin(est_t *est);
  * one search on the first confirmed. */
 static estimate_status_t face_two(est_t *est) {
   const double *n1 = est->faces[est->face1].normal_link;
-  const double cos_max = cos(est->cfg->min_face_angle_rad);
+  const double cos_max = cos(est->cfg.min_face_angle_rad);
   size_t np = 0;
   for (size_t i = 0; i < est->nfaces; ++i) {
     const model_face_t *f = &est->faces[i];
@@ -938,7 +933,7 @@ static estimate_status_t face_two(est_t *est) {
   if (np == 0) {
     snprintf(est->face2_note, sizeof est->face2_note,
              "no second flat resting face at >= %.0f deg to the first",
-             est->cfg->min_face_angle_rad * 180.0 / CL_PI);
+             est->cfg.min_face_angle_rad * 180.0 / CL_PI);
     return verify_begin(est);
   }
   qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
@@ -982,9 +977,9 @@ static double hull_extent(const est_t *est, const double a[3]) {
  * estimate's half width along the edge line (and 3 sigma of sideways placement noise). */
 static double search_verified_margin(est_t *est, int si, const qlearn_solve_result_t *res,
                                      int *bounded) {
-  const estimate_result_t *out = est->out;
+  const estimate_result_t *out = &est->result;
   const estimate_search_t *sr = &out->search[si];
-  const double sigma = est->cfg->noise_sigma_m;
+  const double sigma = est->cfg.noise_sigma_m;
   double worst = HUGE_VAL;
   *bounded = 1;
   for (size_t i = 0; i < out->trial_count; ++i) {
@@ -1015,7 +1010,7 @@ static double search_verified_margin(est_t *est, int si, const qlearn_solve_resu
  * degrees of the old direction; and at least 20 degrees from every direction that failed there. */
 static int retest_yaw(est_t *est, const estimate_search_t *old, int fi, const double m[YAW_STEPS],
                       double min_angle) {
-  const estimate_result_t *out = est->out;
+  const estimate_result_t *out = &est->result;
   int siblings = 0;
   for (size_t j = 0; j < out->search_count; ++j)
     siblings += out->search[j].fed && out->search[j].face == old->face;
@@ -1024,7 +1019,7 @@ static int retest_yaw(est_t *est, const estimate_search_t *old, int fi, const do
     double q[4], u[3];
     model_orientation_yawed(est->faces[fi].orientation_wxyz, k * CL_PI / YAW_STEPS, q);
     dir_of(q, u);
-    int ok = m[k % YAW_STEPS] >= est->cfg->min_chord_margin_m &&
+    int ok = m[k % YAW_STEPS] >= est->cfg.min_chord_margin_m &&
              (siblings > 0 || cl_vec3_dot(u, old->dir_link) >= cos(CL_PI / 6.0));
     for (size_t j = 0; ok && j < out->search_count; ++j) {
       const estimate_search_t *o = &out->search[j];
@@ -1041,7 +1036,7 @@ static int retest_yaw(est_t *est, const estimate_search_t *old, int fi, const do
 /* Search again in place of search si (retest_yaw); *started = 0 when no search could be started
  * (no room, or no yaw qualifies: a note on si says so). */
 static estimate_status_t retest_start(est_t *est, int si, int *started) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   *started = 0;
   if (out->search_count >= ESTIMATE_MAX_SEARCHES) return ESTIMATE_OK;
   const estimate_search_t old = out->search[si];
@@ -1049,8 +1044,8 @@ static estimate_status_t retest_start(est_t *est, int si, int *started) {
   double m[YAW_STEPS];
   estimate_status_t s = yaw_margins(est, &est->faces[fi], m);
   if (s != ESTIMATE_OK) return s;
-  int best = retest_yaw(est, &old, fi, m, est->cfg->min_dir_angle_rad);
-  if (best < 0) best = retest_yaw(est, &old, fi, m, 0.5 * est->cfg->min_dir_angle_rad);
+  int best = retest_yaw(est, &old, fi, m, est->cfg.min_dir_angle_rad);
+  if (best < 0) best = retest_yaw(est, &old, fi, m, 0.5 * est->cfg.min_dir_angle_rad);
   estimate_search_t *sr = &out->search[si];
   if (best < 0) {
     const size_t len = strlen(sr->note);
@@ -1071,7 +1066,7 @@ static estimate_status_t retest_start(est_t *est, int si, int *started) {
  * depend on it are not claimed. -1: nothing to do. *unverified: the search returned failed its
  * check (and is to be unfed). */
 static int worst_search(est_t *est, const qlearn_solve_result_t *res, int *unverified) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   *unverified = 0;
   int worst = -1;
   for (size_t i = 0; i < out->search_count; ++i) {
@@ -1079,7 +1074,7 @@ static int worst_search(est_t *est, const qlearn_solve_result_t *res, int *unver
     if (!sr->fed) continue;
     int bounded = 0;
     sr->verified_margin_m = search_verified_margin(est, (int)i, res, &bounded);
-    sr->verified = bounded && sr->verified_margin_m >= est->cfg->verify_margin_m;
+    sr->verified = bounded && sr->verified_margin_m >= est->cfg.verify_margin_m;
     if (!bounded || sr->verified) continue;
     if (worst < 0 || sr->verified_margin_m < out->search[worst].verified_margin_m) worst = (int)i;
   }
@@ -1098,10 +1093,10 @@ static estimate_status_t finish(est_t *est);
  * lasts. Bounded: every pass stops, unfeeds a search or spends a retest. Resumed (from est->pass)
  * when a retest's search is over. */
 static estimate_status_t verify_loop(est_t *est) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   qlearn_solve_result_t *res = &est->res;
   for (; est->pass <= 3 * ESTIMATE_MAX_SEARCHES; ++est->pass) {
-    estimate_status_t s = update_guess(est, res);
+    estimate_status_t s = update_guess(est);
     if (s != ESTIMATE_OK) return s;
     int unverified = 0;
     const int w = worst_search(est, res, &unverified);
@@ -1112,9 +1107,9 @@ static estimate_status_t verify_loop(est_t *est) {
       snprintf(sw->note, sizeof sw->note,
                "at the estimate its chord spans the interval along the edge by %.2f mm, under the "
                "%.2f mm needed",
-               1e3 * sw->verified_margin_m, 1e3 * est->cfg->verify_margin_m);
+               1e3 * sw->verified_margin_m, 1e3 * est->cfg.verify_margin_m);
     }
-    if (sw->retested || est->retests >= est->cfg->max_retests) {
+    if (sw->retested || est->retests >= est->cfg.max_retests) {
       sw->retested = 1; /* no (more) retests: only unfeeding continues */
       if (!unverified) return finish(est);
       continue;
@@ -1125,7 +1120,7 @@ static estimate_status_t verify_loop(est_t *est) {
     if (s != ESTIMATE_OK || started) return s; /* search_done resumes the loop */
     sw->retested = 1;
   }
-  estimate_status_t s = update_guess(est, res);
+  estimate_status_t s = update_guess(est);
   return s == ESTIMATE_OK ? finish(est) : s;
 }
 
@@ -1142,7 +1137,7 @@ static estimate_status_t search_done(est_t *est) {
   switch (est->phase) {
     case PHASE_FACE1_SEARCH0: {
       face_plan_t *c = &est->chosen;
-      s = update_guess(est, &est->res);
+      s = update_guess(est);
       if (s == ESTIMATE_OK) s = plan_partner(est, c->face, c->yaw[0], &c->yaw[1], &c->margin[1]);
       if (s != ESTIMATE_OK) return s;
       est->phase = PHASE_FACE1_SEARCH1;
@@ -1150,11 +1145,11 @@ static estimate_status_t search_done(est_t *est) {
     }
     case PHASE_FACE1_SEARCH1:
       est->face1 = p->face;
-      s = update_guess(est, &est->res);
+      s = update_guess(est);
       return s == ESTIMATE_OK ? face_two(est) : s;
     case PHASE_FACE2_SEARCH: return verify_begin(est);
     case PHASE_RETEST:
-      est->out->search[est->retest_of].retested = 1;
+      est->result.search[est->retest_of].retested = 1;
       ++est->pass;
       return verify_loop(est);
     default: return fail(est, ESTIMATE_E_ARG, "internal: a search ended in no search phase");
@@ -1163,7 +1158,7 @@ static estimate_status_t search_done(est_t *est) {
 
 /* Why component k is not found (or "" when it is). */
 static void component_reason(est_t *est, int k, int determined, int unverified, double hw) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   char r[sizeof out->reason[k]];
   if (out->found[k]) {
     r[0] = '\0';
@@ -1174,7 +1169,7 @@ static void component_reason(est_t *est, int k, int determined, int unverified, 
              unverified);
   } else if (determined) {
     snprintf(r, sizeof r, "its interval +-%.3f mm is wider than the %.3f mm limit", 1e3 * hw,
-             1e3 * est->cfg->max_halfwidth_m);
+             1e3 * est->cfg.max_halfwidth_m);
   } else if (est->face2_note[0] && out->rank == 2) {
     snprintf(r, sizeof r, "not determined: %s", est->face2_note);
   } else {
@@ -1191,7 +1186,7 @@ static void component_reason(est_t *est, int k, int determined, int unverified, 
 
 /* The verified solve: every component with its interval, or the reason it is not found. */
 static estimate_status_t finish(est_t *est) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   const qlearn_solve_result_t res = est->res;
   out->rank = res.rank;
   out->chi2 = res.chi2;
@@ -1201,7 +1196,7 @@ static estimate_status_t finish(est_t *est) {
     const int determined = dir_determined(&res, e);
     const double hw = dir_halfwidth(est, &res, e);
     const int unverified = determined ? dir_unverified(est, &res, e) : -1;
-    out->found[k] = determined && unverified < 0 && hw <= est->cfg->max_halfwidth_m;
+    out->found[k] = determined && unverified < 0 && hw <= est->cfg.max_halfwidth_m;
     out->halfwidth_m[k] = out->found[k] ? hw : INFINITY;
     /* not found: report the best guess (prior moved by what was measured), flagged as such */
     out->com_m[k] = out->found[k] ? res.com_m[k] : est->guess_m[k];
@@ -1215,14 +1210,14 @@ static estimate_status_t finish(est_t *est) {
 
 /* Before the first trial: the prior, the hull faces, and face 1's plans. */
 static estimate_status_t strategy_start(est_t *est) {
-  estimate_result_t *out = est->out;
+  estimate_result_t *out = &est->result;
   model_mass_t uni;
   if (model_mesh_mass(est->mesh, 1000.0, &uni) != MODEL_OK)
     return fail(est, ESTIMATE_E_GEOMETRY, "mass properties of the mesh");
   memcpy(out->uniform_com_m, uni.com_m, sizeof uni.com_m);
   memcpy(est->guess_m, uni.com_m, sizeof uni.com_m);
   memcpy(est->start_m, uni.com_m, sizeof uni.com_m);
-  if (est->cfg->start == ESTIMATE_START_BBOX) {
+  if (est->cfg.start == ESTIMATE_START_BBOX) {
     model_aabb_t box;
     if (model_mesh_aabb(est->mesh, &box) != MODEL_OK)
       return fail(est, ESTIMATE_E_GEOMETRY, "bounding box of the mesh");
@@ -1280,12 +1275,10 @@ estimate_status_t estimate_init(void *mem, size_t size, const model_mesh_t *mesh
   if (!est->work) return ESTIMATE_E_ARG;
   est->mesh = mesh_link;
   memcpy(est->base_size_m, base_size_m, sizeof est->base_size_m);
-  est->cfg_copy = *cfg;
-  est->cfg = &est->cfg_copy;
-  est->out = &est->result;
-  for (int k = 0; k < 3; ++k) est->out->halfwidth_m[k] = INFINITY;
+  est->cfg = *cfg;
+  for (int k = 0; k < 3; ++k) est->result.halfwidth_m[k] = INFINITY;
   est->noisy = cfg->noise_sigma_m > 0.0;
-  est->out->noisy = est->noisy;
+  est->result.noisy = est->noisy;
   est->phase = PHASE_START;
   *out = est;
   return ESTIMATE_OK;
@@ -1344,13 +1337,13 @@ estimate_status_t estimate_observe(estimate_t *est, const estimate_trial_reply_t
   if (!est->pending) return ESTIMATE_E_STATE;
   if (reply->outcome < ESTIMATE_INVALID || reply->outcome > ESTIMATE_SLIDES ||
       !pose_ok(&reply->released) || !pose_ok(&reply->settled)) {
-    snprintf(est->out->msg, sizeof est->out->msg,
+    snprintf(est->result.msg, sizeof est->result.msg,
              "reply refused: outcome %d, or a released / settled pose not finite or not unit",
              (int)reply->outcome);
     est->refused = 1;
     return ESTIMATE_E_ARG; /* nothing changed: the trial is still pending */
   }
-  if (est->refused) est->out->msg[0] = '\0';
+  if (est->refused) est->result.msg[0] = '\0';
   est->refused = 0;
   estimate_status_t s;
   if (est->req.kind == ESTIMATE_TRIAL_STABLE)
@@ -1360,7 +1353,9 @@ estimate_status_t estimate_observe(estimate_t *est, const estimate_trial_reply_t
   return settle(est, s);
 }
 
-const estimate_result_t *estimate_result(const estimate_t *est) { return est ? est->out : NULL; }
+const estimate_result_t *estimate_result(const estimate_t *est) {
+  return est ? &est->result : NULL;
+}
 
 estimate_status_t estimate_status(const estimate_t *est) {
   if (!est) return ESTIMATE_E_ARG;
