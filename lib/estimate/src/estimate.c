@@ -235,7 +235,7 @@ static estimate_trial_t *log_trial(est_t *est, const estimate_trial_reply_t *rep
 }
 
 /* Set the object down in `face`'s resting orientation with the current estimate over B's middle;
- * it rests stably when it stays, barely moved (stable_reply). */
+ * it rests stably when it stays, barely moved (stable_confirmed). */
 static estimate_status_t stable_request(est_t *est, int face_index, int log_face) {
   const model_face_t *f = &est->faces[face_index];
   estimate_trial_request_t req;
