@@ -250,8 +250,8 @@ typedef struct {
 
 typedef struct estimate estimate_t; /* opaque */
 
-/* Bytes an estimate of mesh_link needs (for estimate_init): the estimator's state (172 032 on
- * x86-64) and lib/model's scratch memory for this mesh (217 592 for rock_1: 389 632 in all); 0
+/* Bytes an estimate of mesh_link needs (for estimate_init): the estimator's state (171 824 on
+ * x86-64) and lib/model's scratch memory for this mesh (217 592 for rock_1: 389 416 in all); 0
  * for NULL or an empty mesh. */
 size_t estimate_size(const model_mesh_t *mesh_link);
 
