@@ -84,6 +84,7 @@ static const char *regime_name(int r) {
     case MODEL_REGIME_FLAT_PATCH: return "flat_patch";
     case MODEL_REGIME_EDGE_ROLL: return "edge_roll";
     case MODEL_REGIME_POINT_SUPPORT: return "point_support";
+    case MODEL_REGIME_CLOSED_PATCH: return "closed_patch";
     default: return "none";
   }
 }

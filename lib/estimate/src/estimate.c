@@ -16,6 +16,12 @@
 
 enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw sweep over [0, pi) */
 
+/* A closed patch (a small convex facet of a rounded underside) is confirmed only when the object
+ * stayed on it within this angle: off it, the object rolls onto a neighbouring facet, a few
+ * degrees away on the meshes measured (docs/estimate.md, "Closed patches"). */
+#define ESTIMATE_CLOSED_ROTATION_RAD 1e-3
+enum { ESTIMATE_SETTLED_MAX = 8 }; /* faces taken from settled poses, per estimate */
+
 /* Bound on the threshold bias of one flat-patch edge test in lib/balance (docs/physics.md: <= 2.4
  * um measured down to a 0.97 mm chord margin, <= 5 um asserted by the accuracy tests). */
 #define ESTIMATE_PHYSICS_BIAS_M 5e-6
@@ -72,6 +78,7 @@ void estimate_config_default(estimate_config_t *cfg) {
   cfg->noise_max_trials = 48;
   cfg->verify_margin_m = 0.001;
   cfg->max_retests = 3;
+  cfg->closed_patches = 1;
 }
 
 typedef struct {
@@ -148,6 +155,9 @@ struct estimate {
   int face_src[ESTIMATE_MAX_FACES];    /* out->face[i] is faces[face_src[i]] */
   model_face_t faces[FACE_CAP];
   size_t nfaces;
+  size_t nflat_list;      /* faces[0, nflat_list) are model_faces_find's; the rest closed patches
+                             (model_faces_stable's, then faces found under settled poses) */
+  uint32_t found_settled; /* faces added from settled poses (at most ESTIMATE_SETTLED_MAX) */
   face_plan_t plans[FACE_CAP]; /* the candidates of face 1, then of face 2 */
   model_regime_t regime;       /* scratch (~4 KiB) */
   model_support_work_t *work;  /* the geometry's scratch memory, after this struct */
@@ -234,6 +244,11 @@ static estimate_trial_t *log_trial(est_t *est, const estimate_trial_reply_t *rep
   return t;
 }
 
+/* faces[fi] is a closed patch from model_faces_stable or a settled pose (not a flat face). */
+static int face_is_closed(const est_t *est, int fi) {
+  return fi >= 0 && (size_t)fi >= est->nflat_list;
+}
+
 /* Set the object down in `face`'s resting orientation with the current estimate over B's middle;
  * it rests stably when it stays, barely moved (stable_confirmed). */
 static estimate_status_t stable_request(est_t *est, int face_index, int log_face) {
@@ -259,10 +274,11 @@ static estimate_status_t stable_request(est_t *est, int face_index, int log_face
   return request(est, &req, log_face, 0.0);
 }
 
-/* Did the stable check t confirm its face? */
-static int stable_confirmed(const estimate_trial_t *t) {
+/* Did the stable check t confirm its face? On a closed patch it must barely have turned. */
+static int stable_confirmed(const estimate_trial_t *t, int closed) {
   model_stable_config_t sc;
   model_stable_config_default(&sc);
+  if (closed) sc.max_rotation_rad = ESTIMATE_CLOSED_ROTATION_RAD;
   double dx = t->settled.position_m[0] - t->released.position_m[0];
   double dy = t->settled.position_m[1] - t->released.position_m[1];
   double dz = t->settled.position_m[2] - t->released.position_m[2];
@@ -285,6 +301,23 @@ static void search_range(const est_t *est, const double u[3], double *lo, double
   }
   *lo += 1e-3;
   *hi -= 1e-3;
+}
+
+/* On a closed patch the confirmed face holds the CoM's projection: the range is the patch's
+ * extent along u (its vertices in the face plane), inside the object's. */
+static void search_range_closed(const est_t *est, const model_face_t *f, const double u[3],
+                                double *lo, double *hi) {
+  model_regime_config_t rc;
+  model_regime_config_default(&rc);
+  double a = HUGE_VAL, b = -HUGE_VAL;
+  for (size_t i = 0; i < est->mesh->vertex_count; ++i) {
+    const double *v = est->mesh->vertices_m[i];
+    if (f->offset_m - cl_vec3_dot(f->normal_link, v) > rc.plane_tol_m) continue;
+    a = fmin(a, cl_vec3_dot(v, u));
+    b = fmax(b, cl_vec3_dot(v, u));
+  }
+  if (a > *lo) *lo = a;
+  if (b < *hi) *hi = b;
 }
 
 /* Plan the placement of link point g + (x - u.g) u over the +X edge and ask for it. */
@@ -599,6 +632,8 @@ static estimate_status_t search_start(est_t *est, int face_index, int log_face, 
   for (int k = 1; k < 3; ++k)
     if (fabs(sc->u[k]) > fabs(sc->u[sc->comp])) sc->comp = k;
   search_range(est, sc->u, &sc->lo, &sc->hi);
+  if (face_is_closed(est, face_index))
+    search_range_closed(est, &est->faces[face_index], sc->u, &sc->lo, &sc->hi);
   double prior = cl_vec3_dot(est->start_m, sc->u);
   if (prior < sc->lo) prior = sc->lo;
   if (prior > sc->hi) prior = sc->hi;
@@ -883,31 +918,119 @@ static estimate_status_t confirm_next(est_t *est) {
   return stable_request(est, est->plans[est->ci].face, rec);
 }
 
+static estimate_status_t plan_closed(est_t *est, int fi, face_plan_t *p);
+
+/* May face f be tried in the current phase? Face 2 needs a normal at least min_face_angle from
+ * face 1's (not parallel, not antiparallel). */
+static int face_allowed(const est_t *est, const model_face_t *f) {
+  if (est->phase != PHASE_FACE2) return 1;
+  const double *n1 = est->faces[est->face1].normal_link;
+  return fabs(cl_vec3_dot(f->normal_link, n1)) <= cos(est->cfg.min_face_angle_rad);
+}
+
+/* A stable check that did not confirm its face but came to rest on B: the object rolled onto the
+ * face it really rests on. That face (under the settled pose's down direction) holds the CoM's
+ * projection: when it is a closed patch not planned yet, it is checked next. */
+static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
+  if (!est->cfg.closed_patches || t->outcome != ESTIMATE_STAYS ||
+      est->found_settled >= ESTIMATE_SETTLED_MAX || est->nfaces >= FACE_CAP || est->np >= FACE_CAP)
+    return ESTIMATE_OK;
+  double r[3][3], down[3];
+  model_quat_to_rot(t->settled.orientation_wxyz, r);
+  for (int k = 0; k < 3; ++k) down[k] = -r[2][k]; /* world -z in the link frame */
+  model_face_t f;
+  model_status_t ms = model_face_at(est->mesh, down, est->guess_m, NULL, &f);
+  if (ms != MODEL_OK) return ESTIMATE_OK; /* nothing usable under that pose */
+  if (!f.closed || f.flat || !face_allowed(est, &f)) return ESTIMATE_OK;
+  for (size_t i = est->ci + 1; i < est->np; ++i) {
+    if (cl_vec3_dot(est->faces[est->plans[i].face].normal_link, f.normal_link) > cos(1e-3))
+      return ESTIMATE_OK; /* planned already */
+  }
+  for (size_t i = 0; i < est->result.face_count; ++i) {
+    if (cl_vec3_dot(est->result.face[i].normal_link, f.normal_link) > cos(1e-3))
+      return ESTIMATE_OK; /* checked already */
+  }
+  const int fi = (int)est->nfaces++;
+  est->faces[fi] = f;
+  ++est->found_settled;
+  face_plan_t p;
+  estimate_status_t s = plan_closed(est, fi, &p);
+  if (s != ESTIMATE_OK) return s;
+  memmove(&est->plans[est->ci + 2], &est->plans[est->ci + 1],
+          (est->np - est->ci - 1) * sizeof est->plans[0]);
+  est->plans[est->ci + 1] = p;
+  ++est->np;
+  return ESTIMATE_OK;
+}
+
 static estimate_status_t confirm_reply(est_t *est, const estimate_trial_reply_t *reply) {
   const estimate_trial_t *t = log_trial(est, reply);
-  const int conf = stable_confirmed(t);
+  const int fi = est->plans[est->ci].face;
+  const int conf = stable_confirmed(t, face_is_closed(est, fi));
   est->result.face[est->chosen_log].confirmed = conf;
   if (conf) {
     est->chosen = est->plans[est->ci];
     return confirmed(est);
   }
+  estimate_status_t s = settled_face(est, t);
+  if (s != ESTIMATE_OK) return s;
   ++est->ci;
   return confirm_next(est);
 }
 
+/* A closed patch's plan: the yaws of plan_first (any chord holds on a closed patch, so none is
+ * refused), scored by how far inside it the estimate projects (model_faces_stable's order). */
+static estimate_status_t plan_closed(est_t *est, int fi, face_plan_t *p) {
+  p->face = fi;
+  p->score = est->faces[fi].com_margin_m;
+  p->yaw[0] = 0.0;
+  if (est->phase == PHASE_FACE2) { /* the test direction most along face 1's normal */
+    const double *n1 = est->faces[est->face1].normal_link;
+    double best = -1.0;
+    for (int k = 0; k < YAW_STEPS; ++k) {
+      double q[4], u[3];
+      model_orientation_yawed(est->faces[fi].orientation_wxyz, k * CL_PI / YAW_STEPS, q);
+      dir_of(q, u);
+      if (fabs(cl_vec3_dot(u, n1)) > best) {
+        best = fabs(cl_vec3_dot(u, n1));
+        p->yaw[0] = k * CL_PI / YAW_STEPS;
+      }
+    }
+  }
+  p->yaw[1] = p->yaw[0] + 0.5 * CL_PI;
+  p->margin[0] = p->margin[1] = -HUGE_VAL; /* no chord margin is needed */
+  return ESTIMATE_OK;
+}
+
+/* Closed patches after the flat faces' plans (from plans[np] on), in model_faces_stable's order:
+ * for face 2 only those at least min_face_angle from face 1. */
+static estimate_status_t closed_plans(est_t *est, size_t *np) {
+  for (size_t i = est->nflat_list; i < est->nfaces && *np < FACE_CAP; ++i) {
+    if ((int)i == est->face1 || !face_allowed(est, &est->faces[i])) continue;
+    estimate_status_t s = plan_closed(est, (int)i, &est->plans[*np]);
+    if (s != ESTIMATE_OK) return s;
+    ++*np;
+  }
+  return ESTIMATE_OK;
+}
+
 /* Face 1: the flat, stable-candidate faces with the best pairs of chord margins, to confirm in
- * that order; two searches on the first confirmed. */
+ * that order, then the closed patches; two searches on the first confirmed. */
 static estimate_status_t face_one(est_t *est) {
   size_t np = 0;
-  for (size_t i = 0; i < est->nfaces; ++i) {
+  for (size_t i = 0; i < est->nflat_list; ++i) {
     if (!est->faces[i].flat || !est->faces[i].candidate) continue;
     estimate_status_t s = plan_first(est, (int)i, &est->plans[np]);
     if (s != ESTIMATE_OK) return s;
     if (est->plans[np].score >= est->cfg.min_chord_margin_m) ++np;
   }
-  if (np == 0)
-    return fail(est, ESTIMATE_E_GEOMETRY, "no flat face with two usable edge directions");
   qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
+  estimate_status_t s = closed_plans(est, &np);
+  if (s != ESTIMATE_OK) return s;
+  if (np == 0)
+    return fail(est, ESTIMATE_E_GEOMETRY,
+                "no flat face with two usable edge directions and no closed patch under the "
+                "estimate");
   est->np = np;
   est->ci = 0;
   est->phase = PHASE_FACE1;
@@ -922,7 +1045,7 @@ static estimate_status_t face_two(est_t *est) {
   const double *n1 = est->faces[est->face1].normal_link;
   const double cos_max = cos(est->cfg.min_face_angle_rad);
   size_t np = 0;
-  for (size_t i = 0; i < est->nfaces; ++i) {
+  for (size_t i = 0; i < est->nflat_list; ++i) {
     const model_face_t *f = &est->faces[i];
     if (!f->flat || !f->candidate || (int)i == est->face1) continue;
     if (fabs(cl_vec3_dot(f->normal_link, n1)) > cos_max) continue;
@@ -930,16 +1053,18 @@ static estimate_status_t face_two(est_t *est) {
     if (s != ESTIMATE_OK) return s;
     if (est->plans[np].score > 0.0) ++np;
   }
+  qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
+  est->phase = PHASE_FACE2; /* face_allowed: at an angle to face 1 */
+  estimate_status_t s = closed_plans(est, &np);
+  if (s != ESTIMATE_OK) return s;
   if (np == 0) {
     snprintf(est->face2_note, sizeof est->face2_note,
              "no second flat resting face at >= %.0f deg to the first",
              est->cfg.min_face_angle_rad * 180.0 / CL_PI);
     return verify_begin(est);
   }
-  qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
   est->np = np;
   est->ci = 0;
-  est->phase = PHASE_FACE2;
   return confirm_next(est);
 }
 
@@ -986,9 +1111,11 @@ static double search_verified_margin(est_t *est, int si, const qlearn_solve_resu
     const estimate_trial_t *t = &out->trial[i];
     if (t->search != si || !clear_outcome(t) || !deciding_trial(est, sr, i)) continue;
     if (model_regime_classify_in(est->mesh, &t->released, est->base_size_m, MODEL_EDGE_PX,
-                                 est->guess_m, NULL, est->work, &est->regime) != MODEL_OK ||
-        !est->regime.patch.flat)
+                                 est->guess_m, NULL, est->work, &est->regime) != MODEL_OK)
       return -HUGE_VAL;
+    /* A closed patch's chord spans every CoM over the patch, and the confirmed face holds it. */
+    if (est->regime.kind == MODEL_REGIME_CLOSED_PATCH) continue;
+    if (!est->regime.patch.flat) return -HUGE_VAL;
     double r[3][3], along[3];
     model_quat_to_rot(t->released.orientation_wxyz, r);
     for (int k = 0; k < 3; ++k) along[k] = r[1][k]; /* world +y, the +X edge line, in the link */
@@ -1138,7 +1265,8 @@ static estimate_status_t search_done(est_t *est) {
     case PHASE_FACE1_SEARCH0: {
       face_plan_t *c = &est->chosen;
       s = update_guess(est);
-      if (s == ESTIMATE_OK) s = plan_partner(est, c->face, c->yaw[0], &c->yaw[1], &c->margin[1]);
+      if (s == ESTIMATE_OK && !face_is_closed(est, c->face)) /* closed: any yaw, kept at 90 deg */
+        s = plan_partner(est, c->face, c->yaw[0], &c->yaw[1], &c->margin[1]);
       if (s != ESTIMATE_OK) return s;
       est->phase = PHASE_FACE1_SEARCH1;
       return search_start(est, c->face, est->chosen_log, c->yaw[1], c->margin[1], -1);
@@ -1208,6 +1336,26 @@ static estimate_status_t finish(est_t *est) {
   return ESTIMATE_OK;
 }
 
+/* The closed patches the prior can rest on (model_faces_stable), after the flat list: then face
+ * 1's plans. */
+static estimate_status_t closed_patches(est_t *est) {
+  if (!est->cfg.closed_patches) return face_one(est);
+  size_t n = 0;
+  const model_status_t ms = model_faces_stable(
+      est->mesh, est->guess_m, NULL, est->faces + est->nfaces, FACE_CAP - est->nfaces, &n);
+  if (ms != MODEL_OK) {
+    snprintf(est->result.msg, sizeof est->result.msg, "stable faces: %s", model_status_str(ms));
+    return ms == MODEL_E_NOMEM ? ESTIMATE_E_NOMEM : ESTIMATE_E_GEOMETRY;
+  }
+  if (n > FACE_CAP - est->nfaces) n = FACE_CAP - est->nfaces;
+  size_t kept = est->nfaces;
+  for (size_t i = est->nfaces; i < est->nfaces + n; ++i) {
+    if (est->faces[i].closed && !est->faces[i].flat) est->faces[kept++] = est->faces[i];
+  }
+  est->nfaces = kept;
+  return face_one(est);
+}
+
 /* Before the first trial: the prior, the hull faces, and face 1's plans. */
 static estimate_status_t strategy_start(est_t *est) {
   estimate_result_t *out = &est->result;
@@ -1225,6 +1373,7 @@ static estimate_status_t strategy_start(est_t *est) {
   }
   memcpy(out->start_m, est->start_m, sizeof out->start_m);
   for (int k = 0; k < 3; ++k) est->halfwidth_m[k] = INFINITY;
+  est->face1 = -1;
   const model_status_t ms =
       model_faces_find(est->mesh, est->guess_m, NULL, est->faces, FACE_CAP, &est->nfaces);
   if (ms != MODEL_OK) {
@@ -1232,7 +1381,12 @@ static estimate_status_t strategy_start(est_t *est) {
     return ms == MODEL_E_NOMEM ? ESTIMATE_E_NOMEM : ESTIMATE_E_GEOMETRY;
   }
   if (est->nfaces > FACE_CAP) est->nfaces = FACE_CAP;
-  return face_one(est);
+  size_t nflat = 0; /* only the flat faces are planned on: room for the closed patches */
+  for (size_t i = 0; i < est->nfaces; ++i) {
+    if (est->faces[i].flat) est->faces[nflat++] = est->faces[i];
+  }
+  est->nfaces = est->nflat_list = nflat;
+  return closed_patches(est);
 }
 
 static int config_ok(const estimate_config_t *cfg) {
@@ -1244,6 +1398,7 @@ static int config_ok(const estimate_config_t *cfg) {
          cfg->noise_sigma_m >= 0.0 && cfg->noise_sigma_m <= 0.1 && cfg->noise_max_trials >= 1 &&
          cfg->noise_max_trials <= 200 && cfg->verify_margin_m >= 0.0 &&
          cfg->verify_margin_m <= 0.02 && cfg->max_retests <= 6 &&
+         (cfg->closed_patches == 0 || cfg->closed_patches == 1) &&
          (cfg->start == ESTIMATE_START_UNIFORM || cfg->start == ESTIMATE_START_BBOX) &&
          (cfg->policy == QLEARN_POLICY_BISECT || cfg->policy == QLEARN_POLICY_PBA ||
           cfg->policy == QLEARN_POLICY_PAPER_QTABLE || cfg->policy == QLEARN_POLICY_PAPER_MLP);

@@ -120,6 +120,11 @@ done:
   return st;
 }
 
+int model_support_closed(const model_support_contact_t *ct, double hull_area_m2) {
+  return ct->region_count == 1 && ct->region_area_m2 > 0.0 &&
+         hull_area_m2 <= ct->region_area_m2 * (1.0 + 1e-6);
+}
+
 int model_support_tris_chord(const double (*tri_xy)[3][2], size_t n, const double p[2],
                              const double d[2], double *s0, double *s1) {
   double lo = HUGE_VAL, hi = -HUGE_VAL;
@@ -326,6 +331,15 @@ static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
   model_support_contact_t ct;
   contact_compute(mesh, (const double(*)[2])xy, touch, tri_xy, &ct, work->parent, work->area,
                   work->cpts, work->chull);
+  if (ct.region_count == 1) {
+    /* closed: the hull of every touching vertex (isolated ones too) is the region's real area */
+    size_t np = 0;
+    for (size_t v = 0; v < nv; ++v) {
+      if (touch[v]) memcpy(pts[np++], xy[v], sizeof *pts);
+    }
+    const size_t nh = model_polygon_hull(pts, np, hull);
+    out->closed = model_support_closed(&ct, model_polygon_area((const double(*)[2])hull, nh));
+  }
   out->face_count = ct.triangle_count;
   out->faces_area_m2 = ct.area_m2;
   out->region_count = ct.region_count;
@@ -518,7 +532,9 @@ model_status_t model_regime_classify_in(const model_mesh_t *mesh_link, const mod
     out->chord_margin_m = fmin(-s0, s1);
   }
   free(own);
-  if (!out->patch.flat || !out->chord_valid) {
+  if (!out->patch.flat && out->patch.closed && out->chord_valid) {
+    out->kind = MODEL_REGIME_CLOSED_PATCH;
+  } else if (!out->patch.flat || !out->chord_valid) {
     /* No flat patch on the edge line. A patch that exists but is too small still meets the edge
      * along a short segment: that rolls, it does not drop. */
     out->kind = out->chord_valid ? MODEL_REGIME_EDGE_ROLL : MODEL_REGIME_POINT_SUPPORT;
@@ -527,7 +543,8 @@ model_status_t model_regime_classify_in(const model_mesh_t *mesh_link, const mod
   } else {
     out->kind = MODEL_REGIME_EDGE_ROLL;
   }
-  out->flat_patch_regime = out->kind == MODEL_REGIME_FLAT_PATCH;
+  out->flat_patch_regime =
+      out->kind == MODEL_REGIME_FLAT_PATCH || out->kind == MODEL_REGIME_CLOSED_PATCH;
   return MODEL_OK;
 }
 

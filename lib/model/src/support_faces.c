@@ -126,28 +126,47 @@ static model_status_t face_analyse(const model_mesh_t *mesh, const double n[3], 
   f->patch_width_m = ct.region_width_m;
   f->flat =
       f->patch_area_m2 >= cfg->min_patch_area_m2 && f->patch_width_m >= cfg->min_patch_width_m;
+  f->closed = model_support_closed(&ct, f->area_m2);
   return model_orientation_resting(n, f->orientation_wxyz);
 }
 
-model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
-                                const model_regime_config_t *cfg, model_face_t *faces,
-                                size_t capacity, size_t *count) {
-  if (count == NULL || com_guess_link_m == NULL || (faces == NULL && capacity > 0))
-    return MODEL_E_ARG;
-  *count = 0;
-  model_regime_config_t c;
+/* Margin first (largest), then as cmp_face. */
+static int cmp_face_margin(const void *pa, const void *pb) {
+  const model_face_t *a = pa, *b = pb;
+  if (a->com_margin_m != b->com_margin_m) return a->com_margin_m > b->com_margin_m ? -1 : 1;
+  return cmp_face(pa, pb);
+}
+
+/* The checks of every face function: arguments, config (resolved into *c), mesh, guess. */
+static model_status_t faces_args(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                 const model_regime_config_t *cfg, model_regime_config_t *c) {
+  if (com_guess_link_m == NULL) return MODEL_E_ARG;
   if (cfg == NULL) {
-    model_regime_config_default(&c);
+    model_regime_config_default(c);
   } else {
     const model_status_t cs = model_regime_config_check(cfg);
     if (cs != MODEL_OK) return cs;
-    c = *cfg;
+    *c = *cfg;
   }
   model_status_t st = model_mesh_usable(mesh_link);
   if (st != MODEL_OK) return st;
   for (int k = 0; k < 3; ++k) {
     if (!isfinite(com_guess_link_m[k])) return MODEL_E_NONFINITE;
   }
+  return MODEL_OK;
+}
+
+/* model_faces_find (stable_only 0: faces of at least min_face_area_m2, largest first) and
+ * model_faces_stable (1: faces of any area holding the guess, largest margin first). */
+static model_status_t faces_list(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                 const model_regime_config_t *cfg, int stable_only,
+                                 model_face_t *faces, size_t capacity, size_t *count) {
+  if (count == NULL || (faces == NULL && capacity > 0)) return MODEL_E_ARG;
+  *count = 0;
+  model_regime_config_t c;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, &c);
+  if (st != MODEL_OK) return st;
+  const double min_area = stable_only ? 0.0 : c.min_face_area_m2;
   model_mesh_t hull = {0};
   if (model_mesh_hull(mesh_link, &hull, NULL) != MODEL_OK) return MODEL_E_HULL;
   const size_t nf = hull.triangle_count, nv = mesh_link->vertex_count;
@@ -166,13 +185,15 @@ model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_
   }
   st = model_hull_faces(&hull, cos(1e-3), c.plane_tol_m, hf, facet_face, &nhf);
   for (size_t i = 0; st == MODEL_OK && i < nhf; ++i) {
-    if (hf[i].area_m2 < c.min_face_area_m2) continue;
+    if (hf[i].area_m2 < min_area || !(hf[i].area_m2 > 0.0)) continue;
     st = face_analyse(mesh_link, hf[i].normal, com_guess_link_m, &c, xy, pts, poly, used,
                       &tmp[found]);
-    if (st == MODEL_OK && tmp[found].area_m2 >= c.min_face_area_m2) ++found;
+    if (st == MODEL_OK && tmp[found].area_m2 >= min_area &&
+        (!stable_only || tmp[found].com_margin_m >= 0.0))
+      ++found;
   }
   if (st != MODEL_OK) goto done;
-  qsort(tmp, found, sizeof *tmp, cmp_face);
+  qsort(tmp, found, sizeof *tmp, stable_only ? cmp_face_margin : cmp_face);
   if (capacity > 0 && found > 0)
     memcpy(faces, tmp, (found < capacity ? found : capacity) * sizeof *tmp);
   *count = found;
@@ -185,6 +206,70 @@ done:
   free(pts);
   free(poly);
   free(tmp);
+  return st;
+}
+
+model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                const model_regime_config_t *cfg, model_face_t *faces,
+                                size_t capacity, size_t *count) {
+  return faces_list(mesh_link, com_guess_link_m, cfg, 0, faces, capacity, count);
+}
+
+model_status_t model_faces_stable(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                  const model_regime_config_t *cfg, model_face_t *faces,
+                                  size_t capacity, size_t *count) {
+  return faces_list(mesh_link, com_guess_link_m, cfg, 1, faces, capacity, count);
+}
+
+/* The area-weighted normal of the mesh triangles within tol of the support plane n . x = h
+ * (outward: the mesh is closed and outward, so an in-plane triangle's normal points along n);
+ * n itself when there are none. */
+static void plane_normal_refine(const model_mesh_t *mesh, const double n[3], double h, double tol,
+                                double out[3]) {
+  double acc[3] = {0.0, 0.0, 0.0};
+  for (size_t t = 0; t < mesh->triangle_count; ++t) {
+    const uint32_t *tri = mesh->triangles[t];
+    int in = 1;
+    for (int k = 0; k < 3 && in; ++k) in = h - cl_vec3_dot(n, mesh->vertices_m[tri[k]]) <= tol;
+    if (!in) continue;
+    double nt[3];
+    const double a2 = cl_tri_normal(mesh->vertices_m[tri[0]], mesh->vertices_m[tri[1]],
+                                    mesh->vertices_m[tri[2]], nt);
+    if (cl_vec3_dot(nt, n) > 0.0) {
+      for (int k = 0; k < 3; ++k) acc[k] += a2 * nt[k];
+    }
+  }
+  const double len = cl_vec3_norm(acc);
+  for (int k = 0; k < 3; ++k) out[k] = len > 0.0 ? acc[k] / len : n[k];
+}
+
+model_status_t model_face_at(const model_mesh_t *mesh_link, const double normal_link[3],
+                             const double com_guess_link_m[3], const model_regime_config_t *cfg,
+                             model_face_t *out) {
+  if (out == NULL || normal_link == NULL) return MODEL_E_ARG;
+  model_regime_config_t c;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, &c);
+  if (st != MODEL_OK) return st;
+  double n[3];
+  const double len = cl_vec3_norm(normal_link);
+  if (!isfinite(len)) return MODEL_E_NONFINITE;
+  if (!(len > 0.0)) return MODEL_E_ARG;
+  for (int k = 0; k < 3; ++k) n[k] = normal_link[k] / len;
+  const size_t nv = mesh_link->vertex_count;
+  double h = -HUGE_VAL;
+  for (size_t v = 0; v < nv; ++v) h = fmax(h, cl_vec3_dot(n, mesh_link->vertices_m[v]));
+  plane_normal_refine(mesh_link, n, h, c.plane_tol_m, n);
+  unsigned char *used = calloc(nv, 1);
+  double(*xy)[2] = malloc(nv * sizeof *xy);
+  double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
+  double(*poly)[2] = malloc((nv + 1) * sizeof *poly);
+  st = used && xy && pts && poly
+           ? face_analyse(mesh_link, n, com_guess_link_m, &c, xy, pts, poly, used, out)
+           : MODEL_E_NOMEM;
+  free(used);
+  free(xy);
+  free(pts);
+  free(poly);
   return st;
 }
 

@@ -26,6 +26,10 @@ model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy
                                      const unsigned char *on, double (*tri_xy)[3][2],
                                      model_support_contact_t *out);
 
+/* The contact is closed (model_patch_t.closed): one region whose real area is hull_area_m2, the
+ * area of the convex hull of every touching vertex, to a relative 1e-6. */
+int model_support_closed(const model_support_contact_t *ct, double hull_area_m2);
+
 /* Extent of the real contact along the line p + s d (d unit): the smallest and the largest s at
  * which the line meets one of the n triangles (corners in tri_xy). Returns 1 with [*s0, *s1] when
  * that extent has a positive length, 0 otherwise (no triangle met, or only at one point). The

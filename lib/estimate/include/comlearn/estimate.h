@@ -154,6 +154,11 @@ typedef struct {
    * the estimate, until all hold (at most max_retests new searches; default 3, in [0, 6]). */
   double verify_margin_m;
   uint32_t max_retests;
+  /* Rest on closed patches too (default 1): small convex facets (one triangle of a rounded
+   * underside, a narrow side strip) that hold the CoM's projection, found under the estimate or
+   * under the pose a stable check settled in; any chord of one spans the CoM, so no chord margin
+   * is needed (docs/estimate.md, "Closed patches"). 0: flat faces only, as before. */
+  int closed_patches;
 } estimate_config_t;
 
 void estimate_config_default(estimate_config_t *cfg);

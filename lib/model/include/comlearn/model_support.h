@@ -140,6 +140,11 @@ typedef struct {
   double region_width_m; /* smallest width of that group's convex hull */
   int flat;              /* one region is a flat patch: region_area_m2 >= min_patch_area_m2 and
                              region_width_m >= min_patch_width_m */
+  int closed;            /* the real contact is one convex region: one region of in-plane
+                             triangles whose real area is the area of the convex hull of every
+                             touching vertex (to 1e-6), as a single triangle or a convex fracture
+                             face. Then whatever line crosses it, the hull of the contact on one
+                             side is the hull clipped by that line (no gap to bridge) */
   double area_m2;        /* area of the convex hull of all their vertices (an outline that spans
                              gaps between regions); 0 when face_count == 0 */
   double width_m;        /* smallest width of that hull (0 when face_count == 0) */
@@ -166,7 +171,12 @@ typedef enum {
   MODEL_REGIME_EDGE_ROLL = 1,
   /* No flat patch crosses the edge line (rounded underside resting on isolated points): the
    * object drops onto the edge when its support passes over it and tips by overshoot (mm). */
-  MODEL_REGIME_POINT_SUPPORT = 2
+  MODEL_REGIME_POINT_SUPPORT = 2,
+  /* A closed contact smaller than a flat patch (one triangle of a rounded underside, a small convex
+   * facet) crosses the edge: the support polygon is that contact clipped by the edge line, so an
+   * object confirmed resting on it (its CoM over the contact) pivots on the edge line exactly
+   * where its CoM crosses it, whatever the chord margin (docs/physics.md, "Closed patches"). */
+  MODEL_REGIME_CLOSED_PATCH = 3
 } model_regime_kind_t;
 
 /* A planned trial, analysed. "Along" coordinates are world coordinates along the edge line
@@ -185,7 +195,8 @@ typedef struct {
                                a pose from model_pose_over_edge with that point */
   double chord_margin_m; /* min(com_along - chord_m[0], chord_m[1] - com_along): positive
                                when the chord spans it; -HUGE_VAL without a chord */
-  int flat_patch_regime; /* kind == MODEL_REGIME_FLAT_PATCH */
+  int flat_patch_regime; /* the threshold is the CoM: kind == MODEL_REGIME_FLAT_PATCH or
+                             MODEL_REGIME_CLOSED_PATCH */
   model_regime_kind_t kind;
 } model_regime_t;
 
@@ -264,6 +275,8 @@ typedef struct {
   double patch_width_m;       /* smallest width of that group's convex hull */
   int flat;                   /* that group is a flat patch (min_patch_area_m2,
                                    min_patch_width_m) */
+  int closed;                 /* the real contact is one convex region (model_patch_t.closed):
+                                   its real area is the support polygon's, to 1e-6 */
   double com_margin_m;        /* CoM guess projected along the normal: signed distance to the
                                    support polygon's boundary, positive inside */
   int candidate;              /* com_margin_m >= min_com_margin_m: a stable-pose candidate */
@@ -298,6 +311,23 @@ model_status_t model_hull_faces(const model_mesh_t *hull, double merge_cos, doub
 model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
                                 const model_regime_config_t *cfg, model_face_t *faces,
                                 size_t capacity, size_t *count);
+
+/* The hull faces the CoM guess can rest on, whatever their size: every face (area > 0) whose
+ * support polygon holds the guess's projection (com_margin_m >= 0), largest margin first. On a
+ * convex polyhedron these are the stable resting faces for that CoM; on a rounded mesh they are
+ * small facets. Errors and memory as model_faces_find. */
+model_status_t model_faces_stable(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                  const model_regime_config_t *cfg, model_face_t *faces,
+                                  size_t capacity, size_t *count);
+
+/* The face of mesh_link's hull with outward normal ~normal_link (unit, link frame): the support
+ * plane with that normal (through the farthest vertex), analysed as model_faces_find does for the
+ * CoM guess; when the plane holds in-plane triangles its normal is refined to their area-weighted
+ * normal, so a normal read from a settled pose (off by micro-radians) gives the exact face.
+ * MODEL_E_ARG / MODEL_E_NONFINITE, MODEL_E_NOMEM (allocates temporary memory). */
+model_status_t model_face_at(const model_mesh_t *mesh_link, const double normal_link[3],
+                             const double com_guess_link_m[3], const model_regime_config_t *cfg,
+                             model_face_t *out);
 
 /* When a confirmation trial counts as resting stably. model_stable_config_default(). */
 typedef struct {
