@@ -29,6 +29,7 @@
 
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "estimate_backend.h"
@@ -56,6 +57,7 @@ typedef struct {
   int found[3];
   double err_m[3], hw_m[3];
   unsigned trials;
+  double cpu_s; /* CPU time of estimate_run (estimator and in-process simulation) */
 } rec_t;
 
 typedef struct {
@@ -170,7 +172,9 @@ static void run_one(const opts_t *o, const obj_t *ob, int pi, int seed, estimate
     cfg.noise_sigma_m = o->placement_m;
     cfg.seed = (uint64_t)seed;
   }
+  const double cpu0 = cli_time_cpu_s();
   r->status = estimate_run(&mo.mesh, &backend, &cfg, res);
+  r->cpu_s = cli_time_cpu_s() - cpu0;
   estimate_direct_close(sim);
   model_object_free(&mo);
   model_mass_t truth; /* read after the estimate, for the statistics only */
@@ -208,7 +212,7 @@ static int worker(const opts_t *o, const obj_t *objs, int nobj, int w, const cha
 
 typedef struct {
   int runs, refused, comps, found, covered;
-  double worst, hw_sum, trials_sum;
+  double worst, hw_sum, trials_sum, max_err, found_trials, cpu_sum;
 } stat_t;
 
 static void add(stat_t *s, const rec_t *r) {
@@ -222,24 +226,30 @@ static void add(stat_t *s, const rec_t *r) {
     const double q = fabs(r->err_m[k]) / r->hw_m[k];
     s->covered += q <= 1.0;
     if (q > s->worst) s->worst = q;
+    if (fabs(r->err_m[k]) > s->max_err) s->max_err = fabs(r->err_m[k]);
     s->hw_sum += r->hw_m[k];
   }
   if (!any) ++s->refused;
   s->trials_sum += r->trials;
+  if (any) s->found_trials += r->trials; /* all trials of runs that found something */
+  s->cpu_sum += r->cpu_s;
 }
 
 static void row(FILE *f, const char *label, const char *mode, const stat_t *s) {
   fprintf(f,
-          "| %s | %s | %d | %d | %d of %d (%.0f %%) | %d of %d (%.1f %%) | %.2f | %.3f | %.1f |\n",
+          "| %s | %s | %d | %d | %d of %d (%.0f %%) | %d of %d (%.1f %%) | %.2f | %.3f | %.3f | "
+          "%.1f | %.1f | %.3f |\n",
           label, mode, s->runs, s->refused, s->found, s->comps,
           s->comps ? 100.0 * s->found / s->comps : 0.0, s->covered, s->found,
-          s->found ? 100.0 * s->covered / s->found : 100.0, s->worst,
-          s->found ? 1e3 * s->hw_sum / s->found : NAN, s->runs ? s->trials_sum / s->runs : 0.0);
+          s->found ? 100.0 * s->covered / s->found : 100.0, s->worst, 1e3 * s->max_err,
+          s->found ? 1e3 * s->hw_sum / s->found : NAN, s->runs ? s->trials_sum / s->runs : 0.0,
+          s->found ? s->found_trials / s->found : NAN, s->runs ? s->cpu_sum / s->runs : 0.0);
 }
 
 static const char kHeader[] =
-    "| %s | mode | runs | refused | components found | covered | worst \\|err\\| / hw | mean hw "
-    "(mm) | trials per run |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+    "| %s | mode | runs | refused | components found | covered | worst \\|err\\| / hw | max "
+    "\\|err\\| (mm) | mean hw (mm) | trials per run | trials per found component | CPU s per run "
+    "|\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
 static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *recs, size_t n) {
   printf(
