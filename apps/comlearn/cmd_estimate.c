@@ -145,6 +145,8 @@ static void json_searches(const estimate_result_t *r) {
     cli_json_number(stdout, s->bias_m);
     printf(", \"verified_margin_m\": ");
     cli_json_number(stdout, s->verified_margin_m);
+    printf(", \"verify_need_m\": ");
+    cli_json_number(stdout, isnan(s->verified_margin_m) ? NAN : s->verify_need_m);
     printf(
         ", \"trials\": %u, \"handover_trials\": %u, \"retest_of\": %d, \"fed\": %s, "
         "\"note\": ",

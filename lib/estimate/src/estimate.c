@@ -157,6 +157,8 @@ struct estimate {
   size_t nfaces;
   size_t nflat_list;      /* faces[0, nflat_list) are model_faces_find's; the rest closed patches
                              (model_faces_stable's, then faces found under settled poses) */
+  int closed2;            /* face 2's closed patches were listed */
+  size_t closed_from;     /* the closed patches planned in this phase: faces[closed_from, ...) */
   uint32_t found_settled; /* faces added from settled poses (at most ESTIMATE_SETTLED_MAX) */
   face_plan_t plans[FACE_CAP]; /* the candidates of face 1, then of face 2 */
   model_regime_t regime;       /* scratch (~4 KiB) */
@@ -1005,7 +1007,7 @@ static estimate_status_t plan_closed(est_t *est, int fi, face_plan_t *p) {
 /* Closed patches after the flat faces' plans (from plans[np] on), in model_faces_stable's order:
  * for face 2 only those at least min_face_angle from face 1. */
 static estimate_status_t closed_plans(est_t *est, size_t *np) {
-  for (size_t i = est->nflat_list; i < est->nfaces && *np < FACE_CAP; ++i) {
+  for (size_t i = est->closed_from; i < est->nfaces && *np < FACE_CAP; ++i) {
     if ((int)i == est->face1 || !face_allowed(est, &est->faces[i])) continue;
     estimate_status_t s = plan_closed(est, (int)i, &est->plans[*np]);
     if (s != ESTIMATE_OK) return s;
@@ -1038,6 +1040,8 @@ static estimate_status_t face_one(est_t *est) {
 }
 
 static estimate_status_t verify_begin(est_t *est);
+static estimate_status_t closed_append(est_t *est);
+static estimate_status_t face_two_closed(est_t *est);
 
 /* Face 2: the flat stable faces whose normals are not (anti)parallel to face 1's, to confirm;
  * one search on the first confirmed. */
@@ -1055,11 +1059,27 @@ static estimate_status_t face_two(est_t *est) {
   }
   qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
   est->phase = PHASE_FACE2; /* face_allowed: at an angle to face 1 */
-  estimate_status_t s = closed_plans(est, &np);
-  if (s != ESTIMATE_OK) return s;
+  if (np == 0) return face_two_closed(est);
+  est->np = np;
+  est->ci = 0;
+  return confirm_next(est);
+}
+
+/* Face 2 on a closed patch, when no flat face 2 is left: the patches under the estimate after
+ * face 1's searches (computed only then: a flat object never needs them). */
+static estimate_status_t face_two_closed(est_t *est) {
+  size_t np = 0;
+  estimate_status_t s = ESTIMATE_OK;
+  if (est->cfg.closed_patches && !est->closed2) {
+    est->closed2 = 1;
+    s = closed_append(est);
+    if (s == ESTIMATE_OK) s = closed_plans(est, &np);
+    if (s != ESTIMATE_OK) return s;
+  }
   if (np == 0) {
     snprintf(est->face2_note, sizeof est->face2_note,
-             "no second flat resting face at >= %.0f deg to the first",
+             "no second %s resting face at >= %.0f deg to the first was confirmed stable",
+             est->cfg.closed_patches ? "flat or closed" : "flat",
              est->cfg.min_face_angle_rad * 180.0 / CL_PI);
     return verify_begin(est);
   }
@@ -1072,8 +1092,7 @@ static estimate_status_t face_two(est_t *est) {
 static estimate_status_t confirm_none(est_t *est) {
   if (est->phase == PHASE_FACE1)
     return fail(est, ESTIMATE_E_NOPOSE, "no flat resting face was confirmed stable");
-  snprintf(est->face2_note, sizeof est->face2_note, "no second flat face was confirmed stable");
-  return verify_begin(est);
+  return face_two_closed(est);
 }
 
 /* est->chosen was confirmed stable: search on it. */
@@ -1100,6 +1119,26 @@ static double hull_extent(const est_t *est, const double a[3]) {
 /* The deciding trials of search si (its bracket; with a noise model every clear trial within
  * c +- (h + 3 sigma)), checked at the current estimate: the smallest chord margin, less the
  * estimate's half width along the edge line (and 3 sigma of sideways placement noise). */
+/* Closed-patch trial t (est->regime classified at its released pose): how far inside the patch
+ * the estimate projects, less the interval box's extent in the patch plane (world x and y). */
+static double closed_margin(est_t *est, const estimate_trial_t *t, const qlearn_solve_result_t *res,
+                            int *bounded) {
+  double r[3][3], cw[3], ext2 = 0.0;
+  model_quat_to_rot(t->released.orientation_wxyz, r);
+  for (int i = 0; i < 2; ++i) {
+    cw[i] = t->released.position_m[i] + cl_vec3_dot(r[i], est->guess_m);
+    double ext = dir_halfwidth(est, res, r[i]); /* world x / y in the link frame: rows of R */
+    if (!isfinite(ext)) {
+      ext = hull_extent(est, r[i]);
+      *bounded = 0;
+    }
+    ext2 += ext * ext;
+  }
+  const model_patch_t *pa = &est->regime.patch;
+  return model_polygon_margin((const double(*)[2])pa->polygon_xy_m, pa->vertex_count, cw) -
+         sqrt(ext2);
+}
+
 static double search_verified_margin(est_t *est, int si, const qlearn_solve_result_t *res,
                                      int *bounded) {
   const estimate_result_t *out = &est->result;
@@ -1113,8 +1152,11 @@ static double search_verified_margin(est_t *est, int si, const qlearn_solve_resu
     if (model_regime_classify_in(est->mesh, &t->released, est->base_size_m, MODEL_EDGE_PX,
                                  est->guess_m, NULL, est->work, &est->regime) != MODEL_OK)
       return -HUGE_VAL;
-    /* A closed patch's chord spans every CoM over the patch, and the confirmed face holds it. */
-    if (est->regime.kind == MODEL_REGIME_CLOSED_PATCH) continue;
+    /* A closed patch's chord spans every CoM over the patch: what counts is how far inside. */
+    if (est->regime.kind == MODEL_REGIME_CLOSED_PATCH) {
+      worst = fmin(worst, closed_margin(est, t, res, bounded) - 3.0 * sigma);
+      continue;
+    }
     if (!est->regime.patch.flat) return -HUGE_VAL;
     double r[3][3], along[3];
     model_quat_to_rot(t->released.orientation_wxyz, r);
@@ -1201,9 +1243,14 @@ static int worst_search(est_t *est, const qlearn_solve_result_t *res, int *unver
     if (!sr->fed) continue;
     int bounded = 0;
     sr->verified_margin_m = search_verified_margin(est, (int)i, res, &bounded);
-    sr->verified = bounded && sr->verified_margin_m >= est->cfg.verify_margin_m;
+    sr->verify_need_m = face_is_closed(est, est->face_src[sr->face]) ? ESTIMATE_CLOSED_MARGIN_M
+                                                                     : est->cfg.verify_margin_m;
+    const double slack = sr->verified_margin_m - sr->verify_need_m;
+    sr->verified = bounded && slack >= 0.0;
     if (!bounded || sr->verified) continue;
-    if (worst < 0 || sr->verified_margin_m < out->search[worst].verified_margin_m) worst = (int)i;
+    if (worst < 0 ||
+        slack < out->search[worst].verified_margin_m - out->search[worst].verify_need_m)
+      worst = (int)i;
   }
   for (size_t i = 0; i < out->search_count; ++i)
     if (!out->search[i].fed && out->search[i].flat_failed && !out->search[i].retested)
@@ -1231,10 +1278,11 @@ static estimate_status_t verify_loop(est_t *est) {
     estimate_search_t *sw = &out->search[w];
     if (unverified) {
       sw->fed = 0;
-      snprintf(sw->note, sizeof sw->note,
-               "at the estimate its chord spans the interval along the edge by %.2f mm, under the "
-               "%.2f mm needed",
-               1e3 * sw->verified_margin_m, 1e3 * est->cfg.verify_margin_m);
+      snprintf(
+          sw->note, sizeof sw->note, "at the estimate its %s by %.2f mm, under the %.2f mm needed",
+          face_is_closed(est, est->face_src[sw->face]) ? "patch holds the interval box"
+                                                       : "chord spans the interval along the edge",
+          1e3 * sw->verified_margin_m, 1e3 * sw->verify_need_m);
     }
     if (sw->retested || est->retests >= est->cfg.max_retests) {
       sw->retested = 1; /* no (more) retests: only unfeeding continues */
@@ -1336,10 +1384,11 @@ static estimate_status_t finish(est_t *est) {
   return ESTIMATE_OK;
 }
 
-/* The closed patches the prior can rest on (model_faces_stable), after the flat list: then face
- * 1's plans. */
-static estimate_status_t closed_patches(est_t *est) {
-  if (!est->cfg.closed_patches) return face_one(est);
+/* The closed patches the current estimate can rest on (model_faces_stable), appended to faces[]
+ * from est->closed_from on: at the start under the prior, for face 2 again under the estimate
+ * after face 1's searches (its in-plane components are known then). */
+static estimate_status_t closed_append(est_t *est) {
+  est->closed_from = est->nfaces;
   size_t n = 0;
   const model_status_t ms = model_faces_stable(
       est->mesh, est->guess_m, NULL, est->faces + est->nfaces, FACE_CAP - est->nfaces, &n);
@@ -1353,7 +1402,13 @@ static estimate_status_t closed_patches(est_t *est) {
     if (est->faces[i].closed && !est->faces[i].flat) est->faces[kept++] = est->faces[i];
   }
   est->nfaces = kept;
-  return face_one(est);
+  return ESTIMATE_OK;
+}
+
+static estimate_status_t closed_patches(est_t *est) {
+  est->closed_from = est->nfaces;
+  estimate_status_t s = est->cfg.closed_patches ? closed_append(est) : ESTIMATE_OK;
+  return s == ESTIMATE_OK ? face_one(est) : s;
 }
 
 /* Before the first trial: the prior, the hull faces, and face 1's plans. */

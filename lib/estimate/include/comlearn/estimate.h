@@ -206,7 +206,11 @@ typedef struct {
   double chord_margin_m;    /* planned margin at the chosen yaw */
   double verified_margin_m; /* smallest chord margin of its deciding trials at the final
                                estimate, less the interval box's extent along the edge (NaN:
-                               not checked); fed only when >= verify_margin_m */
+                               not checked); fed only when >= verify_need_m. On a closed patch:
+                               how far inside the patch the estimate projects, less the box's
+                               extent in the patch plane */
+  double verify_need_m;     /* what that check needs: verify_margin_m (flat faces) or
+                               ESTIMATE_CLOSED_MARGIN_M (closed patches, 0.25 mm) */
   int lo_trial, hi_trial;   /* indices into trial[] of the bracketing TIPS / STAYS (-1: none) */
   int retest_of;            /* the search this one repeats with a new yaw, or -1 */
   int retested;             /* a later search repeats this one (or none could) */
@@ -252,6 +256,12 @@ typedef struct {
 } estimate_result_t;
 
 /* ---- the loop ------------------------------------------------------------------------------- */
+
+/* On a closed patch the CoM must project this far inside the patch at the final estimate (its
+ * box included) for a search there to count: nearer a side, the release transient can roll the
+ * object sideways off the patch (measured on a mug's side strip with the CoM 30 um inside: one
+ * placement 0.31 mm behind the threshold tipped; docs/estimate.md, "Closed patches"). */
+#define ESTIMATE_CLOSED_MARGIN_M 2.5e-4
 
 typedef struct estimate estimate_t; /* opaque */
 
