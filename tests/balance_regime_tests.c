@@ -400,6 +400,93 @@ START_TEST(washer_is_one_ring_region) {
 }
 END_TEST
 
+/* ---- closed patches: small convex contact ------------------------------------------------- */
+
+/* A 8 x 6 x 4 mm box: no face is a flat patch (< 1 cm^2, < 10 mm wide), every face is closed
+ * (two triangles whose area is their hull's). Over the edge it is in the closed-patch regime with
+ * the chord across the whole face, whatever the margin. */
+START_TEST(small_box_is_a_closed_patch) {
+  const double h[3] = {0.004, 0.003, 0.002}, c[3] = {0, 0, 0};
+  model_mesh_t m = {0};
+  bp_box(&m, h, 0.0);
+  const double p[3] = {0.001, 0.0025, 0.0}; /* 0.5 mm from the y side: margin under 3 mm */
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, p, 0.0);
+  model_regime_t r;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, p, NULL, &r), MODEL_OK);
+  ck_assert(!r.patch.flat);
+  ck_assert(r.patch.closed);
+  /* p is put at along = 0: the face's y extent [-3, 3] mm moves to [-5.5, 0.5] mm */
+  ck_assert_double_eq_tol(r.chord_m[0], -0.0055, 1e-15);
+  ck_assert_double_eq_tol(r.chord_m[1], 0.0005, 1e-15);
+  ck_assert_double_eq_tol(r.chord_margin_m, 0.0005, 1e-15);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_CLOSED_PATCH);
+  ck_assert(r.flat_patch_regime);
+  /* Every face holds the centre: six, largest margin first (3 mm on the two 8 x 6 faces, 2 mm on
+   * the four others), each closed, none flat. */
+  model_face_t f[8];
+  size_t n = 0;
+  ck_assert_int_eq(model_faces_stable(&m, c, NULL, f, 8, &n), MODEL_OK);
+  ck_assert_uint_eq(n, 6);
+  const double want[6] = {0.003, 0.003, 0.002, 0.002, 0.002, 0.002};
+  for (size_t i = 0; i < n; ++i) {
+    ck_assert(f[i].closed && !f[i].flat);
+    ck_assert_double_eq_tol(f[i].com_margin_m, want[i], 1e-15);
+  }
+  /* A guess 2.5 mm off along x: the +-x faces (6 x 4 mm, in y and z) keep their 2 mm; the four
+   * others see it 1.5 mm from their x side (4 - 2.5 mm). */
+  const double g[3] = {0.0025, 0.0, 0.0};
+  ck_assert_int_eq(model_faces_stable(&m, g, NULL, f, 8, &n), MODEL_OK);
+  ck_assert_uint_eq(n, 6);
+  ck_assert_double_eq_tol(f[0].com_margin_m, 0.002, 1e-15);  /* +-x faces: 6 x 4, centred */
+  ck_assert_double_eq_tol(f[5].com_margin_m, 0.0015, 1e-15); /* y / z faces: 4 - 2.5 mm */
+  model_mesh_free(&m);
+}
+END_TEST
+
+/* The face under a settled pose: a normal off by 1e-5 rad gives the exact face (its in-plane
+ * triangles' normal), its support plane and its closed contact. */
+START_TEST(face_at_refines_the_normal) {
+  const double h[3] = {0.004, 0.003, 0.002}, c[3] = {0, 0, 0};
+  model_mesh_t m = {0};
+  bp_box(&m, h, 0.0);
+  const double n_off[3] = {1e-5, 0.0, -1.0};
+  model_face_t f;
+  ck_assert_int_eq(model_face_at(&m, n_off, c, NULL, &f), MODEL_OK);
+  ck_assert_double_eq_tol(f.normal_link[0], 0.0, 1e-15);
+  ck_assert_double_eq_tol(f.normal_link[2], -1.0, 1e-15);
+  ck_assert_double_eq_tol(f.offset_m, 0.002, 1e-15);
+  ck_assert_double_eq_tol(f.area_m2, 0.008 * 0.006, 1e-15);
+  ck_assert(f.closed && !f.flat);
+  ck_assert_double_eq_tol(f.com_margin_m, 0.003, 1e-15);
+  const double bad[3] = {NAN, 0.0, 1.0}, zero[3] = {0.0, 0.0, 0.0};
+  ck_assert_int_eq(model_face_at(&m, bad, c, NULL, &f), MODEL_E_NONFINITE);
+  ck_assert_int_eq(model_face_at(&m, zero, c, NULL, &f), MODEL_E_ARG);
+  ck_assert_int_eq(model_face_at(&m, n_off, c, NULL, NULL), MODEL_E_ARG);
+  model_mesh_free(&m);
+}
+END_TEST
+
+/* Not closed: two feet (two regions) and a washer (one region around a hole, whose hull is larger
+ * than its real area). */
+START_TEST(feet_and_washer_are_not_closed) {
+  const double h[3] = {0.003, 0.02, 0.005}, mid[3] = {0.0, 0.0, 0.0};
+  model_mesh_t m = {0};
+  bp_two_feet(&m, h, 0.014);
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PY, mid, 0.0);
+  model_regime_t r;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PY, mid, NULL, &r), MODEL_OK);
+  ck_assert_uint_eq(r.patch.region_count, 2);
+  ck_assert(!r.patch.closed);
+  model_mesh_free(&m);
+  bp_washer(&m, 0.015, 0.025, 0.004, 64);
+  pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, mid, 0.0);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r), MODEL_OK);
+  ck_assert_uint_eq(r.patch.region_count, 1);
+  ck_assert(!r.patch.closed);
+  model_mesh_free(&m);
+}
+END_TEST
+
 /* ---- the bundled rocks ------------------------------------------------------------------- */
 
 START_TEST(rock_bottom_face_spans_the_com) {
@@ -650,6 +737,9 @@ Suite *balance_regime_suite(void) {
   tcase_add_test(tc, two_feet_chord_is_the_real_contact);
   tcase_add_test(tc, narrow_feet_are_not_flat);
   tcase_add_test(tc, washer_is_one_ring_region);
+  tcase_add_test(tc, small_box_is_a_closed_patch);
+  tcase_add_test(tc, face_at_refines_the_normal);
+  tcase_add_test(tc, feet_and_washer_are_not_closed);
   tcase_add_loop_test(tc, rock_bottom_face_spans_the_com, 0, 6);
   tcase_add_loop_test(tc, rock_faces_are_the_fractures, 0, 3);
   tcase_add_test(tc, ellipsoid_is_point_support);

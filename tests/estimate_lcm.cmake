@@ -3,7 +3,7 @@
 # `comlearn estimate --spawn-sim` as a user runs it.
 comlearn_add_check(check_estimate_lcm SOURCES check_estimate_lcm.c
   LIBS comlearn_estimate_lcm comlearn_estimate_direct comlearn_estimate comlearn_balance
-       comlearn_model_sim comlearn_model
+       comlearn_shapegen comlearn_rockgen comlearn_model_sim comlearn_model
   TIMEOUT 300)
 target_compile_definitions(check_estimate_lcm PRIVATE
   COMLEARN_SIM_EXE="$<TARGET_FILE:comlearn-sim>" COMLEARN_BIN="$<TARGET_FILE:comlearn>")

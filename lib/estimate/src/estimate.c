@@ -20,7 +20,10 @@ enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw s
  * stayed on it within this angle: off it, the object rolls onto a neighbouring facet, a few
  * degrees away on the meshes measured (docs/estimate.md, "Closed patches"). */
 #define ESTIMATE_CLOSED_ROTATION_RAD 1e-3
-enum { ESTIMATE_SETTLED_MAX = 8 }; /* faces taken from settled poses, per estimate */
+enum {
+  ESTIMATE_SETTLED_MAX = 8, /* faces taken from settled poses, per estimate */
+  ESTIMATE_FACE2_REDO = 3   /* face 2 replaced by another closed patch, per estimate */
+};
 
 /* Bound on the threshold bias of one flat-patch edge test in lib/balance (docs/physics.md: <= 2.4
  * um measured down to a 0.97 mm chord margin, <= 5 um asserted by the accuracy tests). */
@@ -158,6 +161,8 @@ struct estimate {
   size_t nflat_list;      /* faces[0, nflat_list) are model_faces_find's; the rest closed patches
                              (model_faces_stable's, then faces found under settled poses) */
   int closed2;            /* face 2's closed patches were listed */
+  uint32_t face2_redos;   /* face 2 chosen again after its closed patch failed (face2_redo) */
+  int redo_of;            /* the face 2 search that face2_redo replaces, or -1 */
   size_t closed_from;     /* the closed patches planned in this phase: faces[closed_from, ...) */
   uint32_t found_settled; /* faces added from settled poses (at most ESTIMATE_SETTLED_MAX) */
   face_plan_t plans[FACE_CAP]; /* the candidates of face 1, then of face 2 */
@@ -922,6 +927,14 @@ static estimate_status_t confirm_next(est_t *est) {
 
 static estimate_status_t plan_closed(est_t *est, int fi, face_plan_t *p);
 
+/* Was a face with this normal checked already (in out->face)? */
+static int face_recorded(const est_t *est, const double normal[3]) {
+  for (size_t i = 0; i < est->result.face_count; ++i) {
+    if (cl_vec3_dot(est->result.face[i].normal_link, normal) > cos(1e-3)) return 1;
+  }
+  return 0;
+}
+
 /* May face f be tried in the current phase? Face 2 needs a normal at least min_face_angle from
  * face 1's (not parallel, not antiparallel). */
 static int face_allowed(const est_t *est, const model_face_t *f) {
@@ -948,10 +961,7 @@ static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
     if (cl_vec3_dot(est->faces[est->plans[i].face].normal_link, f.normal_link) > cos(1e-3))
       return ESTIMATE_OK; /* planned already */
   }
-  for (size_t i = 0; i < est->result.face_count; ++i) {
-    if (cl_vec3_dot(est->result.face[i].normal_link, f.normal_link) > cos(1e-3))
-      return ESTIMATE_OK; /* checked already */
-  }
+  if (face_recorded(est, f.normal_link)) return ESTIMATE_OK; /* checked already */
   const int fi = (int)est->nfaces++;
   est->faces[fi] = f;
   ++est->found_settled;
@@ -1008,7 +1018,9 @@ static estimate_status_t plan_closed(est_t *est, int fi, face_plan_t *p) {
  * for face 2 only those at least min_face_angle from face 1. */
 static estimate_status_t closed_plans(est_t *est, size_t *np) {
   for (size_t i = est->closed_from; i < est->nfaces && *np < FACE_CAP; ++i) {
-    if ((int)i == est->face1 || !face_allowed(est, &est->faces[i])) continue;
+    if ((int)i == est->face1 || !face_allowed(est, &est->faces[i]) ||
+        face_recorded(est, est->faces[i].normal_link))
+      continue;
     estimate_status_t s = plan_closed(est, (int)i, &est->plans[*np]);
     if (s != ESTIMATE_OK) return s;
     ++*np;
@@ -1103,7 +1115,7 @@ static estimate_status_t confirmed(est_t *est) {
     return search_start(est, p->face, est->chosen_log, p->yaw[0], p->margin[0], -1);
   }
   est->phase = PHASE_FACE2_SEARCH;
-  return search_start(est, p->face, est->chosen_log, p->yaw[0], p->margin[0], -1);
+  return search_start(est, p->face, est->chosen_log, p->yaw[0], p->margin[0], est->redo_of);
 }
 
 /* How far the CoM can be from the current estimate along a (unit, link frame) at most: to the
@@ -1204,12 +1216,36 @@ static int retest_yaw(est_t *est, const estimate_search_t *old, int fi, const do
 
 /* Search again in place of search si (retest_yaw); *started = 0 when no search could be started
  * (no room, or no yaw qualifies: a note on si says so). */
+/* Face 2's search on closed patch si failed its check at the estimate (the estimate projects too
+ * near the patch's side): instead of another yaw on it, another closed patch at an angle to face
+ * 1, listed under the current estimate (at most ESTIMATE_FACE2_REDO times). *started = 1 when a
+ * stable check was asked for; its search then goes through the phases of face 2. */
+static estimate_status_t face2_redo(est_t *est, int si, int *started) {
+  if (!est->cfg.closed_patches || est->face2_redos >= ESTIMATE_FACE2_REDO) return ESTIMATE_OK;
+  ++est->face2_redos;
+  est->phase = PHASE_FACE2;
+  size_t np = 0;
+  estimate_status_t s = closed_append(est);
+  if (s == ESTIMATE_OK) s = closed_plans(est, &np);
+  if (s != ESTIMATE_OK || np == 0) return s;
+  est->result.search[si].retested = 1;
+  est->redo_of = si;
+  est->np = np;
+  est->ci = 0;
+  *started = 1;
+  return confirm_next(est);
+}
+
 static estimate_status_t retest_start(est_t *est, int si, int *started) {
   estimate_result_t *out = &est->result;
   *started = 0;
   if (out->search_count >= ESTIMATE_MAX_SEARCHES) return ESTIMATE_OK;
   const estimate_search_t old = out->search[si];
   const int fi = est->face_src[old.face];
+  if (face_is_closed(est, fi) && fi != est->face1) {
+    estimate_status_t s = face2_redo(est, si, started);
+    if (s != ESTIMATE_OK || *started) return s;
+  }
   double m[YAW_STEPS];
   estimate_status_t s = yaw_margins(est, &est->faces[fi], m);
   if (s != ESTIMATE_OK) return s;
@@ -1429,6 +1465,7 @@ static estimate_status_t strategy_start(est_t *est) {
   memcpy(out->start_m, est->start_m, sizeof out->start_m);
   for (int k = 0; k < 3; ++k) est->halfwidth_m[k] = INFINITY;
   est->face1 = -1;
+  est->redo_of = -1;
   const model_status_t ms =
       model_faces_find(est->mesh, est->guess_m, NULL, est->faces, FACE_CAP, &est->nfaces);
   if (ms != MODEL_OK) {
