@@ -45,6 +45,7 @@ typedef struct {
   uint64_t seed;
   qlearn_policy_kind_t pol[MAX_POLICIES];
   double placement_m, pose_m;
+  double stop_m; /* estimate_config_t.noise_stop_width_m of the noisy runs (0: the default) */
   const char *json, *keep;
 } opts_t;
 
@@ -170,6 +171,7 @@ static void run_one(const opts_t *o, const obj_t *ob, int pi, int seed, estimate
   if (seed > 0) {
     estimate_direct_set_noise(sim, (uint64_t)seed, o->placement_m, o->pose_m);
     cfg.noise_sigma_m = o->placement_m;
+    cfg.noise_stop_width_m = o->stop_m;
     cfg.seed = (uint64_t)seed;
   }
   const double cpu0 = cli_time_cpu_s();
@@ -255,10 +257,10 @@ static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *re
   printf(
       "# bench_coverage\n\n%d objects (%d shapes x even / uneven, families in turn, seeds "
       "%llu..), "
-      "noiseless and with placement %.3g mm / pose %.3g mm noise for seeds 1..%d; direct "
-      "backend.\n\n",
+      "noiseless and with placement %.3g mm / pose %.3g mm noise for seeds 1..%d (searches stop "
+      "at a 95 %% interval %.3g mm wide, 0: the default); direct backend.\n\n",
       nobj, o->objects, (unsigned long long)o->seed, 1e3 * o->placement_m, 1e3 * o->pose_m,
-      o->seeds);
+      o->seeds, 1e3 * o->stop_m);
   printf(kHeader, "policy");
   for (int p = 0; p < o->npol; ++p)
     for (int noisy = 0; noisy < 2; ++noisy) {
@@ -341,6 +343,8 @@ static void usage(FILE *f) {
           "  --seeds K               noisy runs per object and policy, 0..20 (default: 2)\n"
           "  --placement-noise-mm P  noisy runs' placement noise (default: 0.5)\n"
           "  --pose-noise-mm Q       noisy runs' pose noise (default: 0.2)\n"
+          "  --noise-stop-mm W       noisy runs stop a search at a 95 %% interval W mm wide,\n"
+          "                          0..10 (default: 0: max(resolution, placement noise))\n"
           "  --jobs J                worker processes, 1..%d (default: 2)\n"
           "  --json FILE             every run as JSON (default: none)\n"
           "  --keep DIR              write the objects into DIR and keep them (default: a\n"
@@ -388,6 +392,7 @@ static int parse_args(int argc, char **argv, opts_t *o) {
                                        {"seeds", required_argument, NULL, 'k'},
                                        {"placement-noise-mm", required_argument, NULL, 'P'},
                                        {"pose-noise-mm", required_argument, NULL, 'Q'},
+                                       {"noise-stop-mm", required_argument, NULL, 'W'},
                                        {"jobs", required_argument, NULL, 'j'},
                                        {"json", required_argument, NULL, 'J'},
                                        {"keep", required_argument, NULL, 'K'},
@@ -408,6 +413,7 @@ static int parse_args(int argc, char **argv, opts_t *o) {
       case 'k': bad = int_arg(optarg, 0, 20, &o->seeds); break;
       case 'P': bad = mm_arg(optarg, &o->placement_m); break;
       case 'Q': bad = mm_arg(optarg, &o->pose_m); break;
+      case 'W': bad = mm_arg(optarg, &o->stop_m) || o->stop_m > 0.01; break;
       case 'j': bad = int_arg(optarg, 1, MAX_JOBS, &o->jobs); break;
       case 'J': o->json = optarg; break;
       case 'K': o->keep = optarg; break;

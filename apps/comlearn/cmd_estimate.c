@@ -47,6 +47,8 @@ static void usage(FILE *out) {
           "                     normal, 0..100 mm; > 0 makes every interval a 95 %% interval\n"
           "                     (default: --placement-noise-mm with --direct, else 0: noiseless,\n"
           "                     intervals are bounds)\n"
+          "  --noise-stop-mm W  with a noise model, a search stops when its 95 %% interval is at\n"
+          "                     most W mm wide, 0..10 (default: 0: max(resolution, noise))\n"
           "  --placement-noise-mm S  --direct: std. dev. of the horizontal release offset, as\n"
           "                     comlearn-sim's option, 0..100 mm (default: 0)\n"
           "  --pose-noise-mm S  --direct: std. dev. of the perceived settled position, 0..100 mm\n"
@@ -288,6 +290,9 @@ static int parse_option(int c, est_args_t *a) {
     case 'n':
       a->noise_given = 1;
       return parse_mm("noise-mm", optarg, 0.0, 100.0, &a->cfg.noise_sigma_m) ? EXIT_USAGE : 0;
+    case 'W':
+      return parse_mm("noise-stop-mm", optarg, 0.0, 10.0, &a->cfg.noise_stop_width_m) ? EXIT_USAGE
+                                                                                      : 0;
     case 'P':
       a->sim_noise = 1;
       return parse_mm("placement-noise-mm", optarg, 0.0, 100.0, &a->placement_noise_m) ? EXIT_USAGE
@@ -343,6 +348,7 @@ static int parse_args(int argc, char **argv, est_args_t *a) {
                                        {"quiet", no_argument, NULL, 'q'},
                                        {"start", required_argument, NULL, 'S'},
                                        {"noise-mm", required_argument, NULL, 'n'},
+                                       {"noise-stop-mm", required_argument, NULL, 'W'},
                                        {"placement-noise-mm", required_argument, NULL, 'P'},
                                        {"pose-noise-mm", required_argument, NULL, 'O'},
                                        {"seed", required_argument, NULL, 'e'},

@@ -397,7 +397,9 @@ static int deciding_trial(const est_t *est, const estimate_search_t *sr, size_t 
 static void probit_config(const est_t *est, qlearn_policy_config_t *pc) {
   pc->noise = QLEARN_NOISE_PROBIT;
   pc->sigma_m = est->cfg.noise_sigma_m;
-  pc->resolution_m = fmax(est->cfg.resolution_m, est->cfg.noise_sigma_m);
+  pc->resolution_m = est->cfg.noise_stop_width_m > 0.0
+                         ? est->cfg.noise_stop_width_m
+                         : fmax(est->cfg.resolution_m, est->cfg.noise_sigma_m);
   if (pc->resolution_m > pc->range_hi_m - pc->range_lo_m)
     pc->resolution_m = pc->range_hi_m - pc->range_lo_m;
 }
@@ -1166,7 +1168,8 @@ static double search_verified_margin(est_t *est, int si, const qlearn_solve_resu
       return -HUGE_VAL;
     /* A closed patch's chord spans every CoM over the patch: what counts is how far inside. */
     if (est->regime.kind == MODEL_REGIME_CLOSED_PATCH) {
-      worst = fmin(worst, closed_margin(est, t, res, bounded) - 3.0 * sigma);
+      worst = fmin(worst, closed_margin(est, t, res, bounded)); /* noise moves the object, not
+                                                                   its CoM over the patch */
       continue;
     }
     if (!est->regime.patch.flat) return -HUGE_VAL;
@@ -1490,7 +1493,8 @@ static int config_ok(const estimate_config_t *cfg) {
          cfg->noise_sigma_m >= 0.0 && cfg->noise_sigma_m <= 0.1 && cfg->noise_max_trials >= 1 &&
          cfg->noise_max_trials <= 200 && cfg->verify_margin_m >= 0.0 &&
          cfg->verify_margin_m <= 0.02 && cfg->max_retests <= 6 &&
-         (cfg->closed_patches == 0 || cfg->closed_patches == 1) &&
+         (cfg->closed_patches == 0 || cfg->closed_patches == 1) && cfg->noise_stop_width_m >= 0.0 &&
+         cfg->noise_stop_width_m <= 0.01 &&
          (cfg->start == ESTIMATE_START_UNIFORM || cfg->start == ESTIMATE_START_BBOX) &&
          (cfg->policy == QLEARN_POLICY_BISECT || cfg->policy == QLEARN_POLICY_PBA ||
           cfg->policy == QLEARN_POLICY_PAPER_QTABLE || cfg->policy == QLEARN_POLICY_PAPER_MLP);

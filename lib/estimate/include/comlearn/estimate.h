@@ -145,6 +145,10 @@ typedef struct {
    * threshold. */
   double noise_sigma_m;
   uint32_t noise_max_trials; /* PBA trials after a noisy walk; default 48, in [1, 200] */
+  /* With a noise model, a search stops when its 95 % interval is at most this wide [m], in
+   * [0, 0.01]. 0 (default): max(resolution_m, noise_sigma_m). Wider stops cost fewer trials and
+   * give wider intervals (docs/results.md, "With noise": 2 sigma, 1 mm at 0.5 mm noise). */
+  double noise_stop_width_m;
   /* An interval is only as good as the physics of the trials that set it: an edge test measures
    * the CoM where the real contact on the edge line spans the CoM sideways. After the solve, the
    * deciding trials of every search are checked against the final estimate: their chord must
