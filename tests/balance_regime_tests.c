@@ -487,6 +487,69 @@ START_TEST(feet_and_washer_are_not_closed) {
 }
 END_TEST
 
+/* A torus lying flat (R 20 mm, r 5 mm, 48 x 16): its contact is the bottom ring of 48 vertices
+ * (radius R, under the tube's centre line) and the 48 edges between them, no triangle. The edges
+ * close the ring's hull: a closed patch whose chord through the centre is the ring's diameter,
+ * and the face under the centre holds it by the 48-gon's apothem. */
+static void torus(model_mesh_t *m, double big_r, double r, unsigned n, unsigned k) {
+  m->vertex_count = (size_t)n * k;
+  m->triangle_count = 2 * (size_t)n * k;
+  m->vertices_m = malloc(m->vertex_count * sizeof *m->vertices_m);
+  m->triangles = malloc(m->triangle_count * sizeof *m->triangles);
+  for (unsigned i = 0; i < n; ++i) {
+    const double th = 2.0 * CL_PI * i / n;
+    for (unsigned j = 0; j < k; ++j) {
+      const double ph = 2.0 * CL_PI * j / k - 0.5 * CL_PI; /* j = 0: the bottom ring */
+      double *v = m->vertices_m[(size_t)i * k + j];
+      v[0] = (big_r + r * cos(ph)) * cos(th);
+      v[1] = (big_r + r * cos(ph)) * sin(th);
+      v[2] = j == 0 ? -r : r * sin(ph);
+    }
+  }
+  size_t t = 0;
+  for (unsigned i = 0; i < n; ++i) {
+    for (unsigned j = 0; j < k; ++j) {
+      const uint32_t a = i * k + j, b = ((i + 1) % n) * k + j;
+      const uint32_t c = ((i + 1) % n) * k + (j + 1) % k, d = i * k + (j + 1) % k;
+      const uint32_t t1[3] = {a, b, c}, t2[3] = {a, c, d};
+      memcpy(m->triangles[t++], t1, sizeof t1);
+      memcpy(m->triangles[t++], t2, sizeof t2);
+    }
+  }
+}
+
+START_TEST(torus_ring_is_a_closed_patch) {
+  const double big_r = 0.02, r = 0.005, c[3] = {0, 0, 0};
+  model_mesh_t m = {0};
+  torus(&m, big_r, r, 48, 16);
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, c, 0.0);
+  model_regime_t reg;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &reg), MODEL_OK);
+  ck_assert_uint_eq(reg.patch.touch_count, 48);
+  ck_assert_uint_eq(reg.patch.face_count, 0);
+  ck_assert(reg.patch.closed && !reg.patch.flat);
+  ck_assert_uint_eq(reg.patch.vertex_count, 48);
+  ck_assert(reg.chord_valid);
+  ck_assert_double_eq_tol(reg.chord_m[0], -big_r, 1e-12); /* the ring under the tube: radius R */
+  ck_assert_double_eq_tol(reg.chord_m[1], big_r, 1e-12);
+  ck_assert_int_eq(reg.kind, MODEL_REGIME_CLOSED_PATCH);
+  model_face_t f[8];
+  size_t n = 0;
+  ck_assert_int_eq(model_faces_stable(&m, c, NULL, f, 8, &n), MODEL_OK);
+  ck_assert_uint_ge(n, 1);
+  ck_assert_double_eq_tol(fabs(f[0].normal_link[2]), 1.0, 1e-12); /* a ring: largest margin */
+  ck_assert(f[0].closed);
+  ck_assert_double_eq_tol(f[0].com_margin_m, big_r * cos(CL_PI / 48), 1e-12);
+  /* One ring edge missing (a vertex lifted by 10 um): not closed any more. */
+  m.vertices_m[5 * 16][2] += 1e-5;
+  pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, c, 0.0);
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, c, NULL, &reg), MODEL_OK);
+  ck_assert(!reg.patch.closed);
+  ck_assert_int_eq(reg.kind, MODEL_REGIME_POINT_SUPPORT);
+  model_mesh_free(&m);
+}
+END_TEST
+
 /* ---- the bundled rocks ------------------------------------------------------------------- */
 
 START_TEST(rock_bottom_face_spans_the_com) {
@@ -740,6 +803,7 @@ Suite *balance_regime_suite(void) {
   tcase_add_test(tc, small_box_is_a_closed_patch);
   tcase_add_test(tc, face_at_refines_the_normal);
   tcase_add_test(tc, feet_and_washer_are_not_closed);
+  tcase_add_test(tc, torus_ring_is_a_closed_patch);
   tcase_add_loop_test(tc, rock_bottom_face_spans_the_com, 0, 6);
   tcase_add_loop_test(tc, rock_faces_are_the_fractures, 0, 3);
   tcase_add_test(tc, ellipsoid_is_point_support);

@@ -125,6 +125,64 @@ int model_support_closed(const model_support_contact_t *ct, double hull_area_m2)
          hull_area_m2 <= ct->region_area_m2 * (1.0 + 1e-6);
 }
 
+/* Index of point q among the n hull points (exact coordinates), or -1. */
+static long hull_index(const double (*hull)[2], size_t n, const double q[2]) {
+  for (size_t i = 0; i < n; ++i) {
+    if (hull[i][0] == q[0] && hull[i][1] == q[1]) return (long)i;
+  }
+  return -1;
+}
+
+int model_support_edges_close(const model_mesh_t *mesh, const double (*xy)[2],
+                              const unsigned char *on, const double (*hull)[2], size_t nh) {
+  enum { MAX_SIDES = 512 };
+  if (nh < 3 || nh > MAX_SIDES) return 0;
+  unsigned char side[MAX_SIDES] = {0}; /* side i joins hull[i] and hull[i + 1] */
+  size_t covered = 0;
+  for (size_t t = 0; t < mesh->triangle_count; ++t) {
+    const uint32_t *tri = mesh->triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = tri[k], b = tri[(k + 1) % 3];
+      if (!on[a] || !on[b]) continue;
+      const long ia = hull_index(hull, nh, xy[a]), ib = hull_index(hull, nh, xy[b]);
+      if (ia < 0 || ib < 0) continue;
+      long i = -1;
+      if ((size_t)ib == ((size_t)ia + 1) % nh) i = ia;
+      if ((size_t)ia == ((size_t)ib + 1) % nh) i = ib;
+      if (i >= 0 && !side[i]) {
+        side[i] = 1;
+        ++covered;
+      }
+    }
+  }
+  return covered == nh;
+}
+
+int model_polygon_chord(const double (*poly)[2], size_t n, const double p[2], const double d[2],
+                        double *s0, double *s1) {
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (size_t k = 0; k < n; ++k) {
+    const double *a = poly[k], *b = poly[(k + 1) % n];
+    const double ha = d[0] * (a[1] - p[1]) - d[1] * (a[0] - p[0]);
+    const double hb = d[0] * (b[1] - p[1]) - d[1] * (b[0] - p[0]);
+    const double sa = d[0] * (a[0] - p[0]) + d[1] * (a[1] - p[1]);
+    const double sb = d[0] * (b[0] - p[0]) + d[1] * (b[1] - p[1]);
+    if (ha == 0.0) {
+      lo = fmin(lo, sa);
+      hi = fmax(hi, sa);
+    }
+    if ((ha < 0.0 && hb > 0.0) || (ha > 0.0 && hb < 0.0)) {
+      const double x = sa + (sb - sa) * (ha / (ha - hb));
+      lo = fmin(lo, x);
+      hi = fmax(hi, x);
+    }
+  }
+  if (!(hi > lo)) return 0;
+  *s0 = lo;
+  *s1 = hi;
+  return 1;
+}
+
 int model_support_tris_chord(const double (*tri_xy)[3][2], size_t n, const double p[2],
                              const double d[2], double *s0, double *s1) {
   double lo = HUGE_VAL, hi = -HUGE_VAL;
@@ -331,14 +389,25 @@ static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
   model_support_contact_t ct;
   contact_compute(mesh, (const double(*)[2])xy, touch, tri_xy, &ct, work->parent, work->area,
                   work->cpts, work->chull);
-  if (ct.region_count == 1) {
-    /* closed: the hull of every touching vertex (isolated ones too) is the region's real area */
+  if (ct.region_count <= 1) {
+    /* closed: the hull of every touching vertex (isolated ones too) is the region's real area,
+     * or with no in-plane triangle, the in-plane edges are the hull's sides (a torus' ring) */
     size_t np = 0;
     for (size_t v = 0; v < nv; ++v) {
       if (touch[v]) memcpy(pts[np++], xy[v], sizeof *pts);
     }
     const size_t nh = model_polygon_hull(pts, np, hull);
-    out->closed = model_support_closed(&ct, model_polygon_area((const double(*)[2])hull, nh));
+    out->closed = ct.region_count == 1
+                      ? model_support_closed(&ct, model_polygon_area((const double(*)[2])hull, nh))
+                      : model_support_edges_close(mesh, (const double(*)[2])xy, touch,
+                                                  (const double(*)[2])hull, nh);
+    if (out->closed && ct.region_count == 0) { /* the ring is the patch's outline */
+      if (nh > MODEL_PATCH_MAX_VERTICES) return MODEL_E_CAPACITY;
+      out->vertex_count = nh;
+      memcpy(out->polygon_xy_m, hull, nh * sizeof *hull);
+      out->area_m2 = model_polygon_area((const double(*)[2])hull, nh);
+      out->width_m = model_polygon_width((const double(*)[2])hull, nh);
+    }
   }
   out->face_count = ct.triangle_count;
   out->faces_area_m2 = ct.area_m2;
@@ -524,8 +593,11 @@ model_status_t model_regime_classify_in(const model_mesh_t *mesh_link, const mod
   const double on[2] = {p[0] - out->com_beyond_m * normal[0], p[1] - out->com_beyond_m * normal[1]};
   double s0 = 0.0, s1 = 0.0;
   out->chord_margin_m = -HUGE_VAL;
-  if (model_support_tris_chord((const double(*)[3][2])ct->tris, ct->patch.face_count, on, along,
-                               &s0, &s1)) {
+  const int ring = ct->patch.closed && ct->patch.face_count == 0; /* chord across the outline */
+  if (ring ? model_polygon_chord((const double(*)[2])ct->patch.polygon_xy_m, ct->patch.vertex_count,
+                                 on, along, &s0, &s1)
+           : model_support_tris_chord((const double(*)[3][2])ct->tris, ct->patch.face_count, on,
+                                      along, &s0, &s1)) {
     out->chord_valid = 1;
     out->chord_m[0] = out->com_along_m + s0;
     out->chord_m[1] = out->com_along_m + s1;

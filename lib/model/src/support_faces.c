@@ -118,6 +118,9 @@ static model_status_t face_analyse(const model_mesh_t *mesh, const double n[3], 
   /* The real contact: mesh triangles in the plane, grouped into regions. */
   model_support_contact_t ct;
   const model_status_t st = model_support_contact(mesh, (const double(*)[2])xy, on, NULL, &ct);
+  const int ring =
+      st == MODEL_OK && ct.region_count == 0 &&
+      model_support_edges_close(mesh, (const double(*)[2])xy, on, (const double(*)[2])hull, nh);
   for (size_t v = 0; v < nv; ++v) on[v] = 0;
   if (st != MODEL_OK) return st;
   f->face_count = ct.triangle_count;
@@ -126,7 +129,7 @@ static model_status_t face_analyse(const model_mesh_t *mesh, const double n[3], 
   f->patch_width_m = ct.region_width_m;
   f->flat =
       f->patch_area_m2 >= cfg->min_patch_area_m2 && f->patch_width_m >= cfg->min_patch_width_m;
-  f->closed = model_support_closed(&ct, f->area_m2);
+  f->closed = ct.region_count == 1 ? model_support_closed(&ct, f->area_m2) : ring;
   return model_orientation_resting(n, f->orientation_wxyz);
 }
 

@@ -30,6 +30,18 @@ model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy
  * area of the convex hull of every touching vertex, to a relative 1e-6. */
 int model_support_closed(const model_support_contact_t *ct, double hull_area_m2);
 
+/* The in-plane mesh edges (both ends marked in on[]) close the convex polygon hull (nh vertices,
+ * in the coordinates xy of its vertices): each of its sides is one such edge, as the bottom ring
+ * of a torus. Then the contact's hull clipped by any line is the hull of the contact on that side
+ * (the line crosses the ring's edges), as for a closed patch. 0 for fewer than 3 sides. */
+int model_support_edges_close(const model_mesh_t *mesh, const double (*xy)[2],
+                              const unsigned char *on, const double (*hull)[2], size_t nh);
+
+/* The chord of the line p + s d (d unit) across the convex polygon poly (n vertices): 1 with
+ * [*s0, *s1] when it crosses it along a positive length, else 0. */
+int model_polygon_chord(const double (*poly)[2], size_t n, const double p[2], const double d[2],
+                        double *s0, double *s1);
+
 /* Extent of the real contact along the line p + s d (d unit): the smallest and the largest s at
  * which the line meets one of the n triangles (corners in tri_xy). Returns 1 with [*s0, *s1] when
  * that extent has a positive length, 0 otherwise (no triangle met, or only at one point). The
