@@ -212,9 +212,38 @@ static int worker(const opts_t *o, const obj_t *objs, int nobj, int w, const cha
 
 /* ---- statistics ------------------------------------------------------------------------------ */
 
+/* A growing list of values, for medians. */
+typedef struct {
+  double *v;
+  size_t n, cap;
+} list_t;
+
+static void list_add(list_t *l, double x) {
+  if (l->n == l->cap) {
+    const size_t cap = l->cap ? 2 * l->cap : 64;
+    double *v = realloc(l->v, cap * sizeof *v);
+    if (v == NULL) return; /* the median then leaves this value out */
+    l->v = v;
+    l->cap = cap;
+  }
+  l->v[l->n++] = x;
+}
+
+static int cmp_double(const void *a, const void *b) {
+  const double x = *(const double *)a, y = *(const double *)b;
+  return x < y ? -1 : x > y ? 1 : 0;
+}
+
+static double list_median(list_t *l) {
+  if (l->n == 0) return NAN;
+  qsort(l->v, l->n, sizeof *l->v, cmp_double);
+  return l->n % 2 ? l->v[l->n / 2] : 0.5 * (l->v[l->n / 2 - 1] + l->v[l->n / 2]);
+}
+
 typedef struct {
   int runs, refused, comps, found, covered;
   double worst, hw_sum, trials_sum, max_err, found_trials, cpu_sum;
+  list_t err, per_comp; /* |error| of every found component; a run's trials per found one */
 } stat_t;
 
 static void add(stat_t *s, const rec_t *r) {
@@ -235,23 +264,31 @@ static void add(stat_t *s, const rec_t *r) {
   s->trials_sum += r->trials;
   if (any) s->found_trials += r->trials; /* all trials of runs that found something */
   s->cpu_sum += r->cpu_s;
+  const int nf = r->found[0] + r->found[1] + r->found[2];
+  for (int k = 0; k < 3; ++k)
+    if (r->found[k]) list_add(&s->err, fabs(r->err_m[k]));
+  if (nf > 0) list_add(&s->per_comp, (double)r->trials / nf);
 }
 
-static void row(FILE *f, const char *label, const char *mode, const stat_t *s) {
+/* One table row; frees the lists of s. */
+static void row(FILE *f, const char *label, const char *mode, stat_t *s) {
   fprintf(f,
-          "| %s | %s | %d | %d | %d of %d (%.0f %%) | %d of %d (%.1f %%) | %.2f | %.3f | %.3f | "
-          "%.1f | %.1f | %.3f |\n",
+          "| %s | %s | %d | %d | %d of %d (%.0f %%) | %d of %d (%.1f %%) | %.2f | %.3f / %.3f | "
+          "%.3f | %.1f | %.1f / %.1f | %.3f |\n",
           label, mode, s->runs, s->refused, s->found, s->comps,
           s->comps ? 100.0 * s->found / s->comps : 0.0, s->covered, s->found,
-          s->found ? 100.0 * s->covered / s->found : 100.0, s->worst, 1e3 * s->max_err,
-          s->found ? 1e3 * s->hw_sum / s->found : NAN, s->runs ? s->trials_sum / s->runs : 0.0,
+          s->found ? 100.0 * s->covered / s->found : 100.0, s->worst, 1e3 * list_median(&s->err),
+          1e3 * s->max_err, s->found ? 1e3 * s->hw_sum / s->found : NAN,
+          s->runs ? s->trials_sum / s->runs : 0.0, list_median(&s->per_comp),
           s->found ? s->found_trials / s->found : NAN, s->runs ? s->cpu_sum / s->runs : 0.0);
+  free(s->err.v);
+  free(s->per_comp.v);
 }
 
 static const char kHeader[] =
-    "| %s | mode | runs | refused | components found | covered | worst \\|err\\| / hw | max "
-    "\\|err\\| (mm) | mean hw (mm) | trials per run | trials per found component | CPU s per run "
-    "|\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    "| %s | mode | runs | refused | components found | covered | worst \\|err\\| / hw | median / "
+    "max \\|err\\| (mm) | mean hw (mm) | trials per run | trials per found component: median / "
+    "pooled | CPU s per run |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
 static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *recs, size_t n) {
   printf(
