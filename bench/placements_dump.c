@@ -11,7 +11,8 @@
  * edge trials, so d > 0 puts the CoM d inside the edge. Offsets are kept where the estimator
  * searches: the point over the edge 1 mm inside the object's extent along u. Per line: the
  * threshold d between "does not stay" (TIPS, SLIDES, INVALID) and STAYS, bisected in
- * [-bracket, bracket] to --resolution (as bench_regimes), then --uniform placements with d
+ * [-bracket, bracket] to --resolution (as bench_regimes), and the tip threshold (INVALID counted
+ * with STAYS: between "tips or slides" and "does not"), then --uniform placements with d
  * uniform in [-range, range] (seeded) and 12 dense ones at the threshold +-1, 3, 10, 30, 100 and
  * 300 um. Every placement is one balance_trial_run (default config, fast contact path, no noise).
  *
@@ -97,26 +98,27 @@ static balance_status_t dump_trial(dump_ctx_t *c, const dump_line_t *ln, double 
   return st;
 }
 
-/* 1 stays, 0 does not (tips, slides, invalid), -1 error. */
-static int dump_stays(dump_ctx_t *c, const dump_line_t *ln, double d) {
+/* 1 stays, 0 does not (tips, slides, invalid), -1 error. With stays_or_moving, INVALID (still
+ * moving at the horizon, never tipped nor slid) counts as staying: the "does not tip" rule. */
+static int dump_stays(dump_ctx_t *c, const dump_line_t *ln, double d, int stays_or_moving) {
   model_pose_t pose;
   balance_trial_result_t r;
   if (dump_trial(c, ln, d, &pose, &r) != BALANCE_OK) return -1;
-  return r.outcome == BALANCE_STAYS;
+  return r.outcome == BALANCE_STAYS || (stays_or_moving && r.outcome == BALANCE_INVALID);
 }
 
 /* The flip between "not stays" (at -bracket) and STAYS (at +bracket), bisected to the resolution;
  * NAN without a bracket (or on an error). The same midpoints as bench/mujoco_crosscheck.py's
  * bisection.
  */
-static double dump_bisect(dump_ctx_t *c, const dump_line_t *ln, int *trials) {
+static double dump_bisect(dump_ctx_t *c, const dump_line_t *ln, int stays_or_moving, int *trials) {
   double lo = fmax(-c->opt->bracket_m, ln->lo_m), hi = fmin(c->opt->bracket_m, ln->hi_m);
-  const int a = dump_stays(c, ln, lo), b = dump_stays(c, ln, hi);
+  const int a = dump_stays(c, ln, lo, stays_or_moving), b = dump_stays(c, ln, hi, stays_or_moving);
   *trials = 2;
   if (a != 0 || b != 1) return NAN;
   for (int i = 0; i < 60 && hi - lo > c->opt->resolution_m; ++i) {
     const double mid = 0.5 * (lo + hi);
-    const int s = dump_stays(c, ln, mid);
+    const int s = dump_stays(c, ln, mid, stays_or_moving);
     ++*trials;
     if (s < 0) return NAN;
     if (s == 1)
@@ -152,7 +154,9 @@ static int dump_placement(dump_ctx_t *c, const dump_line_t *ln, double d, const 
 /* Bisect the line, print it, then its uniform and dense placements. */
 static int dump_line(dump_ctx_t *c, const dump_line_t *ln) {
   int trials = 0;
-  const double th = dump_bisect(c, ln, &trials);
+  int tip_trials = 0;
+  const double th = dump_bisect(c, ln, 0, &trials);
+  const double tip_th = dump_bisect(c, ln, 1, &tip_trials);
   printf("{\"type\": \"line\", \"object\": %d, \"line\": %d, \"face\": %d", c->object_id,
          c->line_id, ln->face_index);
   key_arr("normal_link", ln->face->normal_link, 3);
@@ -165,7 +169,8 @@ static int dump_line(dump_ctx_t *c, const dump_line_t *ln) {
   const double bracket[2] = {fmax(-c->opt->bracket_m, ln->lo_m), fmin(c->opt->bracket_m, ln->hi_m)};
   key_arr("bracket_m", bracket, 2);
   key_num("threshold_m", th);
-  printf(", \"bisect_trials\": %d}\n", trials);
+  key_num("tip_threshold_m", tip_th);
+  printf(", \"bisect_trials\": %d}\n", trials + tip_trials);
   int rc = 0;
   const double ulo = fmax(-c->opt->range_m, ln->lo_m), uhi = fmin(c->opt->range_m, ln->hi_m);
   for (int i = 0; i < c->opt->uniform && rc == 0; ++i)
