@@ -40,7 +40,7 @@
 enum { FACE_CAP = 512, FACES_MAX = 16, YAWS_MAX = 64, UNIFORM_MAX = 1000, DENSE_N = 12 };
 
 typedef struct {
-  int faces, yaws, uniform;
+  int faces, yaws, uniform, stock;
   double range_m, bracket_m, min_margin_m, resolution_m;
   unsigned long long seed;
 } dump_opts_t;
@@ -311,6 +311,7 @@ static void print_config(const balance_config_t *cfg, const dump_opts_t *opt) {
   key_num("horizon_s", cfg->horizon_s);
   key_num("tip_angle_rad", cfg->tip_angle_rad);
   key_num("slide_m", cfg->slide_m);
+  printf(", \"contact\": \"%s\"", cfg->contact == BALANCE_CONTACT_STOCK ? "stock" : "fast");
   key_num("touch_depth_m", 1e-6);
   key_num("range_m", opt->range_m);
   key_num("bracket_m", opt->bracket_m);
@@ -320,24 +321,27 @@ static void print_config(const balance_config_t *cfg, const dump_opts_t *opt) {
 }
 
 static void usage(FILE *f) {
-  fprintf(f,
-          "usage: placements_dump [options] URDF...\n"
-          "Edge placements of each object over B's +X edge and lib/balance's verdict, as JSON\n"
-          "lines on stdout (see the comment at the top of bench/placements_dump.c).\n"
-          "  --faces N        stable faces per object, largest CoM margin first, 1 .. %d\n"
-          "                   (default 2)\n"
-          "  --yaws N         yaws per face, k * 360 / N degrees, 1 .. %d (default 4)\n"
-          "  --uniform N      placements per line with d uniform in +-range, 0 .. %d (default 8)\n"
-          "  --range M        half width of that range, metres (default 0.005)\n"
-          "  --bracket M      the threshold is bisected in [-M, M], metres (default 0.015)\n"
-          "  --min-margin M   stable faces: true CoM this far inside the support polygon, metres\n"
-          "                   (default 0.001)\n"
-          "  --resolution M   bisect the threshold until the bracket is this narrow, metres\n"
-          "                   (default 2e-7)\n"
-          "  --seed S         seed of the uniform offsets (default 1)\n"
-          "  -h, --help       this text\n"
-          "Exit status: 0 success, 1 runtime failure, 2 usage.\n",
-          FACES_MAX, YAWS_MAX, UNIFORM_MAX);
+  fprintf(
+      f,
+      "usage: placements_dump [options] URDF...\n"
+      "Edge placements of each object over B's +X edge and lib/balance's verdict, as JSON\n"
+      "lines on stdout (see the comment at the top of bench/placements_dump.c).\n"
+      "  --faces N        stable faces per object, largest CoM margin first, 1 .. %d\n"
+      "                   (default 2)\n"
+      "  --yaws N         yaws per face, k * 360 / N degrees, 1 .. %d (default 4)\n"
+      "  --uniform N      placements per line with d uniform in +-range, 0 .. %d (default 8)\n"
+      "  --range M        half width of that range, metres (default 0.005)\n"
+      "  --bracket M      the threshold is bisected in [-M, M], metres (default 0.015)\n"
+      "  --min-margin M   stable faces: true CoM this far inside the support polygon, metres\n"
+      "                   (default 0.001)\n"
+      "  --resolution M   bisect the threshold until the bracket is this narrow, metres\n"
+      "                   (default 2e-7)\n"
+      "  --contact PATH   lib/balance's contact path: fast or stock (ODE's trimesh-box) (default\n"
+      "                   fast)\n"
+      "  --seed S         seed of the uniform offsets (default 1)\n"
+      "  -h, --help       this text\n"
+      "Exit status: 0 success, 1 runtime failure, 2 usage.\n",
+      FACES_MAX, YAWS_MAX, UNIFORM_MAX);
 }
 
 static int parse_int(const char *s, int lo, int hi, int *out) {
@@ -373,6 +377,9 @@ static int parse_args(int argc, char **argv, dump_opts_t *opt) {
                                      {"range", required_argument, NULL, 'r'},
                                      {"min-margin", required_argument, NULL, 'm'},
                                      {"seed", required_argument, NULL, 's'},
+                                     {"resolution", required_argument, NULL, 'e'},
+                                     {"bracket", required_argument, NULL, 'b'},
+                                     {"contact", required_argument, NULL, 'c'},
                                      {"help", no_argument, NULL, 'h'},
                                      {NULL, 0, NULL, 0}};
   int ch, bad = 0;
@@ -384,6 +391,14 @@ static int parse_args(int argc, char **argv, dump_opts_t *opt) {
       case 'r': bad |= parse_len(optarg, 1e-4, 0.1, &opt->range_m); break;
       case 'm': bad |= parse_len(optarg, 0.0, 0.1, &opt->min_margin_m); break;
       case 'b': bad |= parse_len(optarg, 1e-4, 0.1, &opt->bracket_m); break;
+      case 'c':
+        if (strcmp(optarg, "fast") == 0)
+          opt->stock = 0;
+        else if (strcmp(optarg, "stock") == 0)
+          opt->stock = 1;
+        else
+          bad = 1;
+        break;
       case 'e': bad |= parse_len(optarg, 1e-9, 1e-3, &opt->resolution_m); break;
       case 's': bad |= parse_seed(optarg, &opt->seed); break;
       case 'h': usage(stdout); return 1;
@@ -412,6 +427,7 @@ int main(int argc, char **argv) {
   if (pr != 0) return pr == 1 ? 0 : 2;
   balance_config_t cfg;
   balance_config_default(&cfg);
+  if (opt.stock) cfg.contact = BALANCE_CONTACT_STOCK;
   print_config(&cfg, &opt);
   int line_id = 0;
   for (int i = optind; i < argc; ++i) {
