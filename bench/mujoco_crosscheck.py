@@ -16,7 +16,7 @@ MuJoCo model (documented in docs/physics.md):
     `comparable` when the hull and the mesh touch B's +X edge line alike (see hull_check).
   - dt 1e-4, gravity from the dump, Newton solver (tolerance 1e-10, 200 iterations), pyramidal
     cone, condim 3, friction = the dump's (lib/balance's) mu, no torsional or rolling friction,
-    solref (2e-4, 1) (time constant = 2 dt, the stiffest MuJoCo keeps stable, critically damped),
+    solref (2e-4, 1) (time constant = 2 dt, the smallest MuJoCo accepts, critically damped),
     solimp (0.99, 0.999, 1e-4, 0.5, 2), margin 0, ccd tolerance 1e-10; multi-contact convex
     collision as MuJoCo's default.
   - Release: the dump's pose (link frame = body frame; 1 um pre-penetrated, as lib/balance), at
