@@ -1,20 +1,26 @@
 /* hull.c - 3-D convex hull by quickhull with conflict lists.
  *
- * Points are centred on their bounding box; a point counts as outside a face only when it is more
- * than tol = 1e-10 * (bbox diagonal) above it, so coplanar, duplicate and interior points are
- * discarded instead of creating slivers. A point outside a deleted face is either outside one of
- * the new cone faces or inside the new hull (the points of the cone above a visible face all lie
- * between the eye and the old surface), so conflicts are only redistributed to new faces. Each
- * iteration turns one point into a hull vertex, so n iterations bound the loop. The horizon is
- * walked depth first, which lists its edges as one closed loop; a horizon that is not a single
- * loop (possible only through rounding) is reported as MODEL_E_HULL rather than patched, and so is
- * a result with a point above one of its faces. */
+ * Points are centred on their bounding box and scaled by a power of two into [-1, 1]. Which side
+ * of a face a point lies on is decided exactly (model_orient3d, orient.h), so the faces visible
+ * from the eye are exactly those whose plane it is strictly above: for a convex polytope that set
+ * is a topological disk (the beneath-beyond theorem), found whole by a depth-first walk from any
+ * of its faces, and its boundary, the horizon, is one loop. The cone over the horizon keeps the
+ * surface the exact boundary of the convex hull of the points added so far. A point joins a
+ * conflict list only when it is more than tol = 1e-10 * (bbox diagonal) above the face (and
+ * exactly above it), so coplanar, duplicate and interior points are discarded instead of making
+ * slivers; a discarded point is within about tol of the hull, which only grows. A point outside a
+ * deleted face is either outside one of the new cone faces or inside the new hull (the points of
+ * the cone above a visible face all lie between the eye and the old surface), so conflicts are
+ * only redistributed to new faces. Each iteration turns one point into a hull vertex, so n
+ * iterations bound the loop. The horizon is checked to be one loop and the result to hold every
+ * input point below every face; a failure (possible only through a bug) is MODEL_E_HULL. */
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "model_internal.h"
+#include "orient.h"
 
 #define NONE UINT32_MAX
 
@@ -80,6 +86,13 @@ static uint32_t face_new(hull_t *h, uint32_t a, uint32_t b, uint32_t c) {
   double w[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
   double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
   double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  /* A sliver (sine of its angle at a below 1e-6) loses the normal's direction to cancellation in
+   * the cross product above: take the exact one, rounded. */
+  if (!(len > 1e-6 * sqrt((u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) *
+                          (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])))) {
+    model_tri_cross(pa, pb, pc, n);
+    len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  }
   if (len > 0.0) {
     for (int k = 0; k < 3; ++k) {
       f->n[k] = n[k] / len;
@@ -89,6 +102,11 @@ static uint32_t face_new(hull_t *h, uint32_t a, uint32_t b, uint32_t c) {
           f->n[2] * (pa[2] + pb[2] + pc[2])) /
          3.0;
   return (uint32_t)h->face_count++;
+}
+
+/* Whether point i lies strictly above face f's plane, decided exactly. */
+static int point_above(const hull_t *h, const face_t *f, uint32_t i) {
+  return model_orient3d(h->p[f->v[0]], h->p[f->v[1]], h->p[f->v[2]], h->p[i]) > 0;
 }
 
 static int push_face(hull_t *h, uint32_t f) {
@@ -103,7 +121,7 @@ static int push_face(hull_t *h, uint32_t f) {
 static int assign_point(hull_t *h, uint32_t i, const uint32_t *faces, size_t count) {
   for (size_t k = 0; k < count; ++k) {
     face_t *f = &h->faces[faces[k]];
-    if (face_dist(h, f, i) > h->tol) {
+    if (face_dist(h, f, i) > h->tol && point_above(h, f, i)) {
       h->next[i] = f->conflict;
       f->conflict = i;
       return 1;
@@ -171,23 +189,27 @@ static model_status_t initial_simplex(hull_t *h, model_error_t *err, uint32_t te
   double w[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
   double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
   double nlen = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(nlen > 1e-6 * sqrt((u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) *
+                           (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])))) {
+    model_tri_cross(pa, pb, pc, n); /* a sliver: as in face_new */
+    nlen = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  }
   uint32_t d = NONE;
-  double best_signed = 0.0;
   best = 0.0;
   for (uint32_t i = 0; i < h->n; ++i) {
     const double *q = h->p[i];
     double s = (n[0] * (q[0] - pa[0]) + n[1] * (q[1] - pa[1]) + n[2] * (q[2] - pa[2])) / nlen;
     if (fabs(s) > best) {
       best = fabs(s);
-      best_signed = s;
       d = i;
     }
   }
-  if (d == NONE || !(best > h->tol)) {
+  const int side = d == NONE ? 0 : model_orient3d(pa, pb, pc, h->p[d]);
+  if (d == NONE || !(best > h->tol) || side == 0) {
     return model_fail(err, MODEL_E_HULL, "convex hull: all %zu points are coplanar", h->n);
   }
-  /* Orient a-b-c away from d. */
-  if (best_signed > 0.0) {
+  /* Orient a-b-c away from d (exactly: the walk relies on it). */
+  if (side > 0) {
     uint32_t t = b;
     b = c;
     c = t;
@@ -303,7 +325,7 @@ static model_status_t visible_walk(hull_t *h, work_t *w, uint32_t fi, uint32_t e
     if (h->faces[g].visible) {
       continue;
     }
-    if (face_dist(h, &h->faces[g], eye) > h->tol) {
+    if (point_above(h, &h->faces[g], eye)) {
       int j = twin_edge(&h->faces[g], f->v[e], f->v[(e + 1) % 3]);
       if (j < 0) {
         return model_fail(err, MODEL_E_HULL, "convex hull: broken face adjacency");
@@ -470,6 +492,32 @@ static model_status_t points_bounds(const model_mesh_t *mesh, size_t n, double c
   return MODEL_OK;
 }
 
+/* The working points p: the vertices centred on center, times the power of two that brings them
+ * into [-1, 1] (exact, so every decision is the one the centred points would give), with
+ * coordinates below 2^-250 flushed to zero (so model_orient3d's products cannot underflow).
+ * Returns the tolerance, 1e-10 x the bounding box diagonal, in those units. */
+static double points_place(const model_mesh_t *mesh, const double center[3], double diag2,
+                           double (*p)[3]) {
+  const size_t n = mesh->vertex_count;
+  double big = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      p[i][k] = mesh->vertices_m[i][k] - center[k];
+      big = fmax(big, fabs(p[i][k]));
+    }
+  }
+  int e = 0;
+  (void)frexp(big, &e); /* big = f 2^e, f in [0.5, 1) */
+  const double scale = ldexp(1.0, -e);
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const double v = p[i][k] * scale;
+      p[i][k] = fabs(v) < 0x1p-250 ? 0.0 : v;
+    }
+  }
+  return fmax(1e-10 * sqrt(diag2) * scale, 8.0 * DBL_MIN);
+}
+
 /* The live faces as a mesh of the input's (uncentred) vertices they use, numbered in input order.
  * newindex: h->n entries, all NONE on entry. */
 static model_status_t hull_mesh_write(const hull_t *h, const model_mesh_t *mesh, uint32_t *newindex,
@@ -582,16 +630,13 @@ model_status_t model_mesh_hull(const model_mesh_t *mesh, model_mesh_t *hull, mod
     st = MODEL_E_NOMEM;
     goto done;
   }
+  h.tol = points_place(mesh, center, diag2, p);
   for (size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) {
-      p[i][k] = mesh->vertices_m[i][k] - center[k];
-    }
     h.next[i] = NONE;
     newindex[i] = NONE;
   }
   h.p = (const double(*)[3])p;
   h.n = n;
-  h.tol = fmax(1e-10 * sqrt(diag2), 8.0 * DBL_MIN);
   st = build(&h, err);
   if (st == MODEL_OK) {
     st = hull_mesh_write(&h, mesh, newindex, hull);
