@@ -119,6 +119,7 @@ void balance_object_destroy_internal(balance_object_t *o) {
   free(o->fast.code);
   free(o->fast.local);
   model_mesh_free(&o->mesh_link);
+  model_mesh_free(&o->hull_link);
   free(o);
 }
 
@@ -217,17 +218,16 @@ static balance_status_t object_vertex_normals(balance_object_t *o, const model_m
   return BALANCE_OK;
 }
 
-/* Convex hull planes for object-object contacts, in the body frame: BALANCE_E_MESH when the hull
- * fails, BALANCE_E_NOMEM when its planes cannot be stored. */
+/* The convex hull (kept in o->hull_link for balance_stable_find) and its planes for object-object
+ * contacts, in the body frame: BALANCE_E_MESH when the hull fails, BALANCE_E_NOMEM when its
+ * planes cannot be stored. */
 static balance_status_t object_hull_planes(balance_object_t *o, const model_mesh_t *mesh,
                                            const double com_m[3]) {
-  model_mesh_t hull;
-  if (model_mesh_hull(mesh, &hull, NULL) != MODEL_OK) return BALANCE_E_MESH;
+  const model_status_t hs = model_mesh_hull(mesh, &o->hull_link, NULL);
+  if (hs != MODEL_OK) return hs == MODEL_E_NOMEM ? BALANCE_E_NOMEM : BALANCE_E_MESH;
+  const model_mesh_t hull = o->hull_link;
   o->hull_planes = malloc(hull.triangle_count * sizeof *o->hull_planes);
-  if (!o->hull_planes) {
-    model_mesh_free(&hull);
-    return BALANCE_E_NOMEM;
-  }
+  if (!o->hull_planes) return BALANCE_E_NOMEM;
   for (size_t t = 0; t < hull.triangle_count; t++) {
     const double *a = hull.vertices_m[hull.triangles[t][0]];
     const double *b = hull.vertices_m[hull.triangles[t][1]];
@@ -244,7 +244,6 @@ static balance_status_t object_hull_planes(balance_object_t *o, const model_mesh
     }
     if (!dup) o->hull_plane_count++;
   }
-  model_mesh_free(&hull);
   return BALANCE_OK;
 }
 

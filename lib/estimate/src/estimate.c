@@ -1225,8 +1225,9 @@ static estimate_status_t strategy_start(est_t *est) {
   }
   memcpy(out->start_m, est->start_m, sizeof out->start_m);
   for (int k = 0; k < 3; ++k) est->halfwidth_m[k] = INFINITY;
-  const model_status_t ms =
-      model_faces_find(est->mesh, est->guess_m, NULL, est->faces, FACE_CAP, &est->nfaces);
+  /* the hull stays in est->work: model_support_work_hull(est->work, est->mesh, ...) reuses it */
+  const model_status_t ms = model_faces_find_in(est->mesh, est->guess_m, NULL, est->work,
+                                                est->faces, FACE_CAP, &est->nfaces);
   if (ms != MODEL_OK) {
     snprintf(out->msg, sizeof out->msg, "faces: %s", model_status_str(ms));
     return ms == MODEL_E_NOMEM ? ESTIMATE_E_NOMEM : ESTIMATE_E_GEOMETRY;

@@ -129,28 +129,34 @@ static model_status_t face_analyse(const model_mesh_t *mesh, const double n[3], 
   return model_orientation_resting(n, f->orientation_wxyz);
 }
 
-model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
-                                const model_regime_config_t *cfg, model_face_t *faces,
-                                size_t capacity, size_t *count) {
+/* The arguments model_faces_find and its variants check, in its order, and the configuration. */
+static model_status_t faces_args(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                 const model_regime_config_t *cfg, const model_face_t *faces,
+                                 size_t capacity, size_t *count, model_regime_config_t *c) {
   if (count == NULL || com_guess_link_m == NULL || (faces == NULL && capacity > 0))
     return MODEL_E_ARG;
   *count = 0;
-  model_regime_config_t c;
   if (cfg == NULL) {
-    model_regime_config_default(&c);
+    model_regime_config_default(c);
   } else {
     const model_status_t cs = model_regime_config_check(cfg);
     if (cs != MODEL_OK) return cs;
-    c = *cfg;
+    *c = *cfg;
   }
-  model_status_t st = model_mesh_usable(mesh_link);
+  const model_status_t st = model_mesh_usable(mesh_link);
   if (st != MODEL_OK) return st;
   for (int k = 0; k < 3; ++k) {
     if (!isfinite(com_guess_link_m[k])) return MODEL_E_NONFINITE;
   }
-  model_mesh_t hull = {0};
-  if (model_mesh_hull(mesh_link, &hull, NULL) != MODEL_OK) return MODEL_E_HULL;
-  const size_t nf = hull.triangle_count, nv = mesh_link->vertex_count;
+  return MODEL_OK;
+}
+
+/* The faces of the hull of mesh_link (arguments checked). */
+static model_status_t faces_of_hull(const model_mesh_t *mesh_link, const model_mesh_t *hull,
+                                    const double com_guess_link_m[3],
+                                    const model_regime_config_t *c, model_face_t *faces,
+                                    size_t capacity, size_t *count) {
+  const size_t nf = hull->triangle_count, nv = mesh_link->vertex_count;
   model_hull_face_t *hf = malloc((nf > 0 ? nf : 1) * sizeof *hf);
   int *facet_face = malloc((nf > 0 ? nf : 1) * sizeof *facet_face);
   unsigned char *used = calloc(nv, 1);
@@ -159,17 +165,18 @@ model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_
   double(*poly)[2] = malloc((nv + 1) * sizeof *poly);
   model_face_t *tmp = malloc((nf > 0 ? nf : 1) * sizeof *tmp);
   size_t nhf = 0, found = 0;
+  model_status_t st = MODEL_OK;
   if (hf == NULL || facet_face == NULL || used == NULL || xy == NULL || pts == NULL ||
       poly == NULL || tmp == NULL) {
     st = MODEL_E_NOMEM;
     goto done;
   }
-  st = model_hull_faces(&hull, cos(1e-3), c.plane_tol_m, hf, facet_face, &nhf);
+  st = model_hull_faces(hull, cos(1e-3), c->plane_tol_m, hf, facet_face, &nhf);
   for (size_t i = 0; st == MODEL_OK && i < nhf; ++i) {
-    if (hf[i].area_m2 < c.min_face_area_m2) continue;
-    st = face_analyse(mesh_link, hf[i].normal, com_guess_link_m, &c, xy, pts, poly, used,
+    if (hf[i].area_m2 < c->min_face_area_m2) continue;
+    st = face_analyse(mesh_link, hf[i].normal, com_guess_link_m, c, xy, pts, poly, used,
                       &tmp[found]);
-    if (st == MODEL_OK && tmp[found].area_m2 >= c.min_face_area_m2) ++found;
+    if (st == MODEL_OK && tmp[found].area_m2 >= c->min_face_area_m2) ++found;
   }
   if (st != MODEL_OK) goto done;
   qsort(tmp, found, sizeof *tmp, cmp_face);
@@ -177,7 +184,6 @@ model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_
     memcpy(faces, tmp, (found < capacity ? found : capacity) * sizeof *tmp);
   *count = found;
 done:
-  model_mesh_free(&hull);
   free(hf);
   free(facet_face);
   free(used);
@@ -186,6 +192,50 @@ done:
   free(poly);
   free(tmp);
   return st;
+}
+
+/* A hull that failed: out of memory, or MODEL_E_HULL whatever model_mesh_hull said. */
+static model_status_t hull_failed(model_status_t st) {
+  return st == MODEL_E_NOMEM ? MODEL_E_NOMEM : MODEL_E_HULL;
+}
+
+model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                const model_regime_config_t *cfg, model_face_t *faces,
+                                size_t capacity, size_t *count) {
+  model_regime_config_t c;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
+  if (st != MODEL_OK) return st;
+  model_mesh_t hull = {0};
+  st = model_mesh_hull(mesh_link, &hull, NULL);
+  if (st != MODEL_OK) return hull_failed(st);
+  st = faces_of_hull(mesh_link, &hull, com_guess_link_m, &c, faces, capacity, count);
+  model_mesh_free(&hull);
+  return st;
+}
+
+model_status_t model_faces_find_hull(const model_mesh_t *mesh_link, const model_mesh_t *hull,
+                                     const double com_guess_link_m[3],
+                                     const model_regime_config_t *cfg, model_face_t *faces,
+                                     size_t capacity, size_t *count) {
+  model_regime_config_t c;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
+  if (st != MODEL_OK) return st;
+  st = model_mesh_usable(hull);
+  if (st != MODEL_OK) return st;
+  return faces_of_hull(mesh_link, hull, com_guess_link_m, &c, faces, capacity, count);
+}
+
+model_status_t model_faces_find_in(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                   const model_regime_config_t *cfg, model_support_work_t *work,
+                                   model_face_t *faces, size_t capacity, size_t *count) {
+  model_regime_config_t c;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
+  if (st != MODEL_OK) return st;
+  const model_mesh_t *hull = NULL;
+  st = model_support_work_hull(work, mesh_link, &hull);
+  if (st == MODEL_E_ARG) return st;
+  if (st != MODEL_OK) return hull_failed(st);
+  return faces_of_hull(mesh_link, hull, com_guess_link_m, &c, faces, capacity, count);
 }
 
 void model_stable_config_default(model_stable_config_t *cfg) {
