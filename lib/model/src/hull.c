@@ -67,6 +67,23 @@ static double face_dist(const hull_t *h, const face_t *f, uint32_t i) {
   return f->n[0] * q[0] + f->n[1] * q[1] + f->n[2] * q[2] - f->d;
 }
 
+/* (pb - pa) x (pc - pa) into n; returns its length. A sliver (the sine of its angle at pa below
+ * 1e-6) loses the direction to cancellation in the double cross product: it takes the exact one,
+ * rounded. */
+static double tri_cross(const double *pa, const double *pb, const double *pc, double n[3]) {
+  const double u[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+  const double w[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
+  n[0] = u[1] * w[2] - u[2] * w[1];
+  n[1] = u[2] * w[0] - u[0] * w[2];
+  n[2] = u[0] * w[1] - u[1] * w[0];
+  const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (len > 1e-6 * sqrt((u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) *
+                        (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])))
+    return len;
+  model_tri_cross(pa, pb, pc, n);
+  return sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
 /* New face a, b, c; plane through its centroid. Returns its index or NONE (no memory). */
 static uint32_t face_new(hull_t *h, uint32_t a, uint32_t b, uint32_t c) {
   if (h->face_count >= UINT32_MAX - 1 ||
@@ -82,17 +99,8 @@ static uint32_t face_new(hull_t *h, uint32_t a, uint32_t b, uint32_t c) {
   f->conflict = NONE;
   f->alive = 1;
   const double *pa = h->p[a], *pb = h->p[b], *pc = h->p[c];
-  double u[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
-  double w[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
-  double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-  double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  /* A sliver (sine of its angle at a below 1e-6) loses the normal's direction to cancellation in
-   * the cross product above: take the exact one, rounded. */
-  if (!(len > 1e-6 * sqrt((u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) *
-                          (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])))) {
-    model_tri_cross(pa, pb, pc, n);
-    len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  }
+  double n[3];
+  const double len = tri_cross(pa, pb, pc, n);
   if (len > 0.0) {
     for (int k = 0; k < 3; ++k) {
       f->n[k] = n[k] / len;
@@ -185,15 +193,8 @@ static model_status_t initial_simplex(hull_t *h, model_error_t *err, uint32_t te
   }
   /* Farthest from the plane a-b-c. */
   const double *pc = h->p[c];
-  double u[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
-  double w[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
-  double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-  double nlen = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  if (!(nlen > 1e-6 * sqrt((u[0] * u[0] + u[1] * u[1] + u[2] * u[2]) *
-                           (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])))) {
-    model_tri_cross(pa, pb, pc, n); /* a sliver: as in face_new */
-    nlen = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  }
+  double n[3];
+  const double nlen = tri_cross(pa, pb, pc, n);
   uint32_t d = NONE;
   best = 0.0;
   for (uint32_t i = 0; i < h->n; ++i) {

@@ -15,8 +15,9 @@
  * coplanar. Exact. */
 int model_orient3d(const double a[3], const double b[3], const double c[3], const double d[3]);
 
-/* (b - a) x (c - a), each component the exact value rounded (relative error below 4e-16), so a
- * sliver triangle's normal is as accurate as a fat one's. */
+/* (b - a) x (c - a), each component the exact value summed from its expansion, smallest part
+ * first (within a unit or two in the last place; measured below 2^-51 relative), so a sliver
+ * triangle's normal is as accurate as a fat one's. */
 void model_tri_cross(const double a[3], const double b[3], const double c[3], double n[3]);
 
 #endif
