@@ -4,6 +4,8 @@ comlearn_add_check(check_model
   SOURCES check_model.c model_mesh_tests.c model_massprop_tests.c model_hull_tests.c
           model_urdf_tests.c
   LIBS comlearn_model_sim comlearn_math)
+# model_hull_tests.c tests the hull's exact predicate (lib/model/src/orient.h) directly.
+target_include_directories(check_model PRIVATE ${PROJECT_SOURCE_DIR}/lib/model/src)
 
 # comlearn_model (what the estimator links) must hold no code that reads <inertial>: no symbol
 # whose demangled name mentions "inertial", defined or referenced. The same scan must find the

@@ -3,8 +3,10 @@
 
 #include "comlearn/math3d.h"
 #include "comlearn/model_support.h"
+#include "mesh_subdivide.h"
 #include "model_suites.h"
 #include "model_test_util.h"
+#include "orient.h" /* lib/model/src: the exact predicate under the hull */
 
 /* A point set as a mesh with no triangles (the hull reads vertices only). */
 static void points_alloc(model_mesh_t *m, size_t n) {
@@ -271,6 +273,322 @@ START_TEST(test_hull_degenerate_input) {
 }
 END_TEST
 
+/* ---- the hull at scale: fine, coplanar and noisy meshes (issue 13) -------------------------- */
+
+static void hull_ok(const model_mesh_t *pts, model_mesh_t *hull) {
+  model_error_t err = {{0}};
+  ck_assert_msg(model_mesh_hull(pts, hull, &err) == MODEL_OK, "%zu points: %s", pts->vertex_count,
+                err.msg);
+}
+
+/* The face planes of a hull, n . x = d with unit n: planes[t] = (n, d). Allocated (free it). */
+static double (*hull_planes(const model_mesh_t *hull))[4] {
+  double(*pl)[4] = malloc(hull->triangle_count * sizeof *pl);
+  ck_assert_ptr_nonnull(pl);
+  for (size_t t = 0; t < hull->triangle_count; ++t) {
+    const double *a = hull->vertices_m[hull->triangles[t][0]];
+    cl_tri_normal(a, hull->vertices_m[hull->triangles[t][1]],
+                  hull->vertices_m[hull->triangles[t][2]], pl[t]);
+    pl[t][3] = cl_vec3_dot(pl[t], a);
+  }
+  return pl;
+}
+
+/* The largest signed distance of p above one of the n planes (positive: outside). */
+static double above_planes(const double (*pl)[4], size_t n, const double p[3]) {
+  double worst = -HUGE_VAL;
+  for (size_t t = 0; t < n; ++t) worst = fmax(worst, cl_vec3_dot(pl[t], p) - pl[t][3]);
+  return worst;
+}
+
+/* A bundled rock's mesh (link frame, as the estimator loads it). */
+static void rock_load(int r, model_mesh_t *m) {
+  char path[512];
+  snprintf(path, sizeof path, "%s/rocks/rock_%d_even.urdf", COMLEARN_ASSETS_DIR, r);
+  model_object_t obj;
+  model_error_t err;
+  ck_assert_msg(model_object_load(path, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_int_eq(model_mesh_copy(&obj.mesh, m), MODEL_OK);
+  model_object_free(&obj);
+}
+
+/* The hull h of the rock subdivided (exact midpoints) against the rock's own hull h0: the same
+ * solid (volume within 1e-9), every vertex of h on h0's surface and every vertex of h0 on h's,
+ * and h's vertices at most the mesh's points on that surface. */
+static void assert_same_solid(const model_mesh_t *sub, const model_mesh_t *h,
+                              const model_mesh_t *h0, double v0) {
+  ck_assert_double_eq_tol(mt_volume(h), v0, 1e-9 * v0);
+  double(*p0)[4] = hull_planes(h0), (*p1)[4] = hull_planes(h);
+  const size_t n0 = h0->triangle_count, n1 = h->triangle_count;
+  size_t off = 0, missed = 0, on_surface = 0;
+  for (size_t i = 0; i < h->vertex_count; ++i)
+    off += !(fabs(above_planes((const double(*)[4])p0, n0, h->vertices_m[i])) <= 1e-12);
+  /* within tol = 1e-10 x diagonal: h0 may keep a point the subdivided hull dropped as coplanar */
+  for (size_t i = 0; i < h0->vertex_count; ++i)
+    missed += !(fabs(above_planes((const double(*)[4])p1, n1, h0->vertices_m[i])) <= 1e-11);
+  for (size_t i = 0; i < sub->vertex_count; ++i)
+    on_surface += above_planes((const double(*)[4])p0, n0, sub->vertices_m[i]) >= -1e-12;
+  free(p0);
+  free(p1);
+  ck_assert_msg(off == 0, "%zu of %zu hull vertices off the rock's hull", off, h->vertex_count);
+  ck_assert_msg(missed == 0, "%zu rock hull vertices off the subdivided hull", missed);
+  ck_assert_uint_le(h->vertex_count, on_surface);
+  ck_assert_uint_ge(h->vertex_count, 9 * h0->vertex_count / 10); /* the extreme points stay */
+}
+
+/* The bundled rocks subdivided 1x, 2x, 3x (8 000 to 128 000 triangles): every edge midpoint of a
+ * hull facet lies exactly on the hull, so many points are coplanar with the faces the new hull
+ * point sees. The inexact walk of old failed its own check on all of these from 32 000 triangles
+ * (rock_3 from 8 000); with float midpoints (as an STL stores them) it failed from 8 000. */
+START_TEST(test_hull_subdivided_rocks) {
+  for (int r = 1; r <= 3; ++r) {
+    model_mesh_t rock, h0;
+    rock_load(r, &rock);
+    hull_ok(&rock, &h0);
+    assert_valid_hull(&rock, &h0, 1e-12);
+    const double v0 = mt_volume(&h0);
+    for (int round_f32 = 0; round_f32 <= 1; ++round_f32) {
+      model_mesh_t cur;
+      ck_assert_int_eq(model_mesh_copy(&rock, &cur), MODEL_OK);
+      for (int level = 1; level <= 3; ++level) {
+        model_mesh_t sub, h;
+        ck_assert_int_eq(mesh_subdivide(&cur, &sub, round_f32), 0);
+        model_mesh_free(&cur);
+        cur = sub;
+        ck_assert_uint_eq(sub.triangle_count, rock.triangle_count << (2 * level));
+        model_mesh_report_t rep;
+        ck_assert_int_eq(model_mesh_check(&cur, &rep, NULL), MODEL_OK); /* closed, outward */
+        ck_assert_uint_eq(rep.merged_vertices + rep.removed_degenerate, 0);
+        ck_assert_int_eq(rep.flipped, 0);
+        sub = cur;
+        hull_ok(&sub, &h);
+        /* float midpoints: within the hull's tolerance (1e-10 x the 75 mm diagonal) of a face */
+        if (level == 1) assert_valid_hull(&sub, &h, round_f32 ? 1e-11 : 1e-12);
+        if (round_f32) {
+          /* the rounded midpoints move the surface by < 4e-9 m: 1e-7 of the volume at most */
+          ck_assert_double_eq_tol(mt_volume(&h), v0, 1e-6 * v0);
+          ck_assert_uint_lt(h.vertex_count, sub.vertex_count / 2);
+        } else {
+          assert_same_solid(&sub, &h, &h0, v0);
+        }
+        model_mesh_free(&h);
+      }
+      model_mesh_free(&cur);
+    }
+    model_mesh_free(&h0);
+    model_mesh_free(&rock);
+  }
+}
+END_TEST
+
+/* A sphere mesh of 9 024 triangles with every coordinate moved by up to 1 um, and by up to 20 um
+ * (the sagitta between neighbours is ~27 um here: noise of that size makes points interior). */
+START_TEST(test_hull_noisy_sphere) {
+  const double r = 0.05, sigma[2] = {1e-6, 2e-5};
+  for (int k = 0; k < 2; ++k) {
+    model_mesh_t sphere, hull;
+    uv_sphere(&sphere, r, 48, 96);
+    const double v_exact = mt_volume(&sphere);
+    uint64_t s = 7 + (uint64_t)k;
+    for (size_t i = 0; i < sphere.vertex_count; ++i) {
+      for (int c = 0; c < 3; ++c) sphere.vertices_m[i][c] += cl_rng_range(&s, -sigma[k], sigma[k]);
+    }
+    hull_ok(&sphere, &hull);
+    assert_valid_hull(&sphere, &hull, 1e-12);
+    /* every point moved by <= sqrt(3) sigma: the volume by about 3 sqrt(3) sigma / r of it */
+    ck_assert_double_eq_tol(mt_volume(&hull), v_exact, 4.0 * sqrt(3.0) * sigma[k] / r * v_exact);
+    ck_assert_uint_le(hull.vertex_count, sphere.vertex_count);
+    ck_assert_uint_ge(hull.vertex_count, (k == 0 ? 95 : 50) * sphere.vertex_count / 100);
+    model_mesh_free(&hull);
+    model_mesh_free(&sphere);
+  }
+}
+END_TEST
+
+/* The points of a 100 x 60 x 40 mm box whose every face is a 100 x 100 grid (60 002 points, all
+ * but the corners coplanar with a face or collinear with an edge), axis-aligned (exactly coplanar)
+ * and rotated (coplanar within rounding). */
+START_TEST(test_hull_box_grid) {
+  const double lo[3] = {-0.05, -0.03, 0.01}, hi[3] = {0.05, 0.03, 0.05};
+  double q[4] = {0.9, 0.3, -0.2, 0.25}, rot[3][3];
+  (void)cl_quat_normalize(q, q);
+  cl_quat_to_rot(q, rot);
+  for (int rotated = 0; rotated <= 1; ++rotated) {
+    model_mesh_t pts, hull;
+    points_alloc(&pts, 101 * 101 * 101 - 99 * 99 * 99);
+    size_t n = 0;
+    for (int i = 0; i <= 100; ++i) {
+      for (int j = 0; j <= 100; ++j) {
+        for (int k = 0; k <= 100; ++k) {
+          if (i % 100 != 0 && j % 100 != 0 && k % 100 != 0) continue;
+          const int ijk[3] = {i, j, k};
+          double v[3];
+          for (int c = 0; c < 3; ++c) v[c] = lo[c] + (hi[c] - lo[c]) / 100.0 * ijk[c];
+          double *p = pts.vertices_m[n++];
+          for (int c = 0; c < 3; ++c)
+            p[c] = rotated ? rot[c][0] * v[0] + rot[c][1] * v[1] + rot[c][2] * v[2] : v[c];
+        }
+      }
+    }
+    ck_assert_uint_eq(n, pts.vertex_count);
+    hull_ok(&pts, &hull);
+    assert_valid_hull(&pts, &hull, 1e-12);
+    ck_assert_double_eq_tol(mt_volume(&hull), 0.1 * 0.06 * 0.04, 1e-12 * 0.1 * 0.06 * 0.04);
+    if (!rotated) {
+      model_mesh_t box;
+      double top[3]; /* the grid's last points, as computed above */
+      for (int c = 0; c < 3; ++c) top[c] = lo[c] + (hi[c] - lo[c]) / 100.0 * 100;
+      mt_box(&box, lo, top);
+      ck_assert_uint_eq(hull.vertex_count, 8); /* the corners, nothing coplanar */
+      ck_assert(mt_same_vertices(&hull, &box, 0.0));
+      model_mesh_free(&box);
+    } else {
+      ck_assert_uint_ge(hull.vertex_count, 8);
+      ck_assert_uint_le(hull.vertex_count, 16);
+    }
+    model_mesh_free(&hull);
+    model_mesh_free(&pts);
+  }
+}
+END_TEST
+
+/* 20 000 random points: uniform in a cube, and normal (a hull of a few hundred of them). */
+START_TEST(test_hull_random_clouds) {
+  for (int kind = 0; kind < 2; ++kind) {
+    model_mesh_t pts, hull;
+    uint64_t s = 99 + (uint64_t)kind;
+    points_alloc(&pts, 20000);
+    for (size_t i = 0; i < pts.vertex_count; ++i) {
+      double g[2], g2[2];
+      cl_rng_normal2(&s, g);
+      cl_rng_normal2(&s, g2);
+      for (int c = 0; c < 3; ++c) {
+        pts.vertices_m[i][c] =
+            kind == 0 ? 0.02 * cl_rng_uniform(&s) + 0.3 : 0.01 * (c < 2 ? g[c] : g2[0]);
+      }
+    }
+    hull_ok(&pts, &hull);
+    assert_valid_hull(&pts, &hull, 1e-12);
+    ck_assert_uint_gt(hull.vertex_count, kind == 0 ? 100 : 20);
+    ck_assert_uint_lt(hull.vertex_count, 1000);
+    if (kind == 0) {
+      const double v = mt_volume(&hull), cube = 0.02 * 0.02 * 0.02;
+      ck_assert_double_le(v, cube * (1 + 1e-12));
+      ck_assert_double_gt(v, 0.97 * cube);
+    }
+    model_mesh_free(&hull);
+    model_mesh_free(&pts);
+  }
+}
+END_TEST
+
+/* model_orient3d (lib/model/src/orient.h): exact where the double formula cannot tell. Points on
+ * one plane (midpoints and dyadic combinations of three points of 30-bit coordinates, exact in
+ * double) are coplanar (0); one unit in the last place above or below the plane is +1 or -1.
+ * The plain double determinant gets a wrong sign or a nonzero for many of these. */
+START_TEST(test_orient3d_exact) {
+  uint64_t s = 5;
+  size_t naive_wrong = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    double a[3], b[3], c[3], d[3];
+    for (int k = 0; k < 3; ++k) {
+      a[k] = ldexp((double)cl_rng_below(&s, 1u << 30), -31) + 0.25;
+      b[k] = ldexp((double)cl_rng_below(&s, 1u << 30), -31) - 0.5;
+      c[k] = ldexp((double)cl_rng_below(&s, 1u << 30), -31) + 0.125;
+    }
+    /* d = a + (b - a) / 4 + (c - a) * 3 / 8, exact: every term has few bits */
+    for (int k = 0; k < 3; ++k) d[k] = a[k] + 0.25 * (b[k] - a[k]) + 0.375 * (c[k] - a[k]);
+    ck_assert_int_eq(model_orient3d(a, b, c, d), 0);
+    ck_assert_int_eq(model_orient3d(b, c, a, d), 0);
+    double n[3];
+    model_tri_cross(a, b, c, n);
+    /* move d off the plane by one ulp along the axis where the normal is largest */
+    int ax = 0;
+    for (int k = 1; k < 3; ++k)
+      if (fabs(n[k]) > fabs(n[ax])) ax = k;
+    const int up = trial % 2 ? 1 : -1;
+    d[ax] = nextafter(d[ax], up * HUGE_VAL);
+    const int want = (n[ax] > 0) == (up > 0) ? 1 : -1;
+    ck_assert_int_eq(model_orient3d(a, b, c, d), want);
+    ck_assert_int_eq(model_orient3d(a, c, b, d), -want);
+    ck_assert_int_eq(model_orient3d(d, a, c, b), want); /* an even permutation */
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double e[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    const double naive = (u[1] * w[2] - u[2] * w[1]) * e[0] + (u[2] * w[0] - u[0] * w[2]) * e[1] +
+                         (u[0] * w[1] - u[1] * w[0]) * e[2];
+    naive_wrong += !((naive > 0) == (want > 0) && naive != 0);
+  }
+  ck_assert_uint_gt(naive_wrong, 1000); /* the cases are hard ones */
+  /* the exact cross product of a sliver: b - a and c - a 1e-12 rad apart */
+  const double a[3] = {0.1, 0.2, 0.3}, b[3] = {0.6, 0.2, 0.3}, c[3] = {1.1, 0.2 + 1e-12, 0.3};
+  double n[3];
+  model_tri_cross(a, b, c, n);
+  ck_assert_double_eq(n[0], 0.0);
+  ck_assert_double_eq(n[1], 0.0);
+  ck_assert_double_gt(n[2], 0.0);
+}
+END_TEST
+
+/* model_faces_find, _hull (the caller's hull) and _in (the hull kept in a work area) give the same
+ * faces bit for bit; the work area builds its hull once per mesh. */
+START_TEST(test_faces_find_variants) {
+  model_mesh_t rock, hull;
+  rock_load(1, &rock);
+  hull_ok(&rock, &hull);
+  model_mass_t mass;
+  ck_assert_int_eq(model_mesh_mass(&rock, 1000.0, &mass), MODEL_OK);
+  enum { CAP = 256 };
+  model_face_t f0[CAP], f1[CAP], f2[CAP];
+  size_t n0 = 0, n1 = 0, n2 = 0;
+  memset(f0, 0, sizeof f0);
+  memset(f1, 0, sizeof f1);
+  memset(f2, 0, sizeof f2);
+  ck_assert_int_eq(model_faces_find(&rock, mass.com_m, NULL, f0, CAP, &n0), MODEL_OK);
+  ck_assert_int_eq(model_faces_find_hull(&rock, &hull, mass.com_m, NULL, f1, CAP, &n1), MODEL_OK);
+  const size_t size = model_support_work_size(&rock);
+  void *mem = malloc(size);
+  ck_assert_ptr_nonnull(mem);
+  model_support_work_t *work = model_support_work_init(mem, size, &rock);
+  ck_assert_ptr_nonnull(work);
+  ck_assert_int_eq(model_faces_find_in(&rock, mass.com_m, NULL, work, f2, CAP, &n2), MODEL_OK);
+  ck_assert_uint_ge(n0, 4);
+  ck_assert_uint_le(n0, CAP);
+  ck_assert_uint_eq(n1, n0);
+  ck_assert_uint_eq(n2, n0);
+  ck_assert_int_eq(memcmp(f0, f1, n0 * sizeof f0[0]), 0);
+  ck_assert_int_eq(memcmp(f0, f2, n0 * sizeof f0[0]), 0);
+  /* the kept hull: model_mesh_hull's, bit for bit, and the same array on a second call */
+  const model_mesh_t *kept = NULL, *again = NULL;
+  ck_assert_int_eq(model_support_work_hull(work, &rock, &kept), MODEL_OK);
+  ck_assert_uint_eq(kept->vertex_count, hull.vertex_count);
+  ck_assert_uint_eq(kept->triangle_count, hull.triangle_count);
+  ck_assert_int_eq(memcmp(kept->vertices_m, hull.vertices_m, hull.vertex_count * 24), 0);
+  ck_assert_int_eq(memcmp(kept->triangles, hull.triangles, hull.triangle_count * 12), 0);
+  ck_assert_int_eq(model_support_work_hull(work, &rock, &again), MODEL_OK);
+  ck_assert_ptr_eq(again, kept);
+  /* another mesh of the same counts: its own hull (here the rock moved by 1 m in x) */
+  model_mesh_t moved;
+  ck_assert_int_eq(model_mesh_copy(&rock, &moved), MODEL_OK);
+  for (size_t i = 0; i < moved.vertex_count; ++i) moved.vertices_m[i][0] += 1.0;
+  ck_assert_int_eq(model_support_work_hull(work, &moved, &again), MODEL_OK);
+  ck_assert_double_eq(again->vertices_m[0][0], hull.vertices_m[0][0] + 1.0);
+  /* wrong counts and NULLs */
+  model_mesh_t small;
+  mt_unit_cube(&small);
+  ck_assert_int_eq(model_support_work_hull(work, &small, &again), MODEL_E_ARG);
+  ck_assert_ptr_null(again);
+  ck_assert_int_eq(model_faces_find_in(&small, mass.com_m, NULL, work, f2, CAP, &n2), MODEL_E_ARG);
+  ck_assert_int_eq(model_faces_find_in(&rock, mass.com_m, NULL, NULL, f2, CAP, &n2), MODEL_E_ARG);
+  ck_assert_int_eq(model_faces_find_hull(&rock, NULL, mass.com_m, NULL, f1, CAP, &n1), MODEL_E_ARG);
+  model_mesh_free(&small);
+  model_mesh_free(&moved);
+  free(mem);
+  model_mesh_free(&hull);
+  model_mesh_free(&rock);
+}
+END_TEST
+
 START_TEST(test_aabb_and_center) {
   model_mesh_t m;
   const double lo[3] = {-0.25, 1.5, 3.0}, hi[3] = {0.75, 2.0, 7.0};
@@ -394,6 +712,15 @@ Suite *model_hull_suite(void) {
   tcase_add_test(tc, test_hull_degenerate_input);
   tcase_add_test(tc, test_aabb_and_center);
   tcase_add_test(tc, test_hull_faces_box);
+  tcase_add_test(tc, test_orient3d_exact);
+  tcase_add_test(tc, test_faces_find_variants);
   suite_add_tcase(s, tc);
+  TCase *scale = tcase_create("hull_scale"); /* 8 000 - 128 000 triangles, 60 002 points */
+  tcase_set_timeout(scale, 240);
+  tcase_add_test(scale, test_hull_subdivided_rocks);
+  tcase_add_test(scale, test_hull_noisy_sphere);
+  tcase_add_test(scale, test_hull_box_grid);
+  tcase_add_test(scale, test_hull_random_clouds);
+  suite_add_tcase(s, scale);
   return s;
 }

@@ -84,7 +84,8 @@ const rockgen_spec_t *rockgen_spec_get(size_t index);
 enum { ROCKGEN_RANDOM_MAX_ATTEMPTS = 32 };
 
 /* Acceptance: the mesh builds (closed by construction), its convex hull builds (model_mesh_hull;
- * quickhull fails on ~2 % of these shapes, docs/model.md), its largest planar patch (area >= 1
+ * it failed on ~4 % of these shapes until its visibility walk became exact, docs/model.md), its
+ * largest planar patch (area >= 1
  * cm^2) is the bottom face with normal (0, 0, -1), that face is >= ROCKGEN_RANDOM_MIN_WIDTH_M wide,
  * and both the uniform and the uneven CoM project >= ROCKGEN_RANDOM_MIN_MARGIN_M inside its support
  * polygon (the rock rests upright for either material). */

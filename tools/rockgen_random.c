@@ -76,8 +76,9 @@ model_status_t rockgen_random_accept(const rockgen_spec_t *spec, int *accepted, 
   model_status_t st = rockgen_shape_build(spec, &mesh);
   if (st == MODEL_E_ARG) return MODEL_OK; /* lobes or planes this shape cannot take */
   if (st != MODEL_OK) return st;
-  /* Its convex hull must build: quickhull fails (MODEL_E_HULL, a point above a hull face) on
-   * about 2 % of these shapes (docs/model.md), and nothing downstream can use such a rock. */
+  /* Its convex hull must build: nothing downstream can use a rock without one. Quickhull failed
+   * (MODEL_E_HULL, a point above a hull face) on about 4 % of these shapes until its walk over
+   * the visible faces became exact; now no draw is known to fail here (docs/model.md). */
   model_mesh_t hull;
   st = model_mesh_hull(&mesh, &hull, NULL);
   model_mesh_free(&hull);

@@ -98,6 +98,7 @@ struct balance_object {
   balance_world_t *world;
   size_t index;              /* position in world->objects */
   model_mesh_t mesh_link;    /* copy of the mesh, link frame */
+  model_mesh_t hull_link;    /* its convex hull (model_mesh_hull), link frame: built once */
   model_mass_t mass;         /* copy of the mass properties, link frame */
   double (*verts_body_m)[3]; /* mesh vertices - com (body frame) */
   uint32_t (*edges)[2];      /* unique undirected mesh edges */

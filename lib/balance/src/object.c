@@ -1,5 +1,6 @@
 /* object.c - an object's body and geometry: validation, placement, pose queries. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -119,6 +120,7 @@ void balance_object_destroy_internal(balance_object_t *o) {
   free(o->fast.code);
   free(o->fast.local);
   model_mesh_free(&o->mesh_link);
+  model_mesh_free(&o->hull_link);
   free(o);
 }
 
@@ -217,35 +219,85 @@ static balance_status_t object_vertex_normals(balance_object_t *o, const model_m
   return BALANCE_OK;
 }
 
-/* Convex hull planes for object-object contacts, in the body frame: BALANCE_E_MESH when the hull
- * fails, BALANCE_E_NOMEM when its planes cannot be stored. */
+/* The kept hull planes bucketed by floor(n_x / 2e-12): a plane within 1e-12 of a kept one in
+ * every number (the duplicate test) finds it in its own bucket or a neighbouring one, so the test
+ * looks at those three buckets instead of every kept plane (faces x planes for a fine hull). */
+typedef struct {
+  int64_t *key;   /* per slot; with head[slot] == PLANE_NONE the slot is free */
+  uint32_t *head; /* first kept plane of the bucket */
+  uint32_t *next; /* per kept plane, the next of its bucket */
+  size_t mask;
+} plane_buckets_t;
+
+enum { PLANE_NONE = UINT32_MAX };
+
+static size_t plane_slot(const plane_buckets_t *b, int64_t key) {
+  size_t h = (size_t)(((uint64_t)key * 0x9e3779b97f4a7c15u) >> 17) & b->mask;
+  while (b->head[h] != PLANE_NONE && b->key[h] != key) h = (h + 1) & b->mask;
+  return h;
+}
+
+static int plane_dup(const plane_buckets_t *b, const double (*planes)[4], const double pl[4],
+                     int64_t key) {
+  for (int64_t k = key - 1; k <= key + 1; k++) {
+    for (uint32_t q = b->head[plane_slot(b, k)]; q != PLANE_NONE; q = b->next[q]) {
+      const double *r2 = planes[q];
+      if (fabs(r2[0] - pl[0]) < 1e-12 && fabs(r2[1] - pl[1]) < 1e-12 &&
+          fabs(r2[2] - pl[2]) < 1e-12 && fabs(r2[3] - pl[3]) < 1e-12)
+        return 1;
+    }
+  }
+  return 0;
+}
+
+/* The hull's planes in the body frame, one per set of coplanar facets (they come out
+ * triangulated), in facet order. */
+static balance_status_t hull_planes_fill(balance_object_t *o, const double com_m[3]) {
+  const model_mesh_t *hull = &o->hull_link;
+  const size_t nt = hull->triangle_count;
+  plane_buckets_t b = {NULL, NULL, NULL, 0};
+  size_t cap = 16;
+  while (cap < 2 * nt) cap *= 2;
+  b.mask = cap - 1;
+  b.key = malloc(cap * sizeof *b.key);
+  b.head = malloc(cap * sizeof *b.head);
+  b.next = malloc((nt > 0 ? nt : 1) * sizeof *b.next);
+  o->hull_planes = malloc((nt > 0 ? nt : 1) * sizeof *o->hull_planes);
+  balance_status_t st = BALANCE_OK;
+  if (!b.key || !b.head || !b.next || !o->hull_planes || nt >= PLANE_NONE) {
+    st = BALANCE_E_NOMEM;
+    goto done;
+  }
+  for (size_t i = 0; i < cap; i++) b.head[i] = PLANE_NONE;
+  for (size_t t = 0; t < nt; t++) {
+    const double *a = hull->vertices_m[hull->triangles[t][0]];
+    const double *p1 = hull->vertices_m[hull->triangles[t][1]];
+    const double *c = hull->vertices_m[hull->triangles[t][2]];
+    double *pl = o->hull_planes[o->hull_plane_count];
+    if (!(cl_tri_normal(a, p1, c, pl) > 0.0)) continue;
+    pl[3] = pl[0] * (a[0] - com_m[0]) + pl[1] * (a[1] - com_m[1]) + pl[2] * (a[2] - com_m[2]);
+    const int64_t key = (int64_t)floor(pl[0] / 2e-12); /* |n_x| <= 1: within int64 */
+    if (plane_dup(&b, (const double(*)[4])o->hull_planes, pl, key)) continue;
+    const size_t slot = plane_slot(&b, key);
+    if (b.head[slot] == PLANE_NONE) b.key[slot] = key;
+    b.next[o->hull_plane_count] = b.head[slot];
+    b.head[slot] = (uint32_t)o->hull_plane_count++;
+  }
+done:
+  free(b.key);
+  free(b.head);
+  free(b.next);
+  return st;
+}
+
+/* The convex hull (kept in o->hull_link for balance_stable_find) and its planes for object-object
+ * contacts, in the body frame: BALANCE_E_MESH when the hull fails, BALANCE_E_NOMEM when its
+ * planes cannot be stored. */
 static balance_status_t object_hull_planes(balance_object_t *o, const model_mesh_t *mesh,
                                            const double com_m[3]) {
-  model_mesh_t hull;
-  if (model_mesh_hull(mesh, &hull, NULL) != MODEL_OK) return BALANCE_E_MESH;
-  o->hull_planes = malloc(hull.triangle_count * sizeof *o->hull_planes);
-  if (!o->hull_planes) {
-    model_mesh_free(&hull);
-    return BALANCE_E_NOMEM;
-  }
-  for (size_t t = 0; t < hull.triangle_count; t++) {
-    const double *a = hull.vertices_m[hull.triangles[t][0]];
-    const double *b = hull.vertices_m[hull.triangles[t][1]];
-    const double *c = hull.vertices_m[hull.triangles[t][2]];
-    double *pl = o->hull_planes[o->hull_plane_count];
-    if (!(cl_tri_normal(a, b, c, pl) > 0.0)) continue;
-    pl[3] = pl[0] * (a[0] - com_m[0]) + pl[1] * (a[1] - com_m[1]) + pl[2] * (a[2] - com_m[2]);
-    /* coplanar facets come out triangulated: keep one plane each */
-    int dup = 0;
-    for (size_t q = 0; q < o->hull_plane_count && !dup; q++) {
-      const double *r2 = o->hull_planes[q];
-      dup = fabs(r2[0] - pl[0]) < 1e-12 && fabs(r2[1] - pl[1]) < 1e-12 &&
-            fabs(r2[2] - pl[2]) < 1e-12 && fabs(r2[3] - pl[3]) < 1e-12;
-    }
-    if (!dup) o->hull_plane_count++;
-  }
-  model_mesh_free(&hull);
-  return BALANCE_OK;
+  const model_status_t hs = model_mesh_hull(mesh, &o->hull_link, NULL);
+  if (hs != MODEL_OK) return hs == MODEL_E_NOMEM ? BALANCE_E_NOMEM : BALANCE_E_MESH;
+  return hull_planes_fill(o, com_m);
 }
 
 /* The ODE trimesh, geom and disabled body with the object's mass properties. */

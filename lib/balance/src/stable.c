@@ -75,13 +75,14 @@ balance_status_t balance_stable_find(balance_world_t *world, balance_object_t *o
   *count = 0;
   if (trials_run != NULL) *trials_run = 0;
   size_t nf = 0;
-  balance_status_t st = balance_status_from_model(
-      model_faces_find(mesh_link, com_guess_link_m, regime_cfg, NULL, 0, &nf));
+  /* the object's hull, built once at balance_object_create */
+  balance_status_t st = balance_status_from_model(model_faces_find_hull(
+      mesh_link, &obj->hull_link, com_guess_link_m, regime_cfg, NULL, 0, &nf));
   if (st != BALANCE_OK) return st;
   model_face_t *faces = malloc((nf > 0 ? nf : 1) * sizeof *faces);
   if (faces == NULL) return BALANCE_E_NOMEM;
-  st = balance_status_from_model(
-      model_faces_find(mesh_link, com_guess_link_m, regime_cfg, faces, nf, &nf));
+  st = balance_status_from_model(model_faces_find_hull(mesh_link, &obj->hull_link, com_guess_link_m,
+                                                       regime_cfg, faces, nf, &nf));
   size_t confirmed_count = 0;
   for (size_t i = 0; st == BALANCE_OK && i < nf; ++i) {
     if (!faces[i].candidate) continue;

@@ -1429,8 +1429,9 @@ static estimate_status_t finish(est_t *est) {
 static estimate_status_t closed_append(est_t *est) {
   est->closed_from = est->nfaces;
   size_t n = 0;
-  const model_status_t ms = model_faces_stable(
-      est->mesh, est->guess_m, NULL, est->faces + est->nfaces, FACE_CAP - est->nfaces, &n);
+  const model_status_t ms =
+      model_faces_stable_in(est->mesh, est->guess_m, NULL, est->work, est->faces + est->nfaces,
+                            FACE_CAP - est->nfaces, &n);
   if (ms != MODEL_OK) {
     snprintf(est->result.msg, sizeof est->result.msg, "stable faces: %s", model_status_str(ms));
     return ms == MODEL_E_NOMEM ? ESTIMATE_E_NOMEM : ESTIMATE_E_GEOMETRY;
@@ -1469,8 +1470,9 @@ static estimate_status_t strategy_start(est_t *est) {
   for (int k = 0; k < 3; ++k) est->halfwidth_m[k] = INFINITY;
   est->face1 = -1;
   est->redo_of = -1;
-  const model_status_t ms =
-      model_faces_find(est->mesh, est->guess_m, NULL, est->faces, FACE_CAP, &est->nfaces);
+  /* the hull stays in est->work: model_support_work_hull(est->work, est->mesh, ...) reuses it */
+  const model_status_t ms = model_faces_find_in(est->mesh, est->guess_m, NULL, est->work,
+                                                est->faces, FACE_CAP, &est->nfaces);
   if (ms != MODEL_OK) {
     snprintf(out->msg, sizeof out->msg, "faces: %s", model_status_str(ms));
     return ms == MODEL_E_NOMEM ? ESTIMATE_E_NOMEM : ESTIMATE_E_GEOMETRY;

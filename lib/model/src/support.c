@@ -302,6 +302,11 @@ struct model_support_work {
   double *area;
   double (*cpts)[2], (*chull)[2];
   contact_t ct;
+  /* The convex hull kept for model_support_work_hull: of hull_of (NULL: none yet); its arrays
+   * here with room for every vertex and 2 per vertex triangles (a hull of V vertices has 2V - 4).
+   */
+  const model_mesh_t *hull_of;
+  model_mesh_t kept_hull;
 };
 
 static size_t align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
@@ -312,7 +317,8 @@ size_t model_support_work_size(const model_mesh_t *mesh) {
   return align8(sizeof(model_support_work_t)) + align8(nv * sizeof(double[3])) +
          align8(nv * sizeof(double[2])) + align8(nv) + 4 * align8((nv + 1) * sizeof(double[2])) +
          align8(nt * sizeof(double[3][2])) + align8(nv * sizeof(uint32_t)) +
-         align8(nv * sizeof(double));
+         align8(nv * sizeof(double)) + align8(nv * sizeof(double[3])) +
+         align8(2 * nv * sizeof(uint32_t[3]));
 }
 
 model_support_work_t *model_support_work_init(void *mem, size_t size, const model_mesh_t *mesh) {
@@ -341,7 +347,34 @@ model_support_work_t *model_support_work_init(void *mem, size_t size, const mode
   w->parent = (uint32_t *)(void *)p;
   p += align8(nv * sizeof(uint32_t));
   w->area = (double *)(void *)p;
+  p += align8(nv * sizeof(double));
+  w->kept_hull.vertices_m = (double(*)[3])(void *)p;
+  p += align8(nv * sizeof(double[3]));
+  w->kept_hull.triangles = (uint32_t(*)[3])(void *)p;
   return w;
+}
+
+model_status_t model_support_work_hull(model_support_work_t *work, const model_mesh_t *mesh_link,
+                                       const model_mesh_t **hull) {
+  if (hull != NULL) *hull = NULL;
+  if (work == NULL || mesh_link == NULL || hull == NULL ||
+      mesh_link->vertex_count != work->vertex_count ||
+      mesh_link->triangle_count != work->triangle_count)
+    return MODEL_E_ARG;
+  if (work->hull_of != mesh_link) {
+    model_mesh_t h;
+    const model_status_t st = model_mesh_hull(mesh_link, &h, NULL);
+    if (st != MODEL_OK) return st;
+    /* a hull's vertices are input vertices: at most vertex_count, and 2V - 4 triangles */
+    memcpy(work->kept_hull.vertices_m, h.vertices_m, h.vertex_count * sizeof h.vertices_m[0]);
+    memcpy(work->kept_hull.triangles, h.triangles, h.triangle_count * sizeof h.triangles[0]);
+    work->kept_hull.vertex_count = h.vertex_count;
+    work->kept_hull.triangle_count = h.triangle_count;
+    work->hull_of = mesh_link;
+    model_mesh_free(&h);
+  }
+  *hull = &work->kept_hull;
+  return MODEL_OK;
 }
 
 /* A work area of its own for mesh (malloc'd: free() it), or NULL (out of memory). */

@@ -1,6 +1,7 @@
 /* support_faces.c - the faces of an object's convex hull: the planes it can rest on, each
  * analysed for a CoM guess (stable-pose candidates). Pure geometry. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -24,6 +25,82 @@ static int cmp_facet(const void *pa, const void *pb) {
   return a->index < b->index ? -1 : (a->index > b->index);
 }
 
+/* ---- which facets can join a seed: a grid over their normals --------------------------------- */
+
+/* A facet's cell: floor(n / side) per component. Two normals whose dot product reaches merge_cos
+ * are at most side apart (see faces_grid), so in the same or adjacent cells. */
+typedef struct {
+  int64_t cell[3];
+  size_t pos; /* in the sorted facets */
+} cell_t;
+
+static int cmp_cell(const void *pa, const void *pb) {
+  const cell_t *a = pa, *b = pb;
+  for (int k = 0; k < 3; ++k)
+    if (a->cell[k] != b->cell[k]) return a->cell[k] < b->cell[k] ? -1 : 1;
+  return a->pos < b->pos ? -1 : (a->pos > b->pos);
+}
+
+static int cmp_size(const void *pa, const void *pb) {
+  const size_t a = *(const size_t *)pa, b = *(const size_t *)pb;
+  return a < b ? -1 : (a > b);
+}
+
+typedef struct {
+  cell_t *cells; /* every facet, by cell then position; NULL: no grid, every facet is a candidate */
+  size_t *cand;
+  double side;
+} grid_t;
+
+/* The grid for normals within acos(merge_cos) of each other: |n - m|^2 = 2 - 2 n.m for unit
+ * vectors, plus a margin for their rounding. No grid when a normal is not finite. */
+static model_status_t faces_grid(const facet_t *fac, size_t nf, double merge_cos, grid_t *g) {
+  g->side = 1.001 * sqrt(fmax(0.0, 2.0 - 2.0 * merge_cos) + 1e-12);
+  g->cand = malloc((nf > 0 ? nf : 1) * sizeof *g->cand);
+  g->cells = malloc((nf > 0 ? nf : 1) * sizeof *g->cells);
+  if (g->cand == NULL || g->cells == NULL) return MODEL_E_NOMEM;
+  for (size_t t = 0; t < nf; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      if (!(fabs(fac[t].n[k]) <= 2.0)) {
+        free(g->cells);
+        g->cells = NULL;
+        return MODEL_OK;
+      }
+      g->cells[t].cell[k] = (int64_t)floor(fac[t].n[k] / g->side);
+    }
+    g->cells[t].pos = t;
+  }
+  qsort(g->cells, nf, sizeof *g->cells, cmp_cell);
+  return MODEL_OK;
+}
+
+/* The positions >= s of the facets that may join seed s, ascending, into g->cand: the scan over
+ * every later facet, minus those whose normal cannot reach merge_cos. */
+static size_t faces_candidates(const grid_t *g, const facet_t *fac, size_t nf, size_t s) {
+  size_t n = 0;
+  if (g->cells == NULL) {
+    for (size_t t = s; t < nf; ++t) g->cand[n++] = t;
+    return n;
+  }
+  cell_t key;
+  for (int k = 0; k < 3; ++k) key.cell[k] = (int64_t)floor(fac[s].n[k] / g->side);
+  for (int d = 0; d < 27; ++d) {
+    cell_t q = {{key.cell[0] + d % 3 - 1, key.cell[1] + d / 3 % 3 - 1, key.cell[2] + d / 9 - 1}, s};
+    size_t lo = 0, hi = nf; /* the first entry >= q */
+    while (lo < hi) {
+      const size_t mid = lo + (hi - lo) / 2;
+      if (cmp_cell(&g->cells[mid], &q) < 0)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    for (size_t i = lo; i < nf && memcmp(g->cells[i].cell, q.cell, sizeof q.cell) == 0; ++i)
+      g->cand[n++] = g->cells[i].pos;
+  }
+  qsort(g->cand, n, sizeof *g->cand, cmp_size);
+  return n;
+}
+
 model_status_t model_hull_faces(const model_mesh_t *hull, double merge_cos, double plane_tol_m,
                                 model_hull_face_t *faces, int *facet_face, size_t *count) {
   if (hull == NULL || faces == NULL || facet_face == NULL || count == NULL ||
@@ -43,14 +120,19 @@ model_status_t model_hull_faces(const model_mesh_t *hull, double merge_cos, doub
     facet_face[t] = -1;
   }
   qsort(fac, nf, sizeof *fac, cmp_facet);
+  grid_t g = {NULL, NULL, 0.0};
+  const model_status_t st = faces_grid(fac, nf, merge_cos, &g);
   size_t found = 0;
-  for (size_t s = 0; s < nf; ++s) {
+  for (size_t s = 0; s < nf && st == MODEL_OK; ++s) {
     if (facet_face[fac[s].index] >= 0 || !(fac[s].area > 0.0)) continue;
-    /* Merge every facet coplanar with the seed (on a convex hull they are one convex face). */
+    /* Merge every facet coplanar with the seed (on a convex hull they are one convex face), in
+     * the sorted order: the sums come out the same whatever the grid leaves out. */
     const double *n0 = fac[s].n;
     const double h0 = cl_vec3_dot(n0, hull->vertices_m[hull->triangles[fac[s].index][0]]);
     double nsum[3] = {0.0, 0.0, 0.0}, area = 0.0;
-    for (size_t t = s; t < nf; ++t) {
+    const size_t nc = faces_candidates(&g, fac, nf, s);
+    for (size_t c = 0; c < nc; ++c) {
+      const size_t t = g.cand[c];
       if (facet_face[fac[t].index] >= 0 || cl_vec3_dot(fac[t].n, n0) < merge_cos) continue;
       int in = 1;
       for (int k = 0; k < 3; ++k) {
@@ -69,9 +151,11 @@ model_status_t model_hull_faces(const model_mesh_t *hull, double merge_cos, doub
     f->area_m2 = area;
     f->seed = fac[s].index;
   }
+  free(g.cells);
+  free(g.cand);
   free(fac);
   *count = found;
-  return MODEL_OK;
+  return st;
 }
 
 static int cmp_face(const void *pa, const void *pb) {
@@ -140,10 +224,13 @@ static int cmp_face_margin(const void *pa, const void *pb) {
   return cmp_face(pa, pb);
 }
 
-/* The checks of every face function: arguments, config (resolved into *c), mesh, guess. */
+/* The arguments model_faces_find and its variants check, in its order, and the configuration. */
 static model_status_t faces_args(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
-                                 const model_regime_config_t *cfg, model_regime_config_t *c) {
-  if (com_guess_link_m == NULL) return MODEL_E_ARG;
+                                 const model_regime_config_t *cfg, const model_face_t *faces,
+                                 size_t capacity, size_t *count, model_regime_config_t *c) {
+  if (count == NULL || com_guess_link_m == NULL || (faces == NULL && capacity > 0))
+    return MODEL_E_ARG;
+  *count = 0;
   if (cfg == NULL) {
     model_regime_config_default(c);
   } else {
@@ -151,7 +238,7 @@ static model_status_t faces_args(const model_mesh_t *mesh_link, const double com
     if (cs != MODEL_OK) return cs;
     *c = *cfg;
   }
-  model_status_t st = model_mesh_usable(mesh_link);
+  const model_status_t st = model_mesh_usable(mesh_link);
   if (st != MODEL_OK) return st;
   for (int k = 0; k < 3; ++k) {
     if (!isfinite(com_guess_link_m[k])) return MODEL_E_NONFINITE;
@@ -159,20 +246,15 @@ static model_status_t faces_args(const model_mesh_t *mesh_link, const double com
   return MODEL_OK;
 }
 
-/* model_faces_find (stable_only 0: faces of at least min_face_area_m2, largest first) and
- * model_faces_stable (1: faces of any area holding the guess, largest margin first). */
-static model_status_t faces_list(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
-                                 const model_regime_config_t *cfg, int stable_only,
-                                 model_face_t *faces, size_t capacity, size_t *count) {
-  if (count == NULL || (faces == NULL && capacity > 0)) return MODEL_E_ARG;
-  *count = 0;
-  model_regime_config_t c;
-  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, &c);
-  if (st != MODEL_OK) return st;
-  const double min_area = stable_only ? 0.0 : c.min_face_area_m2;
-  model_mesh_t hull = {0};
-  if (model_mesh_hull(mesh_link, &hull, NULL) != MODEL_OK) return MODEL_E_HULL;
-  const size_t nf = hull.triangle_count, nv = mesh_link->vertex_count;
+/* The faces of the hull of mesh_link (arguments checked): stable_only 0, model_faces_find's (at
+ * least min_face_area_m2, largest first); 1, model_faces_stable's (any area, holding the guess,
+ * largest margin first). */
+static model_status_t faces_of_hull(const model_mesh_t *mesh_link, const model_mesh_t *hull,
+                                    const double com_guess_link_m[3],
+                                    const model_regime_config_t *c, int stable_only,
+                                    model_face_t *faces, size_t capacity, size_t *count) {
+  const size_t nf = hull->triangle_count, nv = mesh_link->vertex_count;
+  const double min_area = stable_only ? 0.0 : c->min_face_area_m2;
   model_hull_face_t *hf = malloc((nf > 0 ? nf : 1) * sizeof *hf);
   int *facet_face = malloc((nf > 0 ? nf : 1) * sizeof *facet_face);
   unsigned char *used = calloc(nv, 1);
@@ -181,15 +263,16 @@ static model_status_t faces_list(const model_mesh_t *mesh_link, const double com
   double(*poly)[2] = malloc((nv + 1) * sizeof *poly);
   model_face_t *tmp = malloc((nf > 0 ? nf : 1) * sizeof *tmp);
   size_t nhf = 0, found = 0;
+  model_status_t st = MODEL_OK;
   if (hf == NULL || facet_face == NULL || used == NULL || xy == NULL || pts == NULL ||
       poly == NULL || tmp == NULL) {
     st = MODEL_E_NOMEM;
     goto done;
   }
-  st = model_hull_faces(&hull, cos(1e-3), c.plane_tol_m, hf, facet_face, &nhf);
+  st = model_hull_faces(hull, cos(1e-3), c->plane_tol_m, hf, facet_face, &nhf);
   for (size_t i = 0; st == MODEL_OK && i < nhf; ++i) {
     if (hf[i].area_m2 < min_area || !(hf[i].area_m2 > 0.0)) continue;
-    st = face_analyse(mesh_link, hf[i].normal, com_guess_link_m, &c, xy, pts, poly, used,
+    st = face_analyse(mesh_link, hf[i].normal, com_guess_link_m, c, xy, pts, poly, used,
                       &tmp[found]);
     if (st == MODEL_OK && tmp[found].area_m2 >= min_area &&
         (!stable_only || tmp[found].com_margin_m >= 0.0))
@@ -201,7 +284,6 @@ static model_status_t faces_list(const model_mesh_t *mesh_link, const double com
     memcpy(faces, tmp, (found < capacity ? found : capacity) * sizeof *tmp);
   *count = found;
 done:
-  model_mesh_free(&hull);
   free(hf);
   free(facet_face);
   free(used);
@@ -212,16 +294,76 @@ done:
   return st;
 }
 
+/* A hull that failed: out of memory, or MODEL_E_HULL whatever model_mesh_hull said. */
+static model_status_t hull_failed(model_status_t st) {
+  return st == MODEL_E_NOMEM ? MODEL_E_NOMEM : MODEL_E_HULL;
+}
+
 model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
                                 const model_regime_config_t *cfg, model_face_t *faces,
                                 size_t capacity, size_t *count) {
-  return faces_list(mesh_link, com_guess_link_m, cfg, 0, faces, capacity, count);
+  model_regime_config_t c;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
+  if (st != MODEL_OK) return st;
+  model_mesh_t hull = {0};
+  st = model_mesh_hull(mesh_link, &hull, NULL);
+  if (st != MODEL_OK) return hull_failed(st);
+  st = faces_of_hull(mesh_link, &hull, com_guess_link_m, &c, 0, faces, capacity, count);
+  model_mesh_free(&hull);
+  return st;
+}
+
+model_status_t model_faces_find_hull(const model_mesh_t *mesh_link, const model_mesh_t *hull,
+                                     const double com_guess_link_m[3],
+                                     const model_regime_config_t *cfg, model_face_t *faces,
+                                     size_t capacity, size_t *count) {
+  model_regime_config_t c;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
+  if (st != MODEL_OK) return st;
+  st = model_mesh_usable(hull);
+  if (st != MODEL_OK) return st;
+  return faces_of_hull(mesh_link, hull, com_guess_link_m, &c, 0, faces, capacity, count);
+}
+
+model_status_t model_faces_find_in(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                   const model_regime_config_t *cfg, model_support_work_t *work,
+                                   model_face_t *faces, size_t capacity, size_t *count) {
+  model_regime_config_t c;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
+  if (st != MODEL_OK) return st;
+  const model_mesh_t *hull = NULL;
+  st = model_support_work_hull(work, mesh_link, &hull);
+  if (st == MODEL_E_ARG) return st;
+  if (st != MODEL_OK) return hull_failed(st);
+  return faces_of_hull(mesh_link, hull, com_guess_link_m, &c, 0, faces, capacity, count);
 }
 
 model_status_t model_faces_stable(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
                                   const model_regime_config_t *cfg, model_face_t *faces,
                                   size_t capacity, size_t *count) {
-  return faces_list(mesh_link, com_guess_link_m, cfg, 1, faces, capacity, count);
+  model_regime_config_t c;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
+  if (st != MODEL_OK) return st;
+  model_mesh_t hull = {0};
+  st = model_mesh_hull(mesh_link, &hull, NULL);
+  if (st != MODEL_OK) return hull_failed(st);
+  st = faces_of_hull(mesh_link, &hull, com_guess_link_m, &c, 1, faces, capacity, count);
+  model_mesh_free(&hull);
+  return st;
+}
+
+model_status_t model_faces_stable_in(const model_mesh_t *mesh_link,
+                                     const double com_guess_link_m[3],
+                                     const model_regime_config_t *cfg, model_support_work_t *work,
+                                     model_face_t *faces, size_t capacity, size_t *count) {
+  model_regime_config_t c;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
+  if (st != MODEL_OK) return st;
+  const model_mesh_t *hull = NULL;
+  st = model_support_work_hull(work, mesh_link, &hull);
+  if (st == MODEL_E_ARG) return st;
+  if (st != MODEL_OK) return hull_failed(st);
+  return faces_of_hull(mesh_link, hull, com_guess_link_m, &c, 1, faces, capacity, count);
 }
 
 /* The area-weighted normal of the mesh triangles within tol of the support plane n . x = h
@@ -251,7 +393,8 @@ model_status_t model_face_at(const model_mesh_t *mesh_link, const double normal_
                              model_face_t *out) {
   if (out == NULL || normal_link == NULL) return MODEL_E_ARG;
   model_regime_config_t c;
-  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, &c);
+  size_t unused = 0;
+  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, NULL, 0, &unused, &c);
   if (st != MODEL_OK) return st;
   double n[3];
   const double len = cl_vec3_norm(normal_link);

@@ -60,11 +60,12 @@ typedef struct {
   balance_trial_result_t trial;
 } balance_stable_pose_t;
 
-/* The stable poses of obj: model_faces_find(obj's mesh, com_guess_link_m) for the candidates,
- * each confirmed with balance_stable_confirm (with com_guess_link_m over B's middle). Writes the
- * confirmed ones, largest face first, up to `capacity`, and their number (may exceed capacity)
- * to *count; *trials_run (may be NULL) gets the number of trials run. Allocates temporary
- * memory. Errors of model_faces_find and balance_stable_confirm. */
+/* The stable poses of obj: model_faces_find(obj's mesh, com_guess_link_m) for the candidates
+ * (on the hull balance_object_create built: model_faces_find_hull), each confirmed with
+ * balance_stable_confirm (with com_guess_link_m over B's middle). Writes the confirmed ones,
+ * largest face first, up to `capacity`, and their number (may exceed capacity) to *count;
+ * *trials_run (may be NULL) gets the number of trials run. Allocates temporary memory. Errors of
+ * model_faces_find and balance_stable_confirm. */
 balance_status_t balance_stable_find(balance_world_t *world, balance_object_t *obj,
                                      const double com_guess_link_m[3],
                                      const model_regime_config_t *regime_cfg,

@@ -24,8 +24,9 @@
  * Memory: estimate_create makes one allocation of estimate_size(mesh) bytes (or estimate_init uses
  * the caller's); nothing is allocated per trial after that (the planning geometry runs in a work
  * area inside that memory). The first estimate_next finds the mesh's hull faces, which allocates
- * temporary memory once and frees it. The mesh is the caller's and must outlive the estimate.
- * Nothing here prints or does I/O. One thread per estimate; separate estimates are independent.
+ * temporary memory once and frees it; the hull itself stays in the work area. The mesh is the
+ * caller's and must outlive the estimate. Nothing here prints or does I/O. One thread per estimate;
+ * separate estimates are independent.
  */
 #ifndef COMLEARN_ESTIMATE_H
 #define COMLEARN_ESTIMATE_H
@@ -270,8 +271,8 @@ typedef struct {
 typedef struct estimate estimate_t; /* opaque */
 
 /* Bytes an estimate of mesh_link needs (for estimate_init): the estimator's state (171 824 on
- * x86-64) and lib/model's scratch memory for this mesh (217 592 for rock_1: 389 416 in all); 0
- * for NULL or an empty mesh. */
+ * x86-64) and lib/model's scratch memory for this mesh, the mesh's convex hull included (265 728
+ * for rock_1: 437 552 in all); 0 for NULL or an empty mesh. */
 size_t estimate_size(const model_mesh_t *mesh_link);
 
 /* Start an estimate of the object whose link-frame geometry is mesh_link (kept by pointer: it must

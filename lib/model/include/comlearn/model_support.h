@@ -202,14 +202,24 @@ typedef struct {
 
 /* Scratch memory for the patch, regime and yaw functions of one mesh: with it (the *_in variants)
  * they allocate nothing. model_support_work_size: the bytes for mesh (0 for NULL or an empty
- * mesh; 217 592 for rock_1, 1 002 vertices and 2 000 triangles). model_support_work_init lays a
- * work area out in the caller's `size` bytes at mem (8-byte aligned); NULL when mem is NULL,
- * misaligned or too small.
+ * mesh; 265 728 for rock_1, 1 002 vertices and 2 000 triangles, of which 48 096 hold the kept
+ * convex hull). model_support_work_init lays a work area out in the caller's `size` bytes at mem
+ * (8-byte aligned); NULL when mem is NULL, misaligned or too small.
  * A work area serves any mesh with the same vertex and triangle counts (others: MODEL_E_ARG),
  * one call at a time. The functions without _in allocate one per call. */
 typedef struct model_support_work model_support_work_t;
 size_t model_support_work_size(const model_mesh_t *mesh);
 model_support_work_t *model_support_work_init(void *mem, size_t size, const model_mesh_t *mesh);
+
+/* The convex hull of mesh_link kept in a work area, so that it is built once: the first call for
+ * mesh_link (the same pointer, its vertices unchanged) after model_support_work_init builds it
+ * with model_mesh_hull, which allocates temporary memory; later calls return it at once and
+ * allocate nothing. A call with another mesh builds that mesh's hull in its place. *hull points
+ * into the work area: valid while the work area is and until a call with another mesh; never
+ * model_mesh_free it. MODEL_E_ARG (NULL, or counts other than the work area's), else the errors
+ * of model_mesh_hull (*hull NULL, nothing kept). */
+model_status_t model_support_work_hull(model_support_work_t *work, const model_mesh_t *mesh_link,
+                                       const model_mesh_t **hull);
 
 /* Analyse a planned trial: the object (mesh_link) released at `pose` (as model_pose_over_edge
  * gives it) over `edge` of a block of size base_size_m, with the CoM estimate
@@ -307,7 +317,8 @@ model_status_t model_hull_faces(const model_mesh_t *hull, double merge_cos, doub
  * Writes up to `capacity` faces and the number found (may exceed capacity) to *count.
  * Flat patches of the object: the faces with flat != 0. Stable-pose candidates: candidate != 0.
  * Errors as model_patch_resting, plus MODEL_E_HULL when the hull fails (flat or degenerate
- * mesh) and MODEL_E_NOMEM. Allocates temporary memory (the hull); ~20 ms for a 1000-vertex rock. */
+ * mesh) and MODEL_E_NOMEM. Allocates temporary memory (the hull and the faces' scratch); ~3 ms
+ * for a 1000-vertex rock, of which the hull is 1 ms. */
 model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
                                 const model_regime_config_t *cfg, model_face_t *faces,
                                 size_t capacity, size_t *count);
@@ -320,6 +331,12 @@ model_status_t model_faces_stable(const model_mesh_t *mesh_link, const double co
                                   const model_regime_config_t *cfg, model_face_t *faces,
                                   size_t capacity, size_t *count);
 
+/* model_faces_stable with the hull kept in a work area of mesh_link (as model_faces_find_in). */
+model_status_t model_faces_stable_in(const model_mesh_t *mesh_link,
+                                     const double com_guess_link_m[3],
+                                     const model_regime_config_t *cfg, model_support_work_t *work,
+                                     model_face_t *faces, size_t capacity, size_t *count);
+
 /* The face of mesh_link's hull with outward normal ~normal_link (unit, link frame): the support
  * plane with that normal (through the farthest vertex), analysed as model_faces_find does for the
  * CoM guess; when the plane holds in-plane triangles its normal is refined to their area-weighted
@@ -328,6 +345,22 @@ model_status_t model_faces_stable(const model_mesh_t *mesh_link, const double co
 model_status_t model_face_at(const model_mesh_t *mesh_link, const double normal_link[3],
                              const double com_guess_link_m[3], const model_regime_config_t *cfg,
                              model_face_t *out);
+
+/* model_faces_find on a hull the caller built: hull must be model_mesh_hull(mesh_link) (it is
+ * taken as it is, and only checked like a mesh, model_mesh_usable). The same faces, bit for bit;
+ * builds no hull. Allocates temporary memory (the faces' scratch). */
+model_status_t model_faces_find_hull(const model_mesh_t *mesh_link, const model_mesh_t *hull,
+                                     const double com_guess_link_m[3],
+                                     const model_regime_config_t *cfg, model_face_t *faces,
+                                     size_t capacity, size_t *count);
+
+/* model_faces_find with the hull kept in a work area of mesh_link (model_support_work_hull): the
+ * first call builds it, later calls and every other user of the work area reuse it. The same
+ * faces, bit for bit; MODEL_E_ARG also for a NULL work area or one of other counts. Allocates
+ * temporary memory (the first call's hull, and the faces' scratch). */
+model_status_t model_faces_find_in(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                   const model_regime_config_t *cfg, model_support_work_t *work,
+                                   model_face_t *faces, size_t capacity, size_t *count);
 
 /* When a confirmation trial counts as resting stably. model_stable_config_default(). */
 typedef struct {
