@@ -1,0 +1,416 @@
+/* outcome.c - the geometric outcome model (comlearn/model_outcome.h): the support polygon of an
+ * object released on B and the CoM test against it. Pure geometry, no allocation (except
+ * model_outcome_predict without a work area). */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "comlearn/model_outcome.h"
+
+/* Points gathered before the hull is taken of them (the hull then replaces them). Twice the
+ * largest polygon, so every compression frees at least half of the buffer. */
+enum { CHUNK = 2 * MODEL_OUTCOME_MAX_VERTICES };
+
+struct model_outcome_work {
+  size_t vertex_count, triangle_count;
+  double (*w)[3];      /* vertices in the world */
+  unsigned char *code; /* out-codes against B's four edge planes (bit k: beyond plane k) */
+  double (*pts)[2];    /* support points gathered, CHUNK + 1 */
+  double (*hull)[2];   /* hull scratch, CHUNK + 1 */
+  size_t npts;         /* in pts now */
+  size_t total;        /* gathered in all */
+  model_outcome_support_t *support; /* model_outcome_predict's */
+};
+
+static size_t align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
+
+void model_outcome_config_default(model_outcome_config_t *cfg) {
+  if (cfg == NULL) return;
+  const model_outcome_config_t d = MODEL_OUTCOME_CONFIG_DEFAULT;
+  *cfg = d;
+}
+
+model_status_t model_outcome_config_check(const model_outcome_config_t *cfg) {
+  if (cfg == NULL) return MODEL_E_ARG;
+  if (!isfinite(cfg->tol_m) || !isfinite(cfg->min_width_m)) return MODEL_E_NONFINITE;
+  if (cfg->tol_m < 0.0 || cfg->tol_m > MODEL_OUTCOME_MAX_TOL_M || cfg->min_width_m < 0.0)
+    return MODEL_E_ARG;
+  return MODEL_OK;
+}
+
+size_t model_outcome_work_size(const model_mesh_t *mesh) {
+  if (mesh == NULL || mesh->vertex_count == 0 || mesh->triangle_count == 0) return 0;
+  const size_t nv = mesh->vertex_count;
+  return align8(sizeof(model_outcome_work_t)) + align8(nv * sizeof(double[3])) + align8(nv) +
+         2 * align8((CHUNK + 1) * sizeof(double[2])) + align8(sizeof(model_outcome_support_t));
+}
+
+model_outcome_work_t *model_outcome_work_init(void *mem, size_t size, const model_mesh_t *mesh) {
+  const size_t need = model_outcome_work_size(mesh);
+  if (mem == NULL || need == 0 || size < need || ((uintptr_t)mem & 7u) != 0) return NULL;
+  const size_t nv = mesh->vertex_count;
+  unsigned char *p = mem;
+  model_outcome_work_t *w = (model_outcome_work_t *)(void *)p;
+  memset(w, 0, sizeof *w);
+  p += align8(sizeof *w);
+  w->vertex_count = nv;
+  w->triangle_count = mesh->triangle_count;
+  w->w = (double(*)[3])(void *)p;
+  p += align8(nv * sizeof(double[3]));
+  w->code = p;
+  p += align8(nv);
+  w->pts = (double(*)[2])(void *)p;
+  p += align8((CHUNK + 1) * sizeof(double[2]));
+  w->hull = (double(*)[2])(void *)p;
+  p += align8((CHUNK + 1) * sizeof(double[2]));
+  w->support = (model_outcome_support_t *)(void *)p;
+  return w;
+}
+
+/* ---- planar hull without allocation (qsort may allocate) ----------------------------------- */
+
+static int xy_less(const double a[2], const double b[2]) {
+  return a[0] < b[0] || (a[0] == b[0] && a[1] < b[1]);
+}
+
+static void xy_swap(double a[2], double b[2]) {
+  const double t0 = a[0], t1 = a[1];
+  a[0] = b[0];
+  a[1] = b[1];
+  b[0] = t0;
+  b[1] = t1;
+}
+
+static void sift_down(double (*p)[2], size_t root, size_t n) {
+  for (size_t child; (child = 2 * root + 1) < n; root = child) {
+    if (child + 1 < n && xy_less(p[child], p[child + 1])) ++child;
+    if (!xy_less(p[root], p[child])) return;
+    xy_swap(p[root], p[child]);
+  }
+}
+
+/* Heapsort by (x, y): in place, O(n log n), deterministic. */
+static void xy_sort(double (*p)[2], size_t n) {
+  for (size_t i = n / 2; i-- > 0;) sift_down(p, i, n);
+  for (size_t end = n; end-- > 1;) {
+    xy_swap(p[0], p[end]);
+    sift_down(p, 0, end);
+  }
+}
+
+/* o -> a -> b turns left by more than 1e-12 rad. Points collinear within that (the crossings of
+ * one edge line, a rotated row of vertices: equal to rounding) are dropped as model_polygon_hull
+ * drops exactly collinear ones; a point so dropped lies within 1e-12 x the side's length of it. */
+static int turns_left(const double o[2], const double a[2], const double b[2]) {
+  const double ax = a[0] - o[0], ay = a[1] - o[1], bx = b[0] - o[0], by = b[1] - o[1];
+  const double c = ax * by - ay * bx;
+  return c > 0.0 && c * c > 1e-24 * (ax * ax + ay * ay) * (bx * bx + by * by);
+}
+
+/* Andrew's monotone chain, as model_polygon_hull (same order, duplicates and collinear points
+ * dropped) but sorting in place without allocating. pts is reordered; hull needs n + 1 rows. */
+static size_t hull_build(double (*pts)[2], size_t n, double (*hull)[2]) {
+  xy_sort(pts, n);
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) /* duplicates out first: a hull of 2 equal points is 1 point */
+    if (m == 0 || pts[i][0] != pts[m - 1][0] || pts[i][1] != pts[m - 1][1]) {
+      pts[m][0] = pts[i][0];
+      pts[m++][1] = pts[i][1];
+    }
+  if (m < 3) {
+    memcpy(hull, pts, m * sizeof *pts);
+    return m;
+  }
+  size_t k = 0;
+  for (size_t i = 0; i < m; ++i) {
+    while (k >= 2 && !turns_left(hull[k - 2], hull[k - 1], pts[i])) --k;
+    memcpy(hull[k++], pts[i], sizeof *pts);
+  }
+  const size_t lower = k + 1;
+  for (size_t i = m - 1; i-- > 0;) {
+    while (k >= lower && !turns_left(hull[k - 2], hull[k - 1], pts[i])) --k;
+    memcpy(hull[k++], pts[i], sizeof *pts);
+  }
+  return k - 1; /* the last point repeats the first */
+}
+
+/* Add a support point; when the buffer is full, replace its points by their hull (the hull of
+ * the union is the hull of (hull of the first part) and the rest). */
+static model_status_t point_add(model_outcome_work_t *w, double x, double y) {
+  if (w->npts == CHUNK) {
+    const size_t k = hull_build(w->pts, w->npts, w->hull);
+    if (k > MODEL_OUTCOME_MAX_VERTICES) return MODEL_E_CAPACITY;
+    memcpy(w->pts, w->hull, k * sizeof *w->hull);
+    w->npts = k;
+  }
+  w->pts[w->npts][0] = x;
+  w->pts[w->npts][1] = y;
+  ++w->npts;
+  ++w->total;
+  return MODEL_OK;
+}
+
+/* ---- the support set ---------------------------------------------------------------------- */
+
+static model_status_t pose_check(const model_pose_t *pose, double r[3][3]) {
+  for (int k = 0; k < 3; ++k)
+    if (!isfinite(pose->position_m[k])) return MODEL_E_NONFINITE;
+  for (int k = 0; k < 3; ++k)
+    if (fabs(pose->position_m[k]) > MODEL_MAX_POSITION_M) return MODEL_E_POSE;
+  double q[4];
+  const model_status_t st = model_quat_unit(pose->orientation_wxyz, q);
+  if (st != MODEL_OK) return st;
+  model_quat_to_rot(q, r);
+  return MODEL_OK;
+}
+
+static model_status_t inputs_check(const model_mesh_t *m, const model_pose_t *pose,
+                                   const double base[3], const model_outcome_work_t *w) {
+  if (m == NULL || pose == NULL || base == NULL || w == NULL || m->vertices_m == NULL ||
+      m->triangles == NULL || m->vertex_count == 0 || m->triangle_count == 0)
+    return MODEL_E_ARG;
+  if (w->vertex_count != m->vertex_count || w->triangle_count != m->triangle_count)
+    return MODEL_E_ARG;
+  for (int k = 0; k < 3; ++k) {
+    if (!isfinite(base[k])) return MODEL_E_NONFINITE;
+    if (!(base[k] > 0.0)) return MODEL_E_ARG;
+  }
+  return MODEL_OK;
+}
+
+/* Vertices into the world with their out-codes; checks finiteness and the triangle indices. */
+static model_status_t vertices_place(const model_mesh_t *m, const double r[3][3], const double p[3],
+                                     double hx, double hy, model_outcome_work_t *w) {
+  for (size_t i = 0; i < m->vertex_count; ++i) {
+    const double *v = m->vertices_m[i];
+    if (!isfinite(v[0]) || !isfinite(v[1]) || !isfinite(v[2])) return MODEL_E_NONFINITE;
+    double *x = w->w[i];
+    for (int k = 0; k < 3; ++k) x[k] = r[k][0] * v[0] + r[k][1] * v[1] + r[k][2] * v[2] + p[k];
+    w->code[i] =
+        (unsigned char)((x[0] > hx) | (x[0] < -hx) << 1 | (x[1] > hy) << 2 | (x[1] < -hy) << 3);
+  }
+  for (size_t t = 0; t < m->triangle_count; ++t)
+    for (int k = 0; k < 3; ++k)
+      if (m->triangles[t][k] >= m->vertex_count) return MODEL_E_DEGENERATE;
+  return MODEL_OK;
+}
+
+/* Where segment a -> b crosses edge plane k (0: x = +hx, 1: x = -hx, 2: y = +hy, 3: y = -hy)
+ * within the edge's length, as lib/balance's generator computes it. Only called when the ends'
+ * out-codes differ in bit k. Returns 1 with the point in x. */
+static int plane_cross(const double a[3], const double b[3], int k, double hx, double hy,
+                       double x[3]) {
+  const int axis = k < 2 ? 0 : 1;
+  const double h = axis == 0 ? hx : hy, other = axis == 0 ? hy : hx;
+  const double plane = (k % 2 == 0) ? h : -h;
+  const double da = a[axis] - plane, db = b[axis] - plane;
+  const double t = da / (da - db);
+  for (int c = 0; c < 3; ++c) x[c] = a[c] + t * (b[c] - a[c]);
+  return fabs(x[1 - axis]) <= other;
+}
+
+/* Visit the support candidates: vertices over the rectangle and edge-plane crossings within the
+ * edges' lengths, with z <= zcut. mode 0: lower *zmin to the lowest of them (zcut ignored);
+ * mode 1: add them to the point buffer. Every triangle side is visited (a closed mesh's edges
+ * twice: duplicates do not change a hull). */
+static model_status_t candidates(const model_mesh_t *m, double hx, double hy, int mode, double zcut,
+                                 model_outcome_work_t *w, double *zmin) {
+  for (size_t i = 0; i < m->vertex_count; ++i) {
+    if (w->code[i] != 0) continue;
+    const double *x = w->w[i];
+    if (mode == 0) {
+      if (x[2] < *zmin) *zmin = x[2];
+    } else if (x[2] <= zcut) {
+      const model_status_t st = point_add(w, x[0], x[1]);
+      if (st != MODEL_OK) return st;
+    }
+  }
+  for (size_t t = 0; t < m->triangle_count; ++t) {
+    for (int s = 0; s < 3; ++s) {
+      const uint32_t ia = m->triangles[t][s], ib = m->triangles[t][(s + 1) % 3];
+      const unsigned diff = (unsigned)(w->code[ia] ^ w->code[ib]);
+      if (diff == 0) continue;
+      const double *a = w->w[ia], *b = w->w[ib];
+      if (mode == 1 && a[2] > zcut && b[2] > zcut) continue;
+      for (int k = 0; k < 4; ++k) {
+        double x[3];
+        if (!(diff & (1u << k)) || !plane_cross(a, b, k, hx, hy, x)) continue;
+        if (mode == 0) {
+          if (x[2] < *zmin) *zmin = x[2];
+        } else if (x[2] <= zcut) {
+          const model_status_t st = point_add(w, x[0], x[1]);
+          if (st != MODEL_OK) return st;
+        }
+      }
+    }
+  }
+  return MODEL_OK;
+}
+
+/* The support hull into w->hull[0 .. *nh), with the plane, the point count and the rotation. */
+static model_status_t support_hull(const model_mesh_t *m, const model_pose_t *pose,
+                                   const double base[3], double tol_m, model_outcome_work_t *w,
+                                   double r[3][3], double *zref, size_t *npoints, size_t *nh) {
+  *nh = 0;
+  *npoints = 0;
+  *zref = HUGE_VAL;
+  model_status_t st = inputs_check(m, pose, base, w);
+  if (st != MODEL_OK) return st;
+  if (!isfinite(tol_m)) return MODEL_E_NONFINITE;
+  if (tol_m < 0.0 || tol_m > MODEL_OUTCOME_MAX_TOL_M) return MODEL_E_ARG;
+  if ((st = pose_check(pose, r)) != MODEL_OK) return st;
+  const double hx = 0.5 * base[0], hy = 0.5 * base[1];
+  if ((st = vertices_place(m, (const double(*)[3])r, pose->position_m, hx, hy, w)) != MODEL_OK)
+    return st;
+  st = candidates(m, hx, hy, 0, 0.0, w, zref);
+  if (st != MODEL_OK || !(*zref < HUGE_VAL)) return st; /* nothing over B */
+  w->npts = 0;
+  w->total = 0;
+  st = candidates(m, hx, hy, 1, *zref + tol_m, w, zref);
+  if (st != MODEL_OK) return st;
+  *npoints = w->total;
+  const size_t k = hull_build(w->pts, w->npts, w->hull);
+  if (k > MODEL_OUTCOME_MAX_VERTICES) return MODEL_E_CAPACITY;
+  *nh = k;
+  return MODEL_OK;
+}
+
+model_status_t model_support_polygon(const model_mesh_t *mesh_link, const model_pose_t *pose,
+                                     const double base_size_m[3], double tol_m,
+                                     model_outcome_work_t *work, double (*polygon_xy_m)[2],
+                                     size_t capacity, size_t *n) {
+  if (n == NULL || (polygon_xy_m == NULL && capacity > 0)) return MODEL_E_ARG;
+  *n = 0;
+  double r[3][3], zref;
+  size_t npoints, nh;
+  const model_status_t st =
+      support_hull(mesh_link, pose, base_size_m, tol_m, work, r, &zref, &npoints, &nh);
+  if (st != MODEL_OK) return st;
+  *n = nh;
+  if (nh > capacity) return MODEL_E_CAPACITY;
+  if (nh > 0) memcpy(polygon_xy_m, work->hull, nh * sizeof *work->hull);
+  return MODEL_OK;
+}
+
+/* ---- the outcome -------------------------------------------------------------------------- */
+
+static void support_sides(model_outcome_support_t *s) {
+  const size_t n = s->vertex_count;
+  for (size_t i = 0; i < n && n >= 3; ++i) {
+    const double *a = s->polygon_xy_m[i], *b = s->polygon_xy_m[(i + 1) % n];
+    const double ex = b[0] - a[0], ey = b[1] - a[1], len = sqrt(ex * ex + ey * ey);
+    /* counter-clockwise: the interior is to the left, inward normal (-ey, ex) / len */
+    s->side_m[i][0] = -ey / len;
+    s->side_m[i][1] = ex / len;
+    s->side_m[i][2] = s->side_m[i][0] * a[0] + s->side_m[i][1] * a[1];
+  }
+}
+
+model_status_t model_outcome_support_build(const model_mesh_t *mesh_link, const model_pose_t *pose,
+                                           const double base_size_m[3],
+                                           const model_outcome_config_t *cfg,
+                                           model_outcome_work_t *work,
+                                           model_outcome_support_t *out) {
+  if (out == NULL) return MODEL_E_ARG;
+  memset(out, 0, offsetof(model_outcome_support_t, polygon_xy_m));
+  model_outcome_config_t c = MODEL_OUTCOME_CONFIG_DEFAULT;
+  if (cfg != NULL) {
+    const model_status_t cs = model_outcome_config_check(cfg);
+    if (cs != MODEL_OK) return cs;
+    c = *cfg;
+  }
+  double zref;
+  size_t npoints, nh;
+  const model_status_t st =
+      support_hull(mesh_link, pose, base_size_m, c.tol_m, work, out->rot, &zref, &npoints, &nh);
+  if (st != MODEL_OK) {
+    memset(out->rot, 0, sizeof out->rot);
+    return st;
+  }
+  memcpy(out->position_m, pose->position_m, sizeof out->position_m);
+  out->support_z_m = zref;
+  out->point_count = npoints;
+  out->vertex_count = nh;
+  memcpy(out->polygon_xy_m, work->hull, nh * sizeof *work->hull);
+  out->width_m = model_polygon_width((const double(*)[2])out->polygon_xy_m, nh);
+  out->valid = nh >= 3 && out->width_m >= c.min_width_m && out->width_m > 0.0;
+  out->area_m2 = out->valid ? model_polygon_area((const double(*)[2])out->polygon_xy_m, nh) : 0.0;
+  if (out->valid) support_sides(out);
+  return MODEL_OK;
+}
+
+/* Distance from p to segment a-b (a == b: to the point). */
+static double segment_dist(const double a[2], const double b[2], const double p[2]) {
+  const double ex = b[0] - a[0], ey = b[1] - a[1], ll = ex * ex + ey * ey;
+  double s = ll > 0.0 ? ((p[0] - a[0]) * ex + (p[1] - a[1]) * ey) / ll : 0.0;
+  s = s < 0.0 ? 0.0 : (s > 1.0 ? 1.0 : s);
+  const double dx = p[0] - (a[0] + s * ex), dy = p[1] - (a[1] + s * ey);
+  return sqrt(dx * dx + dy * dy);
+}
+
+/* Distance from p to the closed polygon boundary-or-inside: 0 inside, else to the nearest side. */
+static double outside_dist(const model_outcome_support_t *s, const double p[2]) {
+  const size_t n = s->vertex_count;
+  if (n == 1) return segment_dist(s->polygon_xy_m[0], s->polygon_xy_m[0], p);
+  double best = HUGE_VAL;
+  for (size_t i = 0; i < n; ++i) {
+    const double d = segment_dist(s->polygon_xy_m[i], s->polygon_xy_m[(i + 1) % n], p);
+    if (d < best) best = d;
+  }
+  return best;
+}
+
+model_status_t model_outcome_support_test(const model_outcome_support_t *s,
+                                          const double com_link_m[3], int *in_place,
+                                          double *margin_m) {
+  if (s == NULL || com_link_m == NULL || in_place == NULL || margin_m == NULL) return MODEL_E_ARG;
+  *in_place = 0;
+  *margin_m = -HUGE_VAL;
+  if (!isfinite(com_link_m[0]) || !isfinite(com_link_m[1]) || !isfinite(com_link_m[2]))
+    return MODEL_E_NONFINITE;
+  if (s->vertex_count == 0 || s->vertex_count > MODEL_OUTCOME_MAX_VERTICES) return MODEL_OK;
+  double p[2];
+  for (int k = 0; k < 2; ++k)
+    p[k] = s->rot[k][0] * com_link_m[0] + s->rot[k][1] * com_link_m[1] +
+           s->rot[k][2] * com_link_m[2] + s->position_m[k];
+  if (!s->valid) {
+    /* a point, a segment or a sliver: no rest; how far the CoM is from it */
+    double d = outside_dist(s, p);
+    if (s->vertex_count >= 3 && model_polygon_margin(s->polygon_xy_m, s->vertex_count, p) >= 0.0)
+      d = 0.0;
+    *margin_m = -d;
+    return MODEL_OK;
+  }
+  double inside = HUGE_VAL;
+  for (size_t i = 0; i < s->vertex_count; ++i) {
+    const double d = s->side_m[i][0] * p[0] + s->side_m[i][1] * p[1] - s->side_m[i][2];
+    if (d < inside) inside = d;
+  }
+  *margin_m = inside >= 0.0 ? inside : -outside_dist(s, p);
+  *in_place = *margin_m > 0.0;
+  return MODEL_OK;
+}
+
+model_status_t model_outcome_predict(const model_mesh_t *mesh_link, const model_pose_t *pose,
+                                     const double base_size_m[3], const double com_link_m[3],
+                                     const model_outcome_config_t *cfg, model_outcome_work_t *work,
+                                     int *in_place, double *margin_m) {
+  if (in_place == NULL || margin_m == NULL || com_link_m == NULL) return MODEL_E_ARG;
+  *in_place = 0;
+  *margin_m = -HUGE_VAL;
+  void *mem = NULL;
+  if (work == NULL) {
+    const size_t size = model_outcome_work_size(mesh_link);
+    if (size == 0) return MODEL_E_ARG;
+    mem = malloc(size);
+    if (mem == NULL) return MODEL_E_NOMEM;
+    work = model_outcome_work_init(mem, size, mesh_link);
+  }
+  model_status_t st =
+      model_outcome_support_build(mesh_link, pose, base_size_m, cfg, work, work->support);
+  if (st == MODEL_OK)
+    st = model_outcome_support_test(work->support, com_link_m, in_place, margin_m);
+  free(mem);
+  return st;
+}
