@@ -16,10 +16,12 @@ struct model_outcome_work {
   size_t vertex_count, triangle_count;
   double (*w)[3];      /* vertices in the world */
   unsigned char *code; /* out-codes against B's four edge planes (bit k: beyond plane k) */
-  double (*pts)[2];    /* support points gathered, CHUNK + 1 */
-  double (*hull)[2];   /* hull scratch, CHUNK + 1 */
-  size_t npts;         /* in pts now */
-  size_t total;        /* gathered in all */
+  uint32_t *cross;     /* triangles whose corners' out-codes differ */
+  size_t ncross;
+  double (*pts)[2];                 /* support points gathered, CHUNK + 1 */
+  double (*hull)[2];                /* hull scratch, CHUNK + 1 */
+  size_t npts;                      /* in pts now */
+  size_t total;                     /* gathered in all */
   model_outcome_support_t *support; /* model_outcome_predict's */
 };
 
@@ -43,6 +45,7 @@ size_t model_outcome_work_size(const model_mesh_t *mesh) {
   if (mesh == NULL || mesh->vertex_count == 0 || mesh->triangle_count == 0) return 0;
   const size_t nv = mesh->vertex_count;
   return align8(sizeof(model_outcome_work_t)) + align8(nv * sizeof(double[3])) + align8(nv) +
+         align8(mesh->triangle_count * sizeof(uint32_t)) +
          2 * align8((CHUNK + 1) * sizeof(double[2])) + align8(sizeof(model_outcome_support_t));
 }
 
@@ -60,6 +63,8 @@ model_outcome_work_t *model_outcome_work_init(void *mem, size_t size, const mode
   p += align8(nv * sizeof(double[3]));
   w->code = p;
   p += align8(nv);
+  w->cross = (uint32_t *)(void *)p;
+  p += align8(mesh->triangle_count * sizeof(uint32_t));
   w->pts = (double(*)[2])(void *)p;
   p += align8((CHUNK + 1) * sizeof(double[2]));
   w->hull = (double(*)[2])(void *)p;
@@ -179,20 +184,21 @@ static model_status_t inputs_check(const model_mesh_t *m, const model_pose_t *po
   return MODEL_OK;
 }
 
-/* Vertices into the world with their out-codes; checks finiteness and the triangle indices. */
+/* Vertices into the world with their out-codes; checks finiteness. *zmin: the lowest vertex
+ * over the rectangle (HUGE_VAL when none). */
 static model_status_t vertices_place(const model_mesh_t *m, const double r[3][3], const double p[3],
-                                     double hx, double hy, model_outcome_work_t *w) {
+                                     double hx, double hy, model_outcome_work_t *w, double *zmin) {
+  *zmin = HUGE_VAL;
   for (size_t i = 0; i < m->vertex_count; ++i) {
     const double *v = m->vertices_m[i];
     if (!isfinite(v[0]) || !isfinite(v[1]) || !isfinite(v[2])) return MODEL_E_NONFINITE;
     double *x = w->w[i];
     for (int k = 0; k < 3; ++k) x[k] = r[k][0] * v[0] + r[k][1] * v[1] + r[k][2] * v[2] + p[k];
-    w->code[i] =
+    const unsigned char c =
         (unsigned char)((x[0] > hx) | (x[0] < -hx) << 1 | (x[1] > hy) << 2 | (x[1] < -hy) << 3);
+    w->code[i] = c;
+    if (c == 0 && x[2] < *zmin) *zmin = x[2];
   }
-  for (size_t t = 0; t < m->triangle_count; ++t)
-    for (int k = 0; k < 3; ++k)
-      if (m->triangles[t][k] >= m->vertex_count) return MODEL_E_DEGENERATE;
   return MODEL_OK;
 }
 
@@ -210,42 +216,60 @@ static int plane_cross(const double a[3], const double b[3], int k, double hx, d
   return fabs(x[1 - axis]) <= other;
 }
 
-/* Visit the support candidates: vertices over the rectangle and edge-plane crossings within the
- * edges' lengths, with z <= zcut. mode 0: lower *zmin to the lowest of them (zcut ignored);
- * mode 1: add them to the point buffer. Every triangle side is visited (a closed mesh's edges
- * twice: duplicates do not change a hull). */
-static model_status_t candidates(const model_mesh_t *m, double hx, double hy, int mode, double zcut,
-                                 model_outcome_work_t *w, double *zmin) {
-  for (size_t i = 0; i < m->vertex_count; ++i) {
-    if (w->code[i] != 0) continue;
-    const double *x = w->w[i];
-    if (mode == 0) {
-      if (x[2] < *zmin) *zmin = x[2];
-    } else if (x[2] <= zcut) {
-      const model_status_t st = point_add(w, x[0], x[1]);
-      if (st != MODEL_OK) return st;
-    }
-  }
-  for (size_t t = 0; t < m->triangle_count; ++t) {
-    for (int s = 0; s < 3; ++s) {
-      const uint32_t ia = m->triangles[t][s], ib = m->triangles[t][(s + 1) % 3];
-      const unsigned diff = (unsigned)(w->code[ia] ^ w->code[ib]);
-      if (diff == 0) continue;
-      const double *a = w->w[ia], *b = w->w[ib];
-      if (mode == 1 && a[2] > zcut && b[2] > zcut) continue;
-      for (int k = 0; k < 4; ++k) {
-        double x[3];
-        if (!(diff & (1u << k)) || !plane_cross(a, b, k, hx, hy, x)) continue;
-        if (mode == 0) {
-          if (x[2] < *zmin) *zmin = x[2];
-        } else if (x[2] <= zcut) {
-          const model_status_t st = point_add(w, x[0], x[1]);
-          if (st != MODEL_OK) return st;
-        }
+/* The crossings of triangle t's sides with the edge planes, within the edges' lengths, at most
+ * zcut high: lowered into *zmin (add 0) or added to the point buffer (add 1). Every side is
+ * visited, so a closed mesh's edges twice: duplicates do not change a hull. */
+static model_status_t tri_crossings(const model_mesh_t *m, size_t t, double hx, double hy,
+                                    double zcut, int add, model_outcome_work_t *w, double *zmin) {
+  const uint32_t *tri = m->triangles[t];
+  for (int s = 0; s < 3; ++s) {
+    const uint32_t ia = tri[s], ib = tri[(s + 1) % 3];
+    const unsigned diff = (unsigned)(w->code[ia] ^ w->code[ib]);
+    const double *a = w->w[ia], *b = w->w[ib];
+    if (diff == 0 || (a[2] > zcut && b[2] > zcut)) continue;
+    for (int k = 0; k < 4; ++k) {
+      double x[3];
+      if (!(diff & (1u << k)) || !plane_cross(a, b, k, hx, hy, x) || x[2] > zcut) continue;
+      if (!add) {
+        if (x[2] < *zmin) *zmin = x[2];
+      } else {
+        const model_status_t st = point_add(w, x[0], x[1]);
+        if (st != MODEL_OK) return st;
       }
     }
   }
   return MODEL_OK;
+}
+
+/* First pass over the triangles: checks the indices, lists the triangles whose corners' out-codes
+ * differ (only they cross an edge plane) and lowers *zmin to their lowest crossing. */
+static model_status_t tris_scan(const model_mesh_t *m, double hx, double hy,
+                                model_outcome_work_t *w, double *zmin) {
+  w->ncross = 0;
+  for (size_t t = 0; t < m->triangle_count; ++t) {
+    const uint32_t *tri = m->triangles[t];
+    if (tri[0] >= m->vertex_count || tri[1] >= m->vertex_count || tri[2] >= m->vertex_count)
+      return MODEL_E_DEGENERATE;
+    const unsigned char c0 = w->code[tri[0]];
+    if (c0 == w->code[tri[1]] && c0 == w->code[tri[2]]) continue;
+    w->cross[w->ncross++] = (uint32_t)t;
+    tri_crossings(m, t, hx, hy, HUGE_VAL, 0, w, zmin);
+  }
+  return MODEL_OK;
+}
+
+/* Second pass: every vertex over the rectangle and every listed crossing at most zcut high into
+ * the point buffer. */
+static model_status_t support_gather(const model_mesh_t *m, double hx, double hy, double zcut,
+                                     model_outcome_work_t *w) {
+  model_status_t st = MODEL_OK;
+  w->npts = 0;
+  w->total = 0;
+  for (size_t i = 0; i < m->vertex_count && st == MODEL_OK; ++i)
+    if (w->code[i] == 0 && w->w[i][2] <= zcut) st = point_add(w, w->w[i][0], w->w[i][1]);
+  for (size_t j = 0; j < w->ncross && st == MODEL_OK; ++j)
+    st = tri_crossings(m, w->cross[j], hx, hy, zcut, 1, w, NULL);
+  return st;
 }
 
 /* The support hull into w->hull[0 .. *nh), with the plane, the point count and the rotation. */
@@ -261,14 +285,10 @@ static model_status_t support_hull(const model_mesh_t *m, const model_pose_t *po
   if (tol_m < 0.0 || tol_m > MODEL_OUTCOME_MAX_TOL_M) return MODEL_E_ARG;
   if ((st = pose_check(pose, r)) != MODEL_OK) return st;
   const double hx = 0.5 * base[0], hy = 0.5 * base[1];
-  if ((st = vertices_place(m, (const double(*)[3])r, pose->position_m, hx, hy, w)) != MODEL_OK)
-    return st;
-  st = candidates(m, hx, hy, 0, 0.0, w, zref);
+  st = vertices_place(m, (const double(*)[3])r, pose->position_m, hx, hy, w, zref);
+  if (st == MODEL_OK) st = tris_scan(m, hx, hy, w, zref);
   if (st != MODEL_OK || !(*zref < HUGE_VAL)) return st; /* nothing over B */
-  w->npts = 0;
-  w->total = 0;
-  st = candidates(m, hx, hy, 1, *zref + tol_m, w, zref);
-  if (st != MODEL_OK) return st;
+  if ((st = support_gather(m, hx, hy, *zref + tol_m, w)) != MODEL_OK) return st;
   *npoints = w->total;
   const size_t k = hull_build(w->pts, w->npts, w->hull);
   if (k > MODEL_OUTCOME_MAX_VERTICES) return MODEL_E_CAPACITY;
