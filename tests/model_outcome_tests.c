@@ -38,7 +38,7 @@ static void support_at(const model_mesh_t *m, const model_pose_t *pose, model_ou
   double poly[MODEL_OUTCOME_MAX_VERTICES][2];
   size_t n = 0;
   ck_assert_int_eq(
-      model_support_polygon(m, pose, BASE, 3e-6, w, poly, MODEL_OUTCOME_MAX_VERTICES, &n),
+      model_support_polygon(m, pose, BASE, 1e-6, w, poly, MODEL_OUTCOME_MAX_VERTICES, &n),
       MODEL_OK);
   ck_assert_uint_eq(n, s->vertex_count);
   ck_assert_int_eq(memcmp(poly, s->polygon_xy_m, n * sizeof poly[0]), 0);
@@ -195,35 +195,54 @@ START_TEST(test_outcome_box_on_b) {
 }
 END_TEST
 
-/* The band: a box tilted about y so that its bottom's +x corners are 2 um (inside the 3 um band)
- * or 5 um (outside) above its -x corners. */
-START_TEST(test_outcome_band) {
+/* The band and the tilt: a box tilted about y so that its bottom's +x corners are `rise` above
+ * its -x corners, 40 cos(a) mm away. The default band (1 um) takes them up to a 1 um rise; with a
+ * tilt of 2e-4 rad also up to 1 um + 2e-4 x 40 cos(a) mm = 9 um (the box settles onto them by
+ * less than 2e-4 rad); model_support_polygon is the band alone. */
+START_TEST(test_outcome_band_and_tilt) {
   model_mesh_t m;
   box_40_60_50(&m);
   model_outcome_work_t *w = work_new(&m);
-  model_outcome_support_t s;
-  const double rise[2] = {2e-6, 5e-6};
-  for (int k = 0; k < 2; ++k) {
+  model_outcome_support_t s, s0;
+  const model_outcome_config_t tilt = {.tol_m = 1e-6, .tilt_rad = 2e-4, .min_width_m = 1e-7};
+  const double rise[5] = {0.7e-6, 1.5e-6, 8.9e-6, 9.1e-6, 12e-6};
+  for (int k = 0; k < 5; ++k) {
     const double a = -asin(rise[k] / 0.04), axis[3] = {0, 1, 0};
     model_pose_t pose = {.position_m = {0, 0, 0.1}};
     cl_quat_from_axis_angle(axis, a, pose.orientation_wxyz);
-    support_at(&m, &pose, w, &s);
     /* corner (x, y, -0.025) -> world x = x cos a - 0.025 sin a */
     const double ca = cos(a), sa = sin(a);
     const double x0 = -0.02 * ca - 0.025 * sa, x1 = 0.02 * ca - 0.025 * sa;
-    ck_assert_int_eq(s.valid, k == 0);
-    if (k == 0) {
-      const double want[4][2] = {{x0, -0.03}, {x1, -0.03}, {x1, 0.03}, {x0, 0.03}};
-      assert_polygon(&s, want, 4);
-    } else {
-      const double want[2][2] = {{x0, -0.03}, {x0, 0.03}};
-      assert_polygon(&s, want, 2);
-      /* a line support: no rest; the margin is minus the distance to the segment */
-      int in = -1;
-      const double com[3] = {0, 0, 0};
-      ck_assert_double_eq_tol(verdict(&m, &pose, w, &s, com, &in), -(0.0 * ca - x0), 1e-15);
-      ck_assert_int_eq(in, 0);
-    }
+    const double full[4][2] = {{x0, -0.03}, {x1, -0.03}, {x1, 0.03}, {x0, 0.03}};
+    const double line[2][2] = {{x0, -0.03}, {x0, 0.03}};
+    const int in_band = rise[k] <= 1e-6, in_tilt = rise[k] <= 1e-6 + 2e-4 * 0.04 * ca;
+    ck_assert_int_eq(model_outcome_support_build(&m, &pose, BASE, &tilt, w, &s), MODEL_OK);
+    ck_assert_int_eq(model_outcome_support_build(&m, &pose, BASE, NULL, w, &s0), MODEL_OK);
+    if (in_tilt)
+      assert_polygon(&s, full, 4);
+    else
+      assert_polygon(&s, line, 2);
+    if (in_band)
+      assert_polygon(&s0, full, 4);
+    else
+      assert_polygon(&s0, line, 2);
+    ck_assert_int_eq(s.valid, in_tilt);
+    ck_assert_int_eq(s0.valid, in_band);
+    double poly[8][2];
+    size_t n = 0;
+    ck_assert_int_eq(model_support_polygon(&m, &pose, BASE, 1e-6, w, poly, 8, &n), MODEL_OK);
+    ck_assert_uint_eq(n, s0.vertex_count);
+    ck_assert_int_eq(memcmp(poly, s0.polygon_xy_m, n * sizeof poly[0]), 0);
+    /* on a line support: no rest; the margin is minus the distance from x = 0 to the segment */
+    int in = -1;
+    double mg = 0.0;
+    const double com[3] = {0, 0, 0};
+    ck_assert_int_eq(model_outcome_support_test(&s0, com, &in, &mg), MODEL_OK);
+    ck_assert_double_eq_tol(mg, (in_band ? -x0 : x0), 1e-15); /* the nearest side: x = x0 */
+    ck_assert_int_eq(in, in_band);
+    /* lib/balance's 3 um contact band takes the corners raised up to 3 um */
+    ck_assert_int_eq(model_support_polygon(&m, &pose, BASE, 3e-6, w, poly, 8, &n), MODEL_OK);
+    ck_assert_uint_eq(n, rise[k] <= 3e-6 ? 4 : 2);
   }
   free(w);
   model_mesh_free(&m);
@@ -562,7 +581,7 @@ Suite *model_outcome_suite(void) {
   tcase_add_test(tc, test_outcome_box_straddling);
   tcase_add_test(tc, test_outcome_box_yawed);
   tcase_add_test(tc, test_outcome_box_on_b);
-  tcase_add_test(tc, test_outcome_band);
+  tcase_add_test(tc, test_outcome_band_and_tilt);
   tcase_add_test(tc, test_outcome_on_edge_line);
   tcase_add_test(tc, test_outcome_two_feet);
   tcase_add_test(tc, test_outcome_prism);

@@ -20,6 +20,7 @@ struct model_outcome_work {
   size_t ncross;
   double (*pts)[2];                 /* support points gathered, CHUNK + 1 */
   double (*hull)[2];                /* hull scratch, CHUNK + 1 */
+  double (*p0)[2];                  /* the band's hull, MODEL_OUTCOME_MAX_VERTICES */
   size_t npts;                      /* in pts now */
   size_t total;                     /* gathered in all */
   model_outcome_support_t *support; /* model_outcome_predict's */
@@ -35,8 +36,10 @@ void model_outcome_config_default(model_outcome_config_t *cfg) {
 
 model_status_t model_outcome_config_check(const model_outcome_config_t *cfg) {
   if (cfg == NULL) return MODEL_E_ARG;
-  if (!isfinite(cfg->tol_m) || !isfinite(cfg->min_width_m)) return MODEL_E_NONFINITE;
-  if (cfg->tol_m < 0.0 || cfg->tol_m > MODEL_OUTCOME_MAX_TOL_M || cfg->min_width_m < 0.0)
+  if (!isfinite(cfg->tol_m) || !isfinite(cfg->tilt_rad) || !isfinite(cfg->min_width_m))
+    return MODEL_E_NONFINITE;
+  if (cfg->tol_m < 0.0 || cfg->tol_m > MODEL_OUTCOME_MAX_TOL_M || cfg->tilt_rad < 0.0 ||
+      cfg->tilt_rad > MODEL_OUTCOME_MAX_TILT_RAD || cfg->min_width_m < 0.0)
     return MODEL_E_ARG;
   return MODEL_OK;
 }
@@ -46,7 +49,9 @@ size_t model_outcome_work_size(const model_mesh_t *mesh) {
   const size_t nv = mesh->vertex_count;
   return align8(sizeof(model_outcome_work_t)) + align8(nv * sizeof(double[3])) + align8(nv) +
          align8(mesh->triangle_count * sizeof(uint32_t)) +
-         2 * align8((CHUNK + 1) * sizeof(double[2])) + align8(sizeof(model_outcome_support_t));
+         2 * align8((CHUNK + 1) * sizeof(double[2])) +
+         align8(MODEL_OUTCOME_MAX_VERTICES * sizeof(double[2])) +
+         align8(sizeof(model_outcome_support_t));
 }
 
 model_outcome_work_t *model_outcome_work_init(void *mem, size_t size, const model_mesh_t *mesh) {
@@ -69,6 +74,8 @@ model_outcome_work_t *model_outcome_work_init(void *mem, size_t size, const mode
   p += align8((CHUNK + 1) * sizeof(double[2]));
   w->hull = (double(*)[2])(void *)p;
   p += align8((CHUNK + 1) * sizeof(double[2]));
+  w->p0 = (double(*)[2])(void *)p;
+  p += align8(MODEL_OUTCOME_MAX_VERTICES * sizeof(double[2]));
   w->support = (model_outcome_support_t *)(void *)p;
   return w;
 }
@@ -216,11 +223,47 @@ static int plane_cross(const double a[3], const double b[3], int k, double hx, d
   return fabs(x[1 - axis]) <= other;
 }
 
-/* The crossings of triangle t's sides with the edge planes, within the edges' lengths, at most
- * zcut high: lowered into *zmin (add 0) or added to the point buffer (add 1). Every side is
- * visited, so a closed mesh's edges twice: duplicates do not change a hull. */
+/* Which support candidates are taken: z <= zband (the band), or, with tilt > 0, z <= zband +
+ * tilt x (horizontal distance to the band's hull p0): the object reaches such a point by turning
+ * at most `tilt` about its band support. zmax bounds both (a cheap first test). */
+typedef struct {
+  double zband, zmax, tilt;
+  const double (*p0)[2];
+  size_t n0;
+} gate_t;
+
+/* Distance from (x, y) to the convex polygon p0 (n0 vertices, counter-clockwise; 1: a point,
+ * 2: a segment); 0 inside. */
+static double poly_dist(const double (*p0)[2], size_t n0, double x, double y) {
+  int inside = n0 >= 3;
+  double best = HUGE_VAL;
+  for (size_t i = 0; i < n0; ++i) {
+    const double *a = p0[i], *b = p0[(i + 1) % n0];
+    const double ex = b[0] - a[0], ey = b[1] - a[1], px = x - a[0], py = y - a[1];
+    if (ex * py - ey * px < 0.0) inside = 0;
+    const double ll = ex * ex + ey * ey;
+    double t = ll > 0.0 ? (px * ex + py * ey) / ll : 0.0;
+    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+    const double dx = px - t * ex, dy = py - t * ey, d = sqrt(dx * dx + dy * dy);
+    if (d < best) best = d;
+    if (n0 == 2) break; /* a segment: one side */
+  }
+  return inside ? 0.0 : best;
+}
+
+static int gate_pass(const gate_t *g, double x, double y, double z) {
+  if (z > g->zmax) return 0;
+  if (g->tilt <= 0.0) return z <= g->zband;
+  /* the band's points are the vertices of p0 already */
+  return z > g->zband && z <= g->zband + g->tilt * poly_dist(g->p0, g->n0, x, y);
+}
+
+/* The crossings of triangle t's sides with the edge planes, within the edges' lengths: the
+ * lowest into *zmin (g NULL), or those g passes into the point buffer. Every side is visited, so
+ * a closed mesh's edges twice: duplicates do not change a hull. */
 static model_status_t tri_crossings(const model_mesh_t *m, size_t t, double hx, double hy,
-                                    double zcut, int add, model_outcome_work_t *w, double *zmin) {
+                                    const gate_t *g, model_outcome_work_t *w, double *zmin) {
+  const double zcut = g ? g->zmax : HUGE_VAL;
   const uint32_t *tri = m->triangles[t];
   for (int s = 0; s < 3; ++s) {
     const uint32_t ia = tri[s], ib = tri[(s + 1) % 3];
@@ -229,10 +272,10 @@ static model_status_t tri_crossings(const model_mesh_t *m, size_t t, double hx, 
     if (diff == 0 || (a[2] > zcut && b[2] > zcut)) continue;
     for (int k = 0; k < 4; ++k) {
       double x[3];
-      if (!(diff & (1u << k)) || !plane_cross(a, b, k, hx, hy, x) || x[2] > zcut) continue;
-      if (!add) {
+      if (!(diff & (1u << k)) || !plane_cross(a, b, k, hx, hy, x)) continue;
+      if (g == NULL) {
         if (x[2] < *zmin) *zmin = x[2];
-      } else {
+      } else if (gate_pass(g, x[0], x[1], x[2])) {
         const model_status_t st = point_add(w, x[0], x[1]);
         if (st != MODEL_OK) return st;
       }
@@ -253,29 +296,63 @@ static model_status_t tris_scan(const model_mesh_t *m, double hx, double hy,
     const unsigned char c0 = w->code[tri[0]];
     if (c0 == w->code[tri[1]] && c0 == w->code[tri[2]]) continue;
     w->cross[w->ncross++] = (uint32_t)t;
-    tri_crossings(m, t, hx, hy, HUGE_VAL, 0, w, zmin);
+    tri_crossings(m, t, hx, hy, NULL, w, zmin);
   }
   return MODEL_OK;
 }
 
-/* Second pass: every vertex over the rectangle and every listed crossing at most zcut high into
- * the point buffer. */
-static model_status_t support_gather(const model_mesh_t *m, double hx, double hy, double zcut,
+/* Every vertex over the rectangle and every listed crossing that g passes into the point
+ * buffer (after what it holds). */
+static model_status_t support_gather(const model_mesh_t *m, double hx, double hy, const gate_t *g,
                                      model_outcome_work_t *w) {
   model_status_t st = MODEL_OK;
+  for (size_t i = 0; i < m->vertex_count && st == MODEL_OK; ++i) {
+    const double *x = w->w[i];
+    if (w->code[i] == 0 && gate_pass(g, x[0], x[1], x[2])) st = point_add(w, x[0], x[1]);
+  }
+  for (size_t j = 0; j < w->ncross && st == MODEL_OK; ++j)
+    st = tri_crossings(m, w->cross[j], hx, hy, g, w, NULL);
+  return st;
+}
+
+/* The hull of the point buffer into w->hull; *nh its vertex count. */
+static model_status_t buffer_hull(model_outcome_work_t *w, size_t *nh) {
+  const size_t k = hull_build(w->pts, w->npts, w->hull);
+  if (k > MODEL_OUTCOME_MAX_VERTICES) return MODEL_E_CAPACITY;
+  *nh = k;
+  return MODEL_OK;
+}
+
+/* The band's hull (w->hull, *nh), then, with tilt > 0, the hull of it and the points reached by
+ * turning at most tilt about it. */
+static model_status_t support_sets(const model_mesh_t *m, const double base[3], double zref,
+                                   double tol_m, double tilt_rad, model_outcome_work_t *w,
+                                   size_t *nh) {
+  const double hx = 0.5 * base[0], hy = 0.5 * base[1];
+  gate_t g = {.zband = zref + tol_m, .zmax = zref + tol_m, .tilt = 0.0};
   w->npts = 0;
   w->total = 0;
-  for (size_t i = 0; i < m->vertex_count && st == MODEL_OK; ++i)
-    if (w->code[i] == 0 && w->w[i][2] <= zcut) st = point_add(w, w->w[i][0], w->w[i][1]);
-  for (size_t j = 0; j < w->ncross && st == MODEL_OK; ++j)
-    st = tri_crossings(m, w->cross[j], hx, hy, zcut, 1, w, NULL);
+  model_status_t st = support_gather(m, hx, hy, &g, w);
+  if (st == MODEL_OK) st = buffer_hull(w, nh);
+  if (st != MODEL_OK || !(tilt_rad > 0.0)) return st;
+  memcpy(w->p0, w->hull, *nh * sizeof *w->hull);
+  g.p0 = (const double(*)[2])w->p0;
+  g.n0 = *nh;
+  g.tilt = tilt_rad;
+  g.zmax = g.zband + tilt_rad * hypot(base[0], base[1]); /* every point over B is that near */
+  w->npts = 0;
+  for (size_t i = 0; i < g.n0 && st == MODEL_OK; ++i) st = point_add(w, w->p0[i][0], w->p0[i][1]);
+  w->total -= g.n0; /* counted in the band already */
+  if (st == MODEL_OK) st = support_gather(m, hx, hy, &g, w);
+  if (st == MODEL_OK) st = buffer_hull(w, nh);
   return st;
 }
 
 /* The support hull into w->hull[0 .. *nh), with the plane, the point count and the rotation. */
 static model_status_t support_hull(const model_mesh_t *m, const model_pose_t *pose,
-                                   const double base[3], double tol_m, model_outcome_work_t *w,
-                                   double r[3][3], double *zref, size_t *npoints, size_t *nh) {
+                                   const double base[3], double tol_m, double tilt_rad,
+                                   model_outcome_work_t *w, double r[3][3], double *zref,
+                                   size_t *npoints, size_t *nh) {
   *nh = 0;
   *npoints = 0;
   *zref = HUGE_VAL;
@@ -288,11 +365,11 @@ static model_status_t support_hull(const model_mesh_t *m, const model_pose_t *po
   st = vertices_place(m, (const double(*)[3])r, pose->position_m, hx, hy, w, zref);
   if (st == MODEL_OK) st = tris_scan(m, hx, hy, w, zref);
   if (st != MODEL_OK || !(*zref < HUGE_VAL)) return st; /* nothing over B */
-  if ((st = support_gather(m, hx, hy, *zref + tol_m, w)) != MODEL_OK) return st;
+  if ((st = support_sets(m, base, *zref, tol_m, tilt_rad, w, nh)) != MODEL_OK) {
+    *nh = 0;
+    return st;
+  }
   *npoints = w->total;
-  const size_t k = hull_build(w->pts, w->npts, w->hull);
-  if (k > MODEL_OUTCOME_MAX_VERTICES) return MODEL_E_CAPACITY;
-  *nh = k;
   return MODEL_OK;
 }
 
@@ -305,7 +382,7 @@ model_status_t model_support_polygon(const model_mesh_t *mesh_link, const model_
   double r[3][3], zref;
   size_t npoints, nh;
   const model_status_t st =
-      support_hull(mesh_link, pose, base_size_m, tol_m, work, r, &zref, &npoints, &nh);
+      support_hull(mesh_link, pose, base_size_m, tol_m, 0.0, work, r, &zref, &npoints, &nh);
   if (st != MODEL_OK) return st;
   *n = nh;
   if (nh > capacity) return MODEL_E_CAPACITY;
@@ -342,8 +419,8 @@ model_status_t model_outcome_support_build(const model_mesh_t *mesh_link, const 
   }
   double zref;
   size_t npoints, nh;
-  const model_status_t st =
-      support_hull(mesh_link, pose, base_size_m, c.tol_m, work, out->rot, &zref, &npoints, &nh);
+  const model_status_t st = support_hull(mesh_link, pose, base_size_m, c.tol_m, c.tilt_rad, work,
+                                         out->rot, &zref, &npoints, &nh);
   if (st != MODEL_OK) {
     memset(out->rot, 0, sizeof out->rot);
     return st;
