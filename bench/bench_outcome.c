@@ -4,9 +4,10 @@
  * of its objects, random placements as the estimator makes them: a hull face of the object
  * (model_faces_find) and its resting orientation, a random yaw, a CoM hypothesis drawn inside the
  * convex hull at most half the object's height above that face with its vertical line inside the
- * face's support polygon, and the link point `CoM + d x` (x: world +x in the link frame) set over
- * B's +X edge with model_pose_over_edge (touching, 1 um deep), d uniform in [-2 mm, s + 1 mm], s
- * the face polygon's reach beyond the CoM towards the edge (so both outcomes occur). lib/balance
+ * face's support polygon (in B's middle, lib/balance's 3 um contact band: fixed, whatever
+ * band the model is run with), and the link point `CoM + d x` (x: world +x in the link frame) set
+ * over B's +X edge with model_pose_over_edge (touching, 1 um deep), d uniform in [-2 mm, s + 1 mm],
+ * s the face polygon's reach beyond the CoM towards the edge (so both outcomes occur). lib/balance
  * runs the trial (balance_trial_run, fast contact path, default config) on an object with that CoM
  * and the uniform-density mass and inertia; "in place" = STAYS with a settled rotation below
  * 2e-4 rad and the CoM moved less than 20 um (docs/DESIGN physics notes). The model says in place
@@ -17,10 +18,12 @@
  * STAYS, the disagreements by kind; then per class, at the threshold, lines (object, face, yaw,
  * CoM) whose d is bisected to 0.05 um in lib/balance and in the model: the bias d_balance - d_model
  * (positive: lib/balance needs the CoM further inside), median and max |bias|; the model's cost per
- * pose and per CoM; and the first disagreements of each class in detail.
+ * pose and per CoM; the agreement of other model settings (support band, tilt); the first
+ * disagreements of each class in detail, and the threshold lines whose flips differ by more than
+ * 5 um, with what lib/balance does halfway between them.
  *
  * Usage: bench_outcome [--placements N] [--objects K] [--per-com M] [--lines L] [--seed S]
- *                      [--families LIST] [--show D] [--help]
+ *                      [--families LIST] [--show D] [--tol-um T] [--tilt A] [--help]
  * Deterministic for given options. Wall time: a few minutes for the defaults. */
 #define _POSIX_C_SOURCE 200809L
 
@@ -42,15 +45,27 @@
 #include "rockgen.h"
 #include "shapegen.h"
 
-enum { MAX_FACES = 4096, MAX_CLASSES = 16, MAX_SHOW = 64, NTOL = 6 };
+enum { MAX_FACES = 4096, MAX_CLASSES = 16, MAX_SHOW = 64, NTOL = 8 };
 
-/* Support bands of the sweep (the model's default is 1 um). */
-static const double TOLS_M[NTOL] = {0.1e-6, 0.5e-6, 1e-6, 2e-6, 3e-6, 5e-6};
+/* The model settings of the sweep: support band and tilt (the library's defaults: 1 um, 0). */
+static const model_outcome_config_t SWEEP[NTOL] = {
+    {.tol_m = 0.1e-6, .tilt_rad = 0.0, .min_width_m = 1e-7},
+    {.tol_m = 1e-6, .tilt_rad = 0.0, .min_width_m = 1e-7},
+    {.tol_m = 3e-6, .tilt_rad = 0.0, .min_width_m = 1e-7},
+    {.tol_m = 0.1e-6, .tilt_rad = 2e-4, .min_width_m = 1e-7},
+    {.tol_m = 1e-6, .tilt_rad = 1e-4, .min_width_m = 1e-7},
+    {.tol_m = 1e-6, .tilt_rad = 2e-4, .min_width_m = 1e-7},
+    {.tol_m = 1e-6, .tilt_rad = 4e-4, .min_width_m = 1e-7},
+    {.tol_m = 3e-6, .tilt_rad = 2e-4, .min_width_m = 1e-7}};
 
 static const double BASE[3] = {0.30, 0.30, 0.10};
 #define IN_PLACE_ROT_RAD 2e-4
 #define IN_PLACE_MOVE_M 20e-6
 #define BISECT_TOL_M 5e-8
+/* Faces and CoM hypotheses are drawn on the support polygon in B's middle with lib/balance's
+ * contact band (3 um): a superset of the model's, fixed, so the draws do not depend on the model
+ * settings under test. */
+static const model_outcome_config_t DRAW_CFG = {.tol_m = 3e-6, .min_width_m = 1e-7};
 
 typedef struct {
   int placements, objects, per_com, lines, show;
@@ -100,9 +115,18 @@ typedef struct {
 typedef struct {
   char object[64];
   size_t face;
-  double normal[3], yaw_rad, d_m;
+  double normal[3], yaw_rad, d_m, com_m[3];
   trial_t t;
 } shown_t;
+
+/* A threshold line whose flips differ by more than LINE_SHOW_M: where, and what lib/balance
+ * does halfway between the two flips. */
+#define LINE_SHOW_M 5e-6
+typedef struct {
+  char object[64];
+  double normal[3], com_m[3], yaw_rad, d_model_m, d_balance_m;
+  trial_t mid;
+} line_t;
 
 /* Per-class tallies. */
 typedef struct {
@@ -121,6 +145,8 @@ typedef struct {
   long builds, tests, batch_in; /* timing: support builds, CoM tests (batch_in: their verdicts) */
   int nshow;
   shown_t show[MAX_SHOW];
+  int nline;
+  line_t line[MAX_SHOW];
 } tally_t;
 
 /* ---- objects -------------------------------------------------------------------------------- */
@@ -184,7 +210,7 @@ static int object_faces(object_t *o) {
     return -1;
   for (size_t i = 0; i < n && i < MAX_FACES; ++i) {
     const model_pose_t p = mid_pose(o, all[i].orientation_wxyz);
-    if (model_outcome_support_build(&o->mesh, &p, BASE, NULL, o->work, o->mid) != MODEL_OK)
+    if (model_outcome_support_build(&o->mesh, &p, BASE, &DRAW_CFG, o->work, o->mid) != MODEL_OK)
       continue;
     if (o->mid->valid && o->mid->width_m >= 5e-4) o->face[o->nface++] = all[i];
   }
@@ -236,7 +262,7 @@ static int inside_hull(const object_t *o, const double c[3]) {
 static int draw_com(object_t *o, size_t f, uint64_t *rng, double com_link[3]) {
   const model_pose_t p = mid_pose(o, o->face[f].orientation_wxyz);
   model_outcome_support_t *s = o->mid;
-  if (model_outcome_support_build(&o->mesh, &p, BASE, NULL, o->work, s) != MODEL_OK) return -1;
+  if (model_outcome_support_build(&o->mesh, &p, BASE, &DRAW_CFG, o->work, s) != MODEL_OK) return -1;
   double lo[2] = {HUGE_VAL, HUGE_VAL}, hi[2] = {-HUGE_VAL, -HUGE_VAL};
   for (size_t i = 0; i < s->vertex_count; ++i)
     for (int k = 0; k < 2; ++k) {
@@ -331,9 +357,8 @@ static int model_at(object_t *o, const model_pose_t *pose, const double com[3], 
   t->support_vertices = o->support->vertex_count;
   t->support_width_m = o->support->valid ? o->support->width_m : 0.0;
   for (int k = 0; k < NTOL && tl; ++k) {
-    const model_outcome_config_t cfg = {.tol_m = TOLS_M[k], .min_width_m = 1e-7};
     double m;
-    if (model_outcome_predict(&o->mesh, pose, BASE, com, &cfg, o->work, &t->in_tol[k], &m) !=
+    if (model_outcome_predict(&o->mesh, pose, BASE, com, &SWEEP[k], o->work, &t->in_tol[k], &m) !=
         MODEL_OK)
       return -1;
   }
@@ -424,6 +449,7 @@ static void tally_add(tally_t *tl, const object_t *o, const draw_t *dr, double d
     memcpy(sh->normal, o->face[dr->face].normal_link, sizeof sh->normal);
     sh->yaw_rad = dr->yaw_rad;
     sh->d_m = d;
+    memcpy(sh->com_m, dr->com_link_m, sizeof sh->com_m);
     sh->t = *t;
   }
 }
@@ -501,6 +527,21 @@ static void object_line(object_t *o, uint64_t *rng, tally_t *tl) {
       in_place_at(o, w, bo, &dr, lo, 1) == 0 && in_place_at(o, w, bo, &dr, hi, 1) == 1) {
     const double dm = bisect(o, w, bo, &dr, lo, hi, 0), db = bisect(o, w, bo, &dr, lo, hi, 1);
     if (isfinite(dm) && isfinite(db) && tl->bracketed < 256) tl->bias_m[tl->bracketed++] = db - dm;
+    model_pose_t pose;
+    if (isfinite(dm) && isfinite(db) && fabs(db - dm) > LINE_SHOW_M && tl->nline < MAX_SHOW &&
+        release_pose(o, &dr, 0.5 * (dm + db), &pose) == 0) {
+      line_t *ln = &tl->line[tl->nline];
+      snprintf(ln->object, sizeof ln->object, "%s", o->name);
+      memcpy(ln->normal, o->face[dr.face].normal_link, sizeof ln->normal);
+      memcpy(ln->com_m, dr.com_link_m, sizeof ln->com_m);
+      ln->yaw_rad = dr.yaw_rad;
+      ln->d_model_m = dm;
+      ln->d_balance_m = db;
+      memset(&ln->mid, 0, sizeof ln->mid);
+      if (model_at(o, &pose, dr.com_link_m, NULL, &ln->mid) == 0 &&
+          balance_at(w, bo, &pose, dr.com_link_m, &ln->mid) == 0)
+        ++tl->nline;
+    }
   }
   balance_world_destroy(w);
 }
@@ -568,7 +609,8 @@ static void report_threshold(const opts_t *op, tally_t *tl) {
 
 static void report_tols(const opts_t *op, const tally_t *tl) {
   printf("\n| class | disagreements | of them: model in, outside the 0.1 um band's polygon |");
-  for (int k = 0; k < NTOL; ++k) printf(" agree, band %.1f um |", TOLS_M[k] * 1e6);
+  for (int k = 0; k < NTOL; ++k)
+    printf(" band %.1f um, tilt %.0e |", SWEEP[k].tol_m * 1e6, SWEEP[k].tilt_rad);
   printf("\n|---|---|---|");
   for (int k = 0; k < NTOL; ++k) printf("---|");
   printf("\n");
@@ -589,19 +631,38 @@ static const char *outcome_name(balance_outcome_t o) {
 
 static void report_shown(const opts_t *op, const tally_t *tl) {
   printf(
-      "\n| class | object | face normal (link) | yaw deg | d mm | margin mm | polygon n, width "
-      "mm | model | lib/balance | rotation rad | CoM moved um | steps |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "\n| class | object | face normal (link) | CoM (link) mm | yaw deg | d mm | margin mm | "
+      "polygon n, width mm | model | lib/balance | rotation rad | CoM moved um | steps |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (int c = 0; c < op->nclass; ++c)
     for (int i = 0; i < tl[c].nshow; ++i) {
       const shown_t *s = &tl[c].show[i];
       printf(
-          "| %s | %s | (%.2f, %.2f, %.2f) | %.1f | %.4f | %.4f | %zu, %.3f | %s | %s | %.2e | "
-          "%.1f | %u |\n",
+          "| %s | %s | (%.2f, %.2f, %.2f) | (%.3f, %.3f, %.3f) | %.1f | %.4f | %.4f | %zu, %.3f | "
+          "%s | %s | %.2e | %.1f | %u |\n",
           class_name(op->family[c]), s->object, s->normal[0], s->normal[1], s->normal[2],
-          s->yaw_rad * 180.0 / CL_PI, s->d_m * 1e3, s->t.margin_m * 1e3, s->t.support_vertices,
-          s->t.support_width_m * 1e3, s->t.model_in ? "in" : "not", outcome_name(s->t.outcome),
-          s->t.rotation_rad, s->t.moved_m * 1e6, s->t.steps);
+          s->com_m[0] * 1e3, s->com_m[1] * 1e3, s->com_m[2] * 1e3, s->yaw_rad * 180.0 / CL_PI,
+          s->d_m * 1e3, s->t.margin_m * 1e3, s->t.support_vertices, s->t.support_width_m * 1e3,
+          s->t.model_in ? "in" : "not", outcome_name(s->t.outcome), s->t.rotation_rad,
+          s->t.moved_m * 1e6, s->t.steps);
+    }
+}
+
+static void report_lines(const opts_t *op, const tally_t *tl) {
+  printf(
+      "\n| class | object | face normal (link) | CoM (link) mm | yaw deg | flip d mm: model | "
+      "lib/balance | halfway: model margin mm, polygon n | lib/balance | rotation rad | CoM "
+      "moved um |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (int c = 0; c < op->nclass; ++c)
+    for (int i = 0; i < tl[c].nline; ++i) {
+      const line_t *l = &tl[c].line[i];
+      printf(
+          "| %s | %s | (%.2f, %.2f, %.2f) | (%.3f, %.3f, %.3f) | %.1f | %.4f | %.4f | %.4f, "
+          "%zu | %s | %.2e | %.1f |\n",
+          class_name(op->family[c]), l->object, l->normal[0], l->normal[1], l->normal[2],
+          l->com_m[0] * 1e3, l->com_m[1] * 1e3, l->com_m[2] * 1e3, l->yaw_rad * 180.0 / CL_PI,
+          l->d_model_m * 1e3, l->d_balance_m * 1e3, l->mid.margin_m * 1e3, l->mid.support_vertices,
+          outcome_name(l->mid.outcome), l->mid.rotation_rad, l->mid.moved_m * 1e6);
     }
 }
 
@@ -611,7 +672,7 @@ static void report_shown(const opts_t *op, const tally_t *tl) {
 static void usage(FILE *f) {
   fprintf(f,
           "usage: bench_outcome [--placements N] [--objects K] [--per-com M] [--lines L]\n"
-          "                     [--seed S] [--families LIST] [--show D]\n"
+          "                     [--seed S] [--families LIST] [--show D] [--tol-um T] [--tilt A]\n"
           "The geometric outcome model (comlearn/model_outcome.h) against lib/balance on random\n"
           "placements over B's +X edge; markdown tables on stdout (docs/physics.md).\n"
           "  --placements N  placements per class (default 2000)\n"
@@ -623,6 +684,7 @@ static void usage(FILE *f) {
           "                  box,feet2,feet3,ring,rim,mug,pebble,lumpy,scanned,plate,rock)\n"
           "  --show D        disagreements listed per class (default 4)\n"
           "  --tol-um T      the model's support band, um (default: the library's)\n"
+          "  --tilt A        the model's tilt, rad (default: the library's)\n"
           "  -h, --help      this text\n");
 }
 
@@ -661,6 +723,7 @@ static int parse_args(int argc, char **argv, opts_t *o) {
                                        {"families", required_argument, NULL, 'f'},
                                        {"show", required_argument, NULL, 'd'},
                                        {"tol-um", required_argument, NULL, 't'},
+                                       {"tilt", required_argument, NULL, 'T'},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
   int c, bad = families_arg("box,feet2,feet3,ring,rim,mug,pebble,lumpy,scanned,plate,rock", o);
@@ -682,6 +745,12 @@ static int parse_args(int argc, char **argv, opts_t *o) {
       case 't': {
         char *end = NULL;
         o->cfg.tol_m = 1e-6 * strtod(optarg, &end);
+        bad = end == optarg || *end != '\0' || model_outcome_config_check(&o->cfg) != MODEL_OK;
+        break;
+      }
+      case 'T': {
+        char *end = NULL;
+        o->cfg.tilt_rad = strtod(optarg, &end);
         bad = end == optarg || *end != '\0' || model_outcome_config_check(&o->cfg) != MODEL_OK;
         break;
       }
@@ -726,13 +795,14 @@ int main(int argc, char **argv) {
   if (isatty(STDERR_FILENO)) fprintf(stderr, "\n");
   printf(
       "bench_outcome --placements %d --objects %d --per-com %d --lines %d --seed %llu --tol-um "
-      "%g: %.0f s\n",
+      "%g --tilt %g: %.0f s\n",
       o.placements, o.objects, o.per_com, o.lines, (unsigned long long)o.seed, o.cfg.tol_m * 1e6,
-      now_s() - t0);
+      o.cfg.tilt_rad, now_s() - t0);
   report_agreement(&o, tl);
   report_threshold(&o, tl);
   report_tols(&o, tl);
   report_shown(&o, tl);
+  report_lines(&o, tl);
   long errors = 0;
   for (int c = 0; c < o.nclass; ++c) errors += tl[c].errors;
   if (errors) LOG_W("%ld placements failed (pose or trial error) and were skipped", errors);
