@@ -16,3 +16,9 @@ add_test(NAME model_estimator_lib_has_no_inertial
           -DSIM_LIB=$<TARGET_FILE:comlearn_model_sim>
           -P ${CMAKE_CURRENT_SOURCE_DIR}/model_symbols.cmake)
 set_tests_properties(model_estimator_lib_has_no_inertial PROPERTIES TIMEOUT 60)
+
+# The outcome model (comlearn/model_outcome.h) allocates nothing with a work area: malloc, calloc
+# and realloc wrapped and counted while it runs.
+comlearn_add_check(check_model_noalloc SOURCES check_model_noalloc.c LIBS comlearn_model comlearn_math)
+target_link_options(check_model_noalloc PRIVATE
+  -Wl,--wrap=malloc -Wl,--wrap=calloc -Wl,--wrap=realloc)

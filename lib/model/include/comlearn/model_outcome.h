@@ -93,9 +93,9 @@ void model_outcome_config_default(model_outcome_config_t *cfg);
 model_status_t model_outcome_config_check(const model_outcome_config_t *cfg);
 
 /* Scratch memory for one mesh: its vertices in the world and a bounded point buffer (the support
- * hull is built in chunks of 2 x MODEL_OUTCOME_MAX_VERTICES points, so the area grows with the
- * vertex count only: 25 B per vertex, 4 B per triangle and ~62 KiB; 94 768 B for a bundled rock).
- * model_outcome_work_size: the bytes for mesh (0 for NULL or an empty mesh).
+ * hull is built in chunks of 2 x MODEL_OUTCOME_MAX_VERTICES points, so the buffer does not grow
+ * with the support set): 25 B per vertex, 4 B per triangle and ~62 KiB; 94 768 B for a bundled
+ * rock). model_outcome_work_size: the bytes for mesh (0 for NULL or an empty mesh).
  * model_outcome_work_init lays a work area out in the caller's `size` bytes at mem (8-byte
  * aligned); NULL when mem is NULL, misaligned or too small. It serves any mesh with the same vertex
  * and triangle counts (others: MODEL_E_ARG), one call at a time. */
