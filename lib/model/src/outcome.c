@@ -7,10 +7,16 @@
 #include <string.h>
 
 #include "comlearn/model_outcome.h"
+#include "model_internal.h"
 
 /* Points gathered before the hull is taken of them (the hull then replaces them). Twice the
  * largest polygon, so every compression frees at least half of the buffer. */
 enum { CHUNK = 2 * MODEL_OUTCOME_MAX_VERTICES };
+
+/* Points where the hull turns by less than 1e-12 rad are dropped (the crossings of one edge line,
+ * a rotated row of vertices: collinear but for rounding); each lies within 1e-12 x the side's
+ * length of it. */
+#define HULL_SIN_TOL 1e-12
 
 struct model_outcome_work {
   size_t vertex_count, triangle_count;
@@ -80,78 +86,11 @@ model_outcome_work_t *model_outcome_work_init(void *mem, size_t size, const mode
   return w;
 }
 
-/* ---- planar hull without allocation (qsort may allocate) ----------------------------------- */
-
-static int xy_less(const double a[2], const double b[2]) {
-  return a[0] < b[0] || (a[0] == b[0] && a[1] < b[1]);
-}
-
-static void xy_swap(double a[2], double b[2]) {
-  const double t0 = a[0], t1 = a[1];
-  a[0] = b[0];
-  a[1] = b[1];
-  b[0] = t0;
-  b[1] = t1;
-}
-
-static void sift_down(double (*p)[2], size_t root, size_t n) {
-  for (size_t child; (child = 2 * root + 1) < n; root = child) {
-    if (child + 1 < n && xy_less(p[child], p[child + 1])) ++child;
-    if (!xy_less(p[root], p[child])) return;
-    xy_swap(p[root], p[child]);
-  }
-}
-
-/* Heapsort by (x, y): in place, O(n log n), deterministic. */
-static void xy_sort(double (*p)[2], size_t n) {
-  for (size_t i = n / 2; i-- > 0;) sift_down(p, i, n);
-  for (size_t end = n; end-- > 1;) {
-    xy_swap(p[0], p[end]);
-    sift_down(p, 0, end);
-  }
-}
-
-/* o -> a -> b turns left by more than 1e-12 rad. Points collinear within that (the crossings of
- * one edge line, a rotated row of vertices: equal to rounding) are dropped as model_polygon_hull
- * drops exactly collinear ones; a point so dropped lies within 1e-12 x the side's length of it. */
-static int turns_left(const double o[2], const double a[2], const double b[2]) {
-  const double ax = a[0] - o[0], ay = a[1] - o[1], bx = b[0] - o[0], by = b[1] - o[1];
-  const double c = ax * by - ay * bx;
-  return c > 0.0 && c * c > 1e-24 * (ax * ax + ay * ay) * (bx * bx + by * by);
-}
-
-/* Andrew's monotone chain, as model_polygon_hull (same order, duplicates and collinear points
- * dropped) but sorting in place without allocating. pts is reordered; hull needs n + 1 rows. */
-static size_t hull_build(double (*pts)[2], size_t n, double (*hull)[2]) {
-  xy_sort(pts, n);
-  size_t m = 0;
-  for (size_t i = 0; i < n; ++i) /* duplicates out first: a hull of 2 equal points is 1 point */
-    if (m == 0 || pts[i][0] != pts[m - 1][0] || pts[i][1] != pts[m - 1][1]) {
-      pts[m][0] = pts[i][0];
-      pts[m++][1] = pts[i][1];
-    }
-  if (m < 3) {
-    memcpy(hull, pts, m * sizeof *pts);
-    return m;
-  }
-  size_t k = 0;
-  for (size_t i = 0; i < m; ++i) {
-    while (k >= 2 && !turns_left(hull[k - 2], hull[k - 1], pts[i])) --k;
-    memcpy(hull[k++], pts[i], sizeof *pts);
-  }
-  const size_t lower = k + 1;
-  for (size_t i = m - 1; i-- > 0;) {
-    while (k >= lower && !turns_left(hull[k - 2], hull[k - 1], pts[i])) --k;
-    memcpy(hull[k++], pts[i], sizeof *pts);
-  }
-  return k - 1; /* the last point repeats the first */
-}
-
 /* Add a support point; when the buffer is full, replace its points by their hull (the hull of
  * the union is the hull of (hull of the first part) and the rest). */
 static model_status_t point_add(model_outcome_work_t *w, double x, double y) {
   if (w->npts == CHUNK) {
-    const size_t k = hull_build(w->pts, w->npts, w->hull);
+    const size_t k = model_polygon_hull_tol(w->pts, w->npts, w->hull, HULL_SIN_TOL);
     if (k > MODEL_OUTCOME_MAX_VERTICES) return MODEL_E_CAPACITY;
     memcpy(w->pts, w->hull, k * sizeof *w->hull);
     w->npts = k;
@@ -317,7 +256,7 @@ static model_status_t support_gather(const model_mesh_t *m, double hx, double hy
 
 /* The hull of the point buffer into w->hull; *nh its vertex count. */
 static model_status_t buffer_hull(model_outcome_work_t *w, size_t *nh) {
-  const size_t k = hull_build(w->pts, w->npts, w->hull);
+  const size_t k = model_polygon_hull_tol(w->pts, w->npts, w->hull, HULL_SIN_TOL);
   if (k > MODEL_OUTCOME_MAX_VERTICES) return MODEL_E_CAPACITY;
   *nh = k;
   return MODEL_OK;
