@@ -418,12 +418,19 @@ model_status_t model_outcome_support_test(const model_outcome_support_t *s,
     *margin_m = -d;
     return MODEL_OK;
   }
-  double inside = HUGE_VAL;
-  for (size_t i = 0; i < s->vertex_count; ++i) {
+  /* Inside: the distance to the nearest side line. Outside a convex polygon the nearest point lies
+   * on a side the CoM is beyond, so only those sides' segments are measured. */
+  const size_t n = s->vertex_count;
+  double inside = HUGE_VAL, outside = HUGE_VAL;
+  for (size_t i = 0; i < n; ++i) {
     const double d = s->side_m[i][0] * p[0] + s->side_m[i][1] * p[1] - s->side_m[i][2];
     if (d < inside) inside = d;
+    if (d < 0.0) {
+      const double e = segment_dist(s->polygon_xy_m[i], s->polygon_xy_m[(i + 1) % n], p);
+      if (e < outside) outside = e;
+    }
   }
-  *margin_m = inside >= 0.0 ? inside : -outside_dist(s, p);
+  *margin_m = inside >= 0.0 ? inside : -outside;
   *in_place = *margin_m > 0.0;
   return MODEL_OK;
 }
