@@ -19,10 +19,11 @@
  * The band: lib/balance loads every candidate below +2 um, i.e. within 3 um of a pose released
  * 1 um deep by model_pose_over_edge, but those above B's top are speculative contacts that carry
  * no load until the object turns onto them; what holds the object at release is what is pressed
- * into B, the points within the 1 um release depth. Measured (docs/physics.md): a 1 um band
- * agrees with lib/balance's in-place verdict on 99-100 % of placements of every class but scanned
- * objects, a 3 um band on 92 % for objects on small feet and 82 % for scanned ones (the object
- * turns by 3 um over a millimetre lever, ~1e-3 rad, onto the band's outer points: not in place).
+ * into B, the points within the 1 um release depth. Measured (docs/physics.md, bench_outcome): a
+ * 1 um band agrees with lib/balance's in-place verdict on 99.1-100 % of the placements of every
+ * object class but scanned ones (93 %), a 3 um band on 93 % for objects on three small feet and
+ * 83 % for scanned ones (the object turns onto the band's outer points, by 1e-3 rad or more: not
+ * in place).
  * The hull is exact: separate feet are not bridged before clipping (an edge line through one of two
  * feet keeps that foot's clipped part and the whole other foot, not the clipped hull of both).
  *
@@ -74,8 +75,8 @@ typedef struct {
    * place" (docs/physics.md): an object that settles by less onto such a point has not visibly
    * moved. Default 0 (the band only, the set of model_support_polygon): measured, 2e-4 decides
    * placements whose third support lies just beyond the edge (the object settles onto the edge
-   * line by ~1e-4 rad) and gains 0.1-0.4 % on mugs, rims, pebbles, but loses 6 % on faces with
-   * micrometre noise (scanned), where the object turns about other axes than the band's hull.
+   * line by ~1e-4 rad); with a 0.1 um band it gains 0.1-0.35 % on rims, pebbles and rocks but
+   * loses 7 % on faces with micrometre noise (scanned), where it takes noise peaks.
    * In [0, MODEL_OUTCOME_MAX_TILT_RAD]. */
   double tilt_rad;
   /* A support polygon narrower than this (its smallest width) counts as a line or a point: the
