@@ -8,6 +8,7 @@ int main(void) {
   srunner_add_suite(runner, model_massprop_suite());
   srunner_add_suite(runner, model_hull_suite());
   srunner_add_suite(runner, model_urdf_suite());
+  srunner_add_suite(runner, model_outcome_suite());
   srunner_run_all(runner, CK_NORMAL);
   int failed = srunner_ntests_failed(runner);
   srunner_free(runner);

@@ -47,7 +47,8 @@ run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
 set(libs model model_sim balance qlearn placement estimate stack stack_sim lcmtypes msg)
 set(expected
   include/comlearn/model.h include/comlearn/model_inertial.h include/comlearn/balance.h
-  include/comlearn/model_support.h include/comlearn/qlearn.h include/comlearn/placement_plan.h
+  include/comlearn/model_support.h include/comlearn/model_outcome.h include/comlearn/qlearn.h
+  include/comlearn/placement_plan.h
   include/comlearn/estimate.h include/comlearn/stack.h include/comlearn/math3d.h
   include/comlearn/msg.h ${LIBDIR}/pkgconfig/comlearn-math.pc
   include/comlearn/comlearn_yumi_command_t.h

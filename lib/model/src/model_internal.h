@@ -30,6 +30,11 @@ model_status_t model_fail(model_error_t *err, model_status_t status, const char 
 /* Prepend a context ("mesh /a/b.stl: ") to err's message. NULL err is fine. */
 void model_error_prefix(model_error_t *err, const char *fmt, ...) MODEL_PRINTF(2, 3);
 
+/* model_polygon_hull, also for nearly collinear points: exact duplicates are dropped first, then
+ * every point where the chain turns by less than asin(sin_tol) (a point so dropped lies within
+ * sin_tol x the side's length of it). sin_tol 0: exactly collinear points only. No allocation. */
+size_t model_polygon_hull_tol(double (*points)[2], size_t count, double (*hull)[2], double sin_tol);
+
 /* Allocate a mesh's arrays (uninitialised contents). out must not own arrays. */
 model_status_t model_mesh_alloc(model_mesh_t *out, size_t vertex_count, size_t triangle_count);
 

@@ -5,35 +5,83 @@
 #include <string.h>
 
 #include "comlearn/model.h"
+#include "model_internal.h"
 
 static double cross2(const double o[2], const double a[2], const double b[2]) {
   return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
-static int cmp_xy(const void *pa, const void *pb) {
-  const double *a = pa, *b = pb;
-  if (a[0] != b[0]) return a[0] < b[0] ? -1 : 1;
-  if (a[1] != b[1]) return a[1] < b[1] ? -1 : 1;
-  return 0;
+/* ---- hull: heapsort by (x, y), in place and without allocating (qsort may call malloc) ------ */
+
+static int xy_less(const double a[2], const double b[2]) {
+  return a[0] < b[0] || (a[0] == b[0] && a[1] < b[1]);
 }
 
-size_t model_polygon_hull(double (*pts)[2], size_t n, double (*hull)[2]) {
-  qsort(pts, n, sizeof *pts, cmp_xy);
+static void xy_swap(double a[2], double b[2]) {
+  const double t0 = a[0], t1 = a[1];
+  a[0] = b[0];
+  a[1] = b[1];
+  b[0] = t0;
+  b[1] = t1;
+}
+
+static void sift_down(double (*p)[2], size_t root, size_t n) {
+  for (size_t child; (child = 2 * root + 1) < n; root = child) {
+    if (child + 1 < n && xy_less(p[child], p[child + 1])) ++child;
+    if (!xy_less(p[root], p[child])) return;
+    xy_swap(p[root], p[child]);
+  }
+}
+
+static void xy_sort(double (*p)[2], size_t n) {
+  for (size_t i = n / 2; i-- > 0;) sift_down(p, i, n);
+  for (size_t end = n; end-- > 1;) {
+    xy_swap(p[0], p[end]);
+    sift_down(p, 0, end);
+  }
+}
+
+/* o -> a -> b turns left, by more than asin(sin_tol) when sin_tol > 0. */
+static int turns_left(const double o[2], const double a[2], const double b[2], double sin_tol) {
+  const double ax = a[0] - o[0], ay = a[1] - o[1], bx = b[0] - o[0], by = b[1] - o[1];
+  const double c = ax * by - ay * bx;
+  return c > 0.0 &&
+         (sin_tol <= 0.0 || c * c > sin_tol * sin_tol * (ax * ax + ay * ay) * (bx * bx + by * by));
+}
+
+/* Andrew's monotone chain on sorted points. */
+static size_t chain(const double (*pts)[2], size_t n, double (*hull)[2], double sin_tol) {
   if (n < 3) {
     memcpy(hull, pts, n * sizeof *pts);
     return n;
   }
   size_t k = 0;
   for (size_t i = 0; i < n; ++i) {
-    while (k >= 2 && cross2(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+    while (k >= 2 && !turns_left(hull[k - 2], hull[k - 1], pts[i], sin_tol)) --k;
     memcpy(hull[k++], pts[i], sizeof *pts);
   }
   const size_t lower = k + 1;
   for (size_t i = n - 1; i-- > 0;) {
-    while (k >= lower && cross2(hull[k - 2], hull[k - 1], pts[i]) <= 0.0) --k;
+    while (k >= lower && !turns_left(hull[k - 2], hull[k - 1], pts[i], sin_tol)) --k;
     memcpy(hull[k++], pts[i], sizeof *pts);
   }
   return k - 1; /* the last point repeats the first */
+}
+
+size_t model_polygon_hull(double (*pts)[2], size_t n, double (*hull)[2]) {
+  xy_sort(pts, n);
+  return chain((const double(*)[2])pts, n, hull, 0.0);
+}
+
+size_t model_polygon_hull_tol(double (*pts)[2], size_t n, double (*hull)[2], double sin_tol) {
+  xy_sort(pts, n);
+  size_t m = 0;
+  for (size_t i = 0; i < n; ++i) /* duplicates out first: a hull of 2 equal points is 1 point */
+    if (m == 0 || pts[i][0] != pts[m - 1][0] || pts[i][1] != pts[m - 1][1]) {
+      pts[m][0] = pts[i][0];
+      pts[m++][1] = pts[i][1];
+    }
+  return chain((const double(*)[2])pts, m, hull, sin_tol);
 }
 
 double model_polygon_area(const double (*poly)[2], size_t n) {
