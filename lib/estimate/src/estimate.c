@@ -165,7 +165,7 @@ struct estimate {
   size_t nfaces;
   size_t nflat_list;      /* faces[0, nflat_list) are model_faces_find's; the rest closed patches
                              (model_faces_stable's, then faces found under settled poses) */
-  int closed2;            /* face 2's closed patches were listed */
+  int closed1, closed2;   /* face 1's / face 2's closed patches were listed */
   uint32_t face2_redos;   /* face 2 chosen again after its closed patch failed (face2_redo) */
   int redo_of;            /* the face 2 search that face2_redo replaces, or -1 */
   size_t closed_from;     /* the closed patches planned in this phase: faces[closed_from, ...) */
@@ -1036,8 +1036,11 @@ static estimate_status_t closed_plans(est_t *est, size_t *np) {
   return ESTIMATE_OK;
 }
 
+static estimate_status_t face_one_closed(est_t *est);
+static estimate_status_t closed_append(est_t *est);
+
 /* Face 1: the flat, stable-candidate faces with the best pairs of chord margins, to confirm in
- * that order, then the closed patches; two searches on the first confirmed. */
+ * that order, then (none confirmed) the closed patches; two searches on the first confirmed. */
 static estimate_status_t face_one(est_t *est) {
   size_t np = 0;
   for (size_t i = 0; i < est->nflat_list; ++i) {
@@ -1047,20 +1050,36 @@ static estimate_status_t face_one(est_t *est) {
     if (est->plans[np].score >= est->cfg.min_chord_margin_m) ++np;
   }
   qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
-  estimate_status_t s = closed_plans(est, &np);
-  if (s != ESTIMATE_OK) return s;
-  if (np == 0)
-    return fail(est, ESTIMATE_E_GEOMETRY,
-                "no flat face with two usable edge directions and no closed patch under the "
-                "estimate");
+  est->phase = PHASE_FACE1;
+  if (np == 0) return face_one_closed(est);
   est->np = np;
   est->ci = 0;
-  est->phase = PHASE_FACE1;
+  return confirm_next(est);
+}
+
+/* Face 1 on a closed patch, when no flat face 1 is (left): the patches under the prior (listed
+ * only then: a flat object never needs them). */
+static estimate_status_t face_one_closed(est_t *est) {
+  size_t np = 0;
+  if (est->cfg.closed_patches && !est->closed1) {
+    est->closed1 = 1;
+    estimate_status_t s = closed_append(est);
+    if (s == ESTIMATE_OK) s = closed_plans(est, &np);
+    if (s != ESTIMATE_OK) return s;
+  }
+  if (np == 0)
+    return est->closed1 || est->result.face_count > 0
+               ? fail(est, ESTIMATE_E_NOPOSE,
+                      est->cfg.closed_patches
+                          ? "no flat resting face or closed patch was confirmed stable"
+                          : "no flat resting face was confirmed stable")
+               : fail(est, ESTIMATE_E_GEOMETRY, "no flat face with two usable edge directions");
+  est->np = np;
+  est->ci = 0;
   return confirm_next(est);
 }
 
 static estimate_status_t verify_begin(est_t *est);
-static estimate_status_t closed_append(est_t *est);
 static estimate_status_t face_two_closed(est_t *est);
 
 /* Face 2: the flat stable faces whose normals are not (anti)parallel to face 1's, to confirm;
@@ -1110,9 +1129,7 @@ static estimate_status_t face_two_closed(est_t *est) {
 
 /* No candidate of the current face was confirmed stable. */
 static estimate_status_t confirm_none(est_t *est) {
-  if (est->phase == PHASE_FACE1)
-    return fail(est, ESTIMATE_E_NOPOSE, "no flat resting face was confirmed stable");
-  return face_two_closed(est);
+  return est->phase == PHASE_FACE1 ? face_one_closed(est) : face_two_closed(est);
 }
 
 /* est->chosen was confirmed stable: search on it. */
@@ -1451,12 +1468,6 @@ static estimate_status_t closed_append(est_t *est) {
   return ESTIMATE_OK;
 }
 
-static estimate_status_t closed_patches(est_t *est) {
-  est->closed_from = est->nfaces;
-  estimate_status_t s = est->cfg.closed_patches ? closed_append(est) : ESTIMATE_OK;
-  return s == ESTIMATE_OK ? face_one(est) : s;
-}
-
 /* Before the first trial: the prior, the hull faces, and face 1's plans. */
 static estimate_status_t strategy_start(est_t *est) {
   estimate_result_t *out = &est->result;
@@ -1489,7 +1500,8 @@ static estimate_status_t strategy_start(est_t *est) {
     if (est->faces[i].flat) est->faces[nflat++] = est->faces[i];
   }
   est->nfaces = est->nflat_list = nflat;
-  return closed_patches(est);
+  est->closed_from = est->nfaces;
+  return face_one(est);
 }
 
 static int config_ok(const estimate_config_t *cfg) {

@@ -249,6 +249,35 @@ static model_status_t faces_args(const model_mesh_t *mesh_link, const double com
 /* The faces of the hull of mesh_link (arguments checked): stable_only 0, model_faces_find's (at
  * least min_face_area_m2, largest first); 1, model_faces_stable's (any area, holding the guess,
  * largest margin first). */
+/* holds[f] = 1 for the merged faces f (of hf) one of whose facets holds g's projection along the
+ * face's normal, with a 0.1 mm slack: the only ones that can hold it (face_analyse then decides
+ * exactly). A cheap pass, O(facets), so that model_faces_stable analyses only those. */
+static void faces_holding(const model_mesh_t *hull, const model_hull_face_t *hf,
+                          const int *facet_face, const double g[3], unsigned char *holds) {
+  const double slack = 1e-4;
+  for (size_t t = 0; t < hull->triangle_count; ++t) {
+    const int f = facet_face[t];
+    if (f < 0 || holds[f]) continue;
+    double u[3], w[3], p[3][2];
+    model_plane_basis(hf[f].normal, u, w);
+    for (int k = 0; k < 3; ++k) {
+      const double *v = hull->vertices_m[hull->triangles[t][k]];
+      p[k][0] = cl_vec3_dot(u, v) - cl_vec3_dot(u, g);
+      p[k][1] = cl_vec3_dot(w, v) - cl_vec3_dot(w, g);
+    }
+    const double area2 =
+        (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+    int inside = area2 != 0.0;
+    for (int k = 0; k < 3 && inside; ++k) { /* g (the origin) on the inner side of edge k */
+      const double *a = p[k], *b = p[(k + 1) % 3];
+      const double len = hypot(b[0] - a[0], b[1] - a[1]);
+      const double side = (a[0] * b[1] - a[1] * b[0]) * (area2 > 0.0 ? 1.0 : -1.0);
+      inside = len == 0.0 || side >= -slack * len;
+    }
+    holds[f] = (unsigned char)inside;
+  }
+}
+
 static model_status_t faces_of_hull(const model_mesh_t *mesh_link, const model_mesh_t *hull,
                                     const double com_guess_link_m[3],
                                     const model_regime_config_t *c, int stable_only,
@@ -262,16 +291,18 @@ static model_status_t faces_of_hull(const model_mesh_t *mesh_link, const model_m
   double(*pts)[2] = malloc((nv + 1) * sizeof *pts);
   double(*poly)[2] = malloc((nv + 1) * sizeof *poly);
   model_face_t *tmp = malloc((nf > 0 ? nf : 1) * sizeof *tmp);
+  unsigned char *holds = stable_only ? calloc(nf > 0 ? nf : 1, 1) : NULL;
   size_t nhf = 0, found = 0;
   model_status_t st = MODEL_OK;
   if (hf == NULL || facet_face == NULL || used == NULL || xy == NULL || pts == NULL ||
-      poly == NULL || tmp == NULL) {
+      poly == NULL || tmp == NULL || (stable_only && holds == NULL)) {
     st = MODEL_E_NOMEM;
     goto done;
   }
   st = model_hull_faces(hull, cos(1e-3), c->plane_tol_m, hf, facet_face, &nhf);
+  if (st == MODEL_OK && stable_only) faces_holding(hull, hf, facet_face, com_guess_link_m, holds);
   for (size_t i = 0; st == MODEL_OK && i < nhf; ++i) {
-    if (hf[i].area_m2 < min_area || !(hf[i].area_m2 > 0.0)) continue;
+    if (hf[i].area_m2 < min_area || !(hf[i].area_m2 > 0.0) || (stable_only && !holds[i])) continue;
     st = face_analyse(mesh_link, hf[i].normal, com_guess_link_m, c, xy, pts, poly, used,
                       &tmp[found]);
     if (st == MODEL_OK && tmp[found].area_m2 >= min_area &&
@@ -284,6 +315,7 @@ static model_status_t faces_of_hull(const model_mesh_t *mesh_link, const model_m
     memcpy(faces, tmp, (found < capacity ? found : capacity) * sizeof *tmp);
   *count = found;
 done:
+  free(holds);
   free(hf);
   free(facet_face);
   free(used);
