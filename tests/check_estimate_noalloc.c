@@ -12,29 +12,7 @@
 #include "estimate_backend.h"
 #include "estimate_direct.h"
 
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t n, size_t size);
-void *__real_realloc(void *p, size_t n);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t n, size_t size);
-void *__wrap_realloc(void *p, size_t n);
-
-/* volatile: the compiler takes malloc for a call that reads no global */
-static volatile size_t counting; /* 1 while the estimator runs */
-static volatile size_t allocations;
-
-void *__wrap_malloc(size_t n) {
-  allocations += counting;
-  return __real_malloc(n);
-}
-void *__wrap_calloc(size_t n, size_t size) {
-  allocations += counting;
-  return __real_calloc(n, size);
-}
-void *__wrap_realloc(void *p, size_t n) {
-  allocations += counting;
-  return __real_realloc(p, n);
-}
+#include "alloc_count.h"
 
 static void run_rock(const char *name, double noise_m) {
   char urdf[512];

@@ -9,28 +9,7 @@
 #include "comlearn/model_support.h"
 #include "model_test_util.h"
 
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t n, size_t size);
-void *__real_realloc(void *p, size_t n);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t n, size_t size);
-void *__wrap_realloc(void *p, size_t n);
-
-static volatile size_t counting; /* 1 while the model runs */
-static volatile size_t allocations;
-
-void *__wrap_malloc(size_t n) {
-  allocations += counting;
-  return __real_malloc(n);
-}
-void *__wrap_calloc(size_t n, size_t size) {
-  allocations += counting;
-  return __real_calloc(n, size);
-}
-void *__wrap_realloc(void *p, size_t n) {
-  allocations += counting;
-  return __real_realloc(p, n);
-}
+#include "alloc_count.h"
 
 /* The irregular test rock (2 000 triangles) on its largest hull face, the CoM over that face's
  * middle set 0 to 40 mm inside B's +X edge at 41 yaws (from resting on the edge line to fully on

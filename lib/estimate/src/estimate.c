@@ -1039,6 +1039,16 @@ static estimate_status_t closed_plans(est_t *est, size_t *np) {
 static estimate_status_t face_one_closed(est_t *est);
 static estimate_status_t closed_append(est_t *est);
 
+/* The closed patches of the current phase under the estimate, listed and planned once (*listed
+ * marks it): *np plans, 0 when listed before or closed patches are off. */
+static estimate_status_t closed_once(est_t *est, int *listed, size_t *np) {
+  *np = 0;
+  if (!est->cfg.closed_patches || *listed) return ESTIMATE_OK;
+  *listed = 1;
+  estimate_status_t s = closed_append(est);
+  return s == ESTIMATE_OK ? closed_plans(est, np) : s;
+}
+
 /* Face 1: the flat, stable-candidate faces with the best pairs of chord margins, to confirm in
  * that order, then (none confirmed) the closed patches; two searches on the first confirmed. */
 static estimate_status_t face_one(est_t *est) {
@@ -1061,12 +1071,8 @@ static estimate_status_t face_one(est_t *est) {
  * only then: a flat object never needs them). */
 static estimate_status_t face_one_closed(est_t *est) {
   size_t np = 0;
-  if (est->cfg.closed_patches && !est->closed1) {
-    est->closed1 = 1;
-    estimate_status_t s = closed_append(est);
-    if (s == ESTIMATE_OK) s = closed_plans(est, &np);
-    if (s != ESTIMATE_OK) return s;
-  }
+  estimate_status_t s = closed_once(est, &est->closed1, &np);
+  if (s != ESTIMATE_OK) return s;
   if (np == 0)
     return est->closed1 || est->result.face_count > 0
                ? fail(est, ESTIMATE_E_NOPOSE,
@@ -1108,13 +1114,8 @@ static estimate_status_t face_two(est_t *est) {
  * face 1's searches (computed only then: a flat object never needs them). */
 static estimate_status_t face_two_closed(est_t *est) {
   size_t np = 0;
-  estimate_status_t s = ESTIMATE_OK;
-  if (est->cfg.closed_patches && !est->closed2) {
-    est->closed2 = 1;
-    s = closed_append(est);
-    if (s == ESTIMATE_OK) s = closed_plans(est, &np);
-    if (s != ESTIMATE_OK) return s;
-  }
+  estimate_status_t s = closed_once(est, &est->closed2, &np);
+  if (s != ESTIMATE_OK) return s;
   if (np == 0) {
     snprintf(est->face2_note, sizeof est->face2_note,
              "no second %s resting face at >= %.0f deg to the first was confirmed stable",

@@ -331,18 +331,35 @@ static model_status_t hull_failed(model_status_t st) {
   return st == MODEL_E_NOMEM ? MODEL_E_NOMEM : MODEL_E_HULL;
 }
 
-model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
-                                const model_regime_config_t *cfg, model_face_t *faces,
-                                size_t capacity, size_t *count) {
+/* The faces (model_faces_find's, stable_only 0, or model_faces_stable's, 1) on a hull of its own
+ * (work NULL) or on the one kept in work. */
+static model_status_t faces_list(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                 const model_regime_config_t *cfg, model_support_work_t *work,
+                                 int own_hull, int stable_only, model_face_t *faces,
+                                 size_t capacity, size_t *count) {
   model_regime_config_t c;
   model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
   if (st != MODEL_OK) return st;
+  if (!own_hull) {
+    const model_mesh_t *hull = NULL;
+    st = model_support_work_hull(work, mesh_link, &hull);
+    if (st == MODEL_E_ARG) return st;
+    if (st != MODEL_OK) return hull_failed(st);
+    return faces_of_hull(mesh_link, hull, com_guess_link_m, &c, stable_only, faces, capacity,
+                         count);
+  }
   model_mesh_t hull = {0};
   st = model_mesh_hull(mesh_link, &hull, NULL);
   if (st != MODEL_OK) return hull_failed(st);
-  st = faces_of_hull(mesh_link, &hull, com_guess_link_m, &c, 0, faces, capacity, count);
+  st = faces_of_hull(mesh_link, &hull, com_guess_link_m, &c, stable_only, faces, capacity, count);
   model_mesh_free(&hull);
   return st;
+}
+
+model_status_t model_faces_find(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
+                                const model_regime_config_t *cfg, model_face_t *faces,
+                                size_t capacity, size_t *count) {
+  return faces_list(mesh_link, com_guess_link_m, cfg, NULL, 1, 0, faces, capacity, count);
 }
 
 model_status_t model_faces_find_hull(const model_mesh_t *mesh_link, const model_mesh_t *hull,
@@ -360,42 +377,20 @@ model_status_t model_faces_find_hull(const model_mesh_t *mesh_link, const model_
 model_status_t model_faces_find_in(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
                                    const model_regime_config_t *cfg, model_support_work_t *work,
                                    model_face_t *faces, size_t capacity, size_t *count) {
-  model_regime_config_t c;
-  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
-  if (st != MODEL_OK) return st;
-  const model_mesh_t *hull = NULL;
-  st = model_support_work_hull(work, mesh_link, &hull);
-  if (st == MODEL_E_ARG) return st;
-  if (st != MODEL_OK) return hull_failed(st);
-  return faces_of_hull(mesh_link, hull, com_guess_link_m, &c, 0, faces, capacity, count);
+  return faces_list(mesh_link, com_guess_link_m, cfg, work, 0, 0, faces, capacity, count);
 }
 
 model_status_t model_faces_stable(const model_mesh_t *mesh_link, const double com_guess_link_m[3],
                                   const model_regime_config_t *cfg, model_face_t *faces,
                                   size_t capacity, size_t *count) {
-  model_regime_config_t c;
-  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
-  if (st != MODEL_OK) return st;
-  model_mesh_t hull = {0};
-  st = model_mesh_hull(mesh_link, &hull, NULL);
-  if (st != MODEL_OK) return hull_failed(st);
-  st = faces_of_hull(mesh_link, &hull, com_guess_link_m, &c, 1, faces, capacity, count);
-  model_mesh_free(&hull);
-  return st;
+  return faces_list(mesh_link, com_guess_link_m, cfg, NULL, 1, 1, faces, capacity, count);
 }
 
 model_status_t model_faces_stable_in(const model_mesh_t *mesh_link,
                                      const double com_guess_link_m[3],
                                      const model_regime_config_t *cfg, model_support_work_t *work,
                                      model_face_t *faces, size_t capacity, size_t *count) {
-  model_regime_config_t c;
-  model_status_t st = faces_args(mesh_link, com_guess_link_m, cfg, faces, capacity, count, &c);
-  if (st != MODEL_OK) return st;
-  const model_mesh_t *hull = NULL;
-  st = model_support_work_hull(work, mesh_link, &hull);
-  if (st == MODEL_E_ARG) return st;
-  if (st != MODEL_OK) return hull_failed(st);
-  return faces_of_hull(mesh_link, hull, com_guess_link_m, &c, 1, faces, capacity, count);
+  return faces_list(mesh_link, com_guess_link_m, cfg, work, 0, 1, faces, capacity, count);
 }
 
 /* The area-weighted normal of the mesh triangles within tol of the support plane n . x = h
