@@ -586,6 +586,24 @@ START_TEST(cli_direct_noise) {
            COMLEARN_BIN, urdf);
   run(cmd, out, sizeof out);
   ck_assert_ptr_nonnull(strstr(out, "\"interval\": \"bound\""));
+  /* --noise-stop-mm 1: the library's noise_stop_width_m, fewer trials for wider intervals */
+  snprintf(cmd, sizeof cmd,
+           "'%s' estimate '%s' --direct --json --placement-noise-mm 0.5 --pose-noise-mm 0.2 "
+           "--seed 7 --start bbox --noise-stop-mm 1",
+           COMLEARN_BIN, urdf);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  const size_t default_trials = r->trial_count;
+  double hw_default[3];
+  memcpy(hw_default, r->halfwidth_m, sizeof hw_default);
+  cfg.noise_stop_width_m = 1e-3;
+  estimate_urdf_noisy(urdf, &cfg, 7, 0.5e-3, 0.2e-3, r, &truth);
+  ck_assert_double_eq(json_num(out, "trials"), (double)r->trial_count);
+  ck_assert_uint_lt(r->trial_count, default_trials);
+  json_vec(out, "halfwidth_m", hw);
+  for (int k = 0; k < 3; ++k) {
+    ck_assert_double_eq_tol(hw[k], r->halfwidth_m[k], 1e-11);
+    ck_assert_double_gt(hw[k], hw_default[k]);
+  }
   free(r);
 }
 END_TEST
@@ -612,6 +630,8 @@ START_TEST(cli_bad_input) {
       {"estimate URDF --direct --pose-noise-mm inf", 2},
       {"estimate URDF --direct --noise-mm nan", 2},
       {"estimate URDF --direct --noise-mm 101", 2},
+      {"estimate URDF --direct --noise-stop-mm 11", 2},
+      {"estimate URDF --direct --noise-stop-mm wide", 2},
       {"estimate URDF --direct --seed x", 2},
       {"estimate URDF --direct --start middle", 2},
       {"estimate URDF --direct --help", 0},
