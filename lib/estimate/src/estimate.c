@@ -61,7 +61,7 @@ const char *estimate_status_str(estimate_status_t s) {
   switch (s) {
     case ESTIMATE_OK: return "ok";
     case ESTIMATE_E_ARG: return "bad argument";
-    case ESTIMATE_E_GEOMETRY: return "no usable flat face in the geometry";
+    case ESTIMATE_E_GEOMETRY: return "no usable resting face in the geometry";
     case ESTIMATE_E_BACKEND: return "trial backend failed";
     case ESTIMATE_E_NOPOSE: return "no resting face confirmed stable";
     case ESTIMATE_E_CAPACITY: return "too many trials";
