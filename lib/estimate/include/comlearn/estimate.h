@@ -292,8 +292,8 @@ void estimate_destroy(estimate_t *est);
 
 /* The placement to try next, in *req: ESTIMATE_OK. ESTIMATE_DONE when the estimate is complete
  * (estimate_result). An error when the estimate failed (the same error from then on; the result
- * holds what was learned so far and a message): ESTIMATE_E_GEOMETRY (no usable resting face or yaw),
- * ESTIMATE_E_NOPOSE (no face confirmed stable), ESTIMATE_E_CAPACITY, ESTIMATE_E_LEARNER,
+ * holds what was learned so far and a message): ESTIMATE_E_GEOMETRY (no usable resting face or
+ * yaw), ESTIMATE_E_NOPOSE (no face confirmed stable), ESTIMATE_E_CAPACITY, ESTIMATE_E_LEARNER,
  * ESTIMATE_E_NOMEM. The first call plans (the hull faces, ~20 ms for a 1000-vertex rock). Calling
  * it again before estimate_observe returns the same request. */
 estimate_status_t estimate_next(estimate_t *est, estimate_trial_request_t *req);
