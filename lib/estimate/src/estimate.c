@@ -22,7 +22,7 @@ enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw s
 #define ESTIMATE_CLOSED_ROTATION_RAD 1e-3
 enum {
   ESTIMATE_SETTLED_MAX = 8, /* faces taken from settled poses, per estimate */
-  ESTIMATE_FACE2_REDO = 3   /* face 2 replaced by another closed patch, per estimate */
+  ESTIMATE_FACE_REDO = 3    /* a face replaced by another closed patch, per estimate */
 };
 
 /* Bound on the threshold bias of one flat-patch edge test in lib/balance (docs/physics.md: <= 2.4
@@ -166,8 +166,10 @@ struct estimate {
   size_t nflat_list;      /* faces[0, nflat_list) are model_faces_find's; the rest closed patches
                              (model_faces_stable's, then faces found under settled poses) */
   int closed1, closed2;   /* face 1's / face 2's closed patches were listed */
-  uint32_t face2_redos;   /* face 2 chosen again after its closed patch failed (face2_redo) */
-  int redo_of;            /* the face 2 search that face2_redo replaces, or -1 */
+  uint32_t face_redos;    /* faces chosen again after their closed patch failed (face_redo) */
+  int face1_redone;       /* face 1 was replaced: its new searches go straight to the check */
+  int redo_of;            /* the search that face_redo replaces, or -1 */
+  int redo_face;          /* the face (out->face) that face_redo replaces as face 1, or -1 */
   size_t closed_from;     /* the closed patches planned in this phase: faces[closed_from, ...) */
   uint32_t found_settled; /* faces added from settled poses (at most ESTIMATE_SETTLED_MAX) */
   face_plan_t plans[FACE_CAP]; /* the candidates of face 1, then of face 2 */
@@ -946,9 +948,17 @@ static int face_recorded(const est_t *est, const double normal[3]) {
 /* May face f be tried in the current phase? Face 2 needs a normal at least min_face_angle from
  * face 1's (not parallel, not antiparallel). */
 static int face_allowed(const est_t *est, const model_face_t *f) {
-  if (est->phase != PHASE_FACE2) return 1;
-  const double *n1 = est->faces[est->face1].normal_link;
-  return fabs(cl_vec3_dot(f->normal_link, n1)) <= cos(est->cfg.min_face_angle_rad);
+  const double cos_max = cos(est->cfg.min_face_angle_rad);
+  if (est->phase == PHASE_FACE2)
+    return fabs(cl_vec3_dot(f->normal_link, est->faces[est->face1].normal_link)) <= cos_max;
+  /* a new face 1 (face_redo): at an angle to every face whose search is kept */
+  for (size_t j = 0; est->redo_face >= 0 && j < est->result.search_count; ++j) {
+    const estimate_search_t *o = &est->result.search[j];
+    if (!o->fed || o->face == est->redo_face) continue;
+    if (fabs(cl_vec3_dot(f->normal_link, est->faces[est->face_src[o->face]].normal_link)) > cos_max)
+      return 0;
+  }
+  return 1;
 }
 
 /* A stable check that did not confirm its face but came to rest on B: the object rolled onto the
@@ -1138,7 +1148,7 @@ static estimate_status_t confirmed(est_t *est) {
   const face_plan_t *p = &est->chosen;
   if (est->phase == PHASE_FACE1) {
     est->phase = PHASE_FACE1_SEARCH0;
-    return search_start(est, p->face, est->chosen_log, p->yaw[0], p->margin[0], -1);
+    return search_start(est, p->face, est->chosen_log, p->yaw[0], p->margin[0], est->redo_of);
   }
   est->phase = PHASE_FACE2_SEARCH;
   return search_start(est, p->face, est->chosen_log, p->yaw[0], p->margin[0], est->redo_of);
@@ -1241,21 +1251,36 @@ static int retest_yaw(est_t *est, const estimate_search_t *old, int fi, const do
   return best;
 }
 
-/* Search again in place of search si (retest_yaw); *started = 0 when no search could be started
- * (no room, or no yaw qualifies: a note on si says so). */
-/* Face 2's search on closed patch si failed its check at the estimate (the estimate projects too
- * near the patch's side): instead of another yaw on it, another closed patch at an angle to face
- * 1, listed under the current estimate (at most ESTIMATE_FACE2_REDO times). *started = 1 when a
- * stable check was asked for; its search then goes through the phases of face 2. */
-static estimate_status_t face2_redo(est_t *est, int si, int *started) {
-  if (!est->cfg.closed_patches || est->face2_redos >= ESTIMATE_FACE2_REDO) return ESTIMATE_OK;
-  ++est->face2_redos;
-  est->phase = PHASE_FACE2;
+/* A search on closed patch si failed its check at the estimate (the estimate projects too near
+ * the patch's side): instead of another yaw on it, another closed patch for its face, listed
+ * under the current estimate (at most ESTIMATE_FACE_REDO times per estimate). Face 1: its two
+ * searches are dropped and done again on the new patch (they share the patch); face 2: at an
+ * angle to face 1. *started = 1 when a stable check was asked for; the searches then go through
+ * the phases of that face. */
+static estimate_status_t face_redo(est_t *est, int si, int *started) {
+  estimate_result_t *out = &est->result;
+  const int face = out->search[si].face, one = est->face_src[face] == est->face1;
+  if (!est->cfg.closed_patches || est->face_redos >= ESTIMATE_FACE_REDO ||
+      out->search_count + (one ? 2u : 1u) > ESTIMATE_MAX_SEARCHES)
+    return ESTIMATE_OK;
+  ++est->face_redos;
+  est->phase = one ? PHASE_FACE1 : PHASE_FACE2;
+  est->redo_face = one ? face : -1; /* face_allowed: the new face 1 at an angle to face 2 */
   size_t np = 0;
   estimate_status_t s = closed_append(est);
   if (s == ESTIMATE_OK) s = closed_plans(est, &np);
   if (s != ESTIMATE_OK || np == 0) return s;
-  est->result.search[si].retested = 1;
+  for (size_t j = 0; one && j < out->search_count; ++j) {
+    estimate_search_t *o = &out->search[j];
+    if (o->face != face || (int)j == si || !o->fed) continue;
+    o->fed = 0;
+    o->retested = 1;
+    snprintf(o->note, sizeof o->note, "its face was replaced: search %d failed the patch check",
+             si);
+  }
+  est->face1_redone |= one;
+  if (one) est->closed2 = 0; /* face 2's patches are listed again under the new estimate */
+  out->search[si].retested = 1;
   est->redo_of = si;
   est->np = np;
   est->ci = 0;
@@ -1263,14 +1288,16 @@ static estimate_status_t face2_redo(est_t *est, int si, int *started) {
   return confirm_next(est);
 }
 
+/* Search again in place of search si (retest_yaw); *started = 0 when no search could be started
+ * (no room, or no yaw qualifies: a note on si says so). */
 static estimate_status_t retest_start(est_t *est, int si, int *started) {
   estimate_result_t *out = &est->result;
   *started = 0;
   if (out->search_count >= ESTIMATE_MAX_SEARCHES) return ESTIMATE_OK;
   const estimate_search_t old = out->search[si];
   const int fi = est->face_src[old.face];
-  if (face_is_closed(est, fi) && fi != est->face1) {
-    estimate_status_t s = face2_redo(est, si, started);
+  if (face_is_closed(est, fi)) {
+    estimate_status_t s = face_redo(est, si, started);
     if (s != ESTIMATE_OK || *started) return s;
   }
   double m[YAW_STEPS];
@@ -1368,6 +1395,15 @@ static estimate_status_t verify_begin(est_t *est) {
   return verify_loop(est);
 }
 
+/* Is a search on another face than face 1 fed (a face 2 kept when face 1 was replaced)? */
+static int face_two_fed(const est_t *est) {
+  for (size_t j = 0; j < est->result.search_count; ++j) {
+    const estimate_search_t *o = &est->result.search[j];
+    if (o->fed && est->face_src[o->face] != est->face1) return 1;
+  }
+  return 0;
+}
+
 /* A search is over: what comes next depends on the phase. */
 static estimate_status_t search_done(est_t *est) {
   estimate_status_t s;
@@ -1385,7 +1421,8 @@ static estimate_status_t search_done(est_t *est) {
     case PHASE_FACE1_SEARCH1:
       est->face1 = p->face;
       s = update_guess(est);
-      return s == ESTIMATE_OK ? face_two(est) : s;
+      if (s != ESTIMATE_OK) return s;
+      return est->face1_redone && face_two_fed(est) ? verify_begin(est) : face_two(est);
     case PHASE_FACE2_SEARCH: return verify_begin(est);
     case PHASE_RETEST:
       est->result.search[est->retest_of].retested = 1;
@@ -1488,6 +1525,7 @@ static estimate_status_t strategy_start(est_t *est) {
   for (int k = 0; k < 3; ++k) est->halfwidth_m[k] = INFINITY;
   est->face1 = -1;
   est->redo_of = -1;
+  est->redo_face = -1;
   /* the hull stays in est->work: model_support_work_hull(est->work, est->mesh, ...) reuses it */
   const model_status_t ms = model_faces_find_in(est->mesh, est->guess_m, NULL, est->work,
                                                 est->faces, FACE_CAP, &est->nfaces);
