@@ -935,6 +935,13 @@ static estimate_status_t confirm_next(est_t *est) {
   return stable_request(est, est->plans[est->ci].face, rec);
 }
 
+/* Confirm plans[0, np) in order (confirm_next from the first). */
+static estimate_status_t confirm_plans(est_t *est, size_t np) {
+  est->np = np;
+  est->ci = 0;
+  return confirm_next(est);
+}
+
 static estimate_status_t plan_closed(est_t *est, int fi, face_plan_t *p);
 
 /* Was a face with this normal checked already (in out->face)? */
@@ -1072,9 +1079,7 @@ static estimate_status_t face_one(est_t *est) {
   qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
   est->phase = PHASE_FACE1;
   if (np == 0) return face_one_closed(est);
-  est->np = np;
-  est->ci = 0;
-  return confirm_next(est);
+  return confirm_plans(est, np);
 }
 
 /* Face 1 on a closed patch, when no flat face 1 is (left): the patches under the prior (listed
@@ -1090,9 +1095,7 @@ static estimate_status_t face_one_closed(est_t *est) {
                           ? "no flat resting face or closed patch was confirmed stable"
                           : "no flat resting face was confirmed stable")
                : fail(est, ESTIMATE_E_GEOMETRY, "no flat face with two usable edge directions");
-  est->np = np;
-  est->ci = 0;
-  return confirm_next(est);
+  return confirm_plans(est, np);
 }
 
 static estimate_status_t verify_begin(est_t *est);
@@ -1115,9 +1118,7 @@ static estimate_status_t face_two(est_t *est) {
   qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
   est->phase = PHASE_FACE2; /* face_allowed: at an angle to face 1 */
   if (np == 0) return face_two_closed(est);
-  est->np = np;
-  est->ci = 0;
-  return confirm_next(est);
+  return confirm_plans(est, np);
 }
 
 /* Face 2 on a closed patch, when no flat face 2 is left: the patches under the estimate after
@@ -1133,9 +1134,7 @@ static estimate_status_t face_two_closed(est_t *est) {
              est->cfg.min_face_angle_rad * 180.0 / CL_PI);
     return verify_begin(est);
   }
-  est->np = np;
-  est->ci = 0;
-  return confirm_next(est);
+  return confirm_plans(est, np);
 }
 
 /* No candidate of the current face was confirmed stable. */
@@ -1282,10 +1281,8 @@ static estimate_status_t face_redo(est_t *est, int si, int *started) {
   if (one) est->closed2 = 0; /* face 2's patches are listed again under the new estimate */
   out->search[si].retested = 1;
   est->redo_of = si;
-  est->np = np;
-  est->ci = 0;
   *started = 1;
-  return confirm_next(est);
+  return confirm_plans(est, np);
 }
 
 /* Search again in place of search si (retest_yaw); *started = 0 when no search could be started
