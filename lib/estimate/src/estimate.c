@@ -953,7 +953,8 @@ static int face_recorded(const est_t *est, const double normal[3]) {
 }
 
 /* May face f be tried in the current phase? Face 2 needs a normal at least min_face_angle from
- * face 1's (not parallel, not antiparallel). */
+ * face 1's (not parallel, not antiparallel); a face 1 that replaces another (face_redo), from
+ * every face whose search is kept. */
 static int face_allowed(const est_t *est, const model_face_t *f) {
   const double cos_max = cos(est->cfg.min_face_angle_rad);
   if (est->phase == PHASE_FACE2)
@@ -1015,8 +1016,9 @@ static estimate_status_t confirm_reply(est_t *est, const estimate_trial_reply_t 
   return confirm_next(est);
 }
 
-/* A closed patch's plan: the yaws of plan_first (any chord holds on a closed patch, so none is
- * refused), scored by how far inside it the estimate projects (model_faces_stable's order). */
+/* A closed patch's plan (any chord holds on a closed patch, so no yaw is refused): face 1 at
+ * yaws 0 and 90 degrees, face 2 at the yaw whose test direction is most along face 1's normal;
+ * scored by how far inside the patch the estimate projects (model_faces_stable's order). */
 static estimate_status_t plan_closed(est_t *est, int fi, face_plan_t *p) {
   p->face = fi;
   p->score = est->faces[fi].com_margin_m;
