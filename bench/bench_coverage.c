@@ -37,6 +37,7 @@
 #include "objfile.h"
 #include "rockgen.h"
 #include "shapegen.h"
+#include "tool_args.h"
 
 enum { MAX_POLICIES = 4, MAX_JOBS = 16, FAMILIES = SHAPEGEN_FAMILY_COUNT + 1, ROCK = FAMILIES - 1 };
 
@@ -403,21 +404,10 @@ static int parse_policies(const char *arg, opts_t *o) {
 }
 
 /* An integer option in [lo, hi]: 0, or -1. */
-static int int_arg(const char *text, int lo, int hi, int *out) {
-  char *end = NULL;
-  errno = 0;
-  const long v = strtol(text, &end, 10);
-  if (errno != 0 || end == text || *end != '\0' || v < lo || v > hi) return -1;
-  *out = (int)v;
-  return 0;
-}
-
 /* A length option in mm within [0, 100], into metres: 0, or -1. */
 static int mm_arg(const char *text, double *out_m) {
-  char *end = NULL;
-  errno = 0;
-  const double v = strtod(text, &end);
-  if (errno != 0 || end == text || *end != '\0' || !(v >= 0.0 && v <= 100.0)) return -1;
+  double v = 0.0;
+  if (tool_parse_double(text, 0.0, 100.0, &v) != 0) return -1;
   *out_m = 1e-3 * v;
   return 0;
 }
@@ -438,20 +428,14 @@ static int parse_args(int argc, char **argv, opts_t *o) {
   int c, bad = 0;
   while (!bad && (c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
     switch (c) {
-      case 'n': bad = int_arg(optarg, 1, 2000, &o->objects); break;
-      case 's': {
-        char *end = NULL;
-        errno = 0;
-        o->seed = strtoull(optarg, &end, 0);
-        bad = errno != 0 || end == optarg || *end != '\0' || optarg[0] == '-';
-        break;
-      }
+      case 'n': bad = tool_parse_int(optarg, 1, 2000, &o->objects); break;
+      case 's': bad = tool_parse_u64(optarg, &o->seed); break;
       case 'p': bad = parse_policies(optarg, o); break;
-      case 'k': bad = int_arg(optarg, 0, 20, &o->seeds); break;
+      case 'k': bad = tool_parse_int(optarg, 0, 20, &o->seeds); break;
       case 'P': bad = mm_arg(optarg, &o->placement_m); break;
       case 'Q': bad = mm_arg(optarg, &o->pose_m); break;
       case 'W': bad = mm_arg(optarg, &o->stop_m) || o->stop_m > 0.01; break;
-      case 'j': bad = int_arg(optarg, 1, MAX_JOBS, &o->jobs); break;
+      case 'j': bad = tool_parse_int(optarg, 1, MAX_JOBS, &o->jobs); break;
       case 'J': o->json = optarg; break;
       case 'K': o->keep = optarg; break;
       case 'h': usage(stdout); exit(0);

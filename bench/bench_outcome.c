@@ -27,7 +27,6 @@
  * Deterministic for given options. Wall time: a few minutes for the defaults. */
 #define _POSIX_C_SOURCE 200809L
 
-#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -44,6 +43,7 @@
 #include "comlearn/model_support.h"
 #include "rockgen.h"
 #include "shapegen.h"
+#include "tool_args.h"
 
 enum { MAX_FACES = 4096, MAX_CLASSES = 16, MAX_SHOW = 64, NTOL = 8 };
 
@@ -692,15 +692,6 @@ static void usage(FILE *f) {
           "  -h, --help      this text\n");
 }
 
-static int int_arg(const char *s, int lo, int hi, int *out) {
-  char *end = NULL;
-  errno = 0;
-  const long v = strtol(s, &end, 10);
-  if (errno || end == s || *end || v < lo || v > hi) return 1;
-  *out = (int)v;
-  return 0;
-}
-
 static int families_arg(const char *list, opts_t *o) {
   char buf[512];
   snprintf(buf, sizeof buf, "%s", list);
@@ -733,19 +724,13 @@ static int parse_args(int argc, char **argv, opts_t *o) {
   int c, bad = families_arg("box,feet2,feet3,ring,rim,mug,pebble,lumpy,scanned,plate,rock", o);
   while (!bad && (c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
     switch (c) {
-      case 'n': bad = int_arg(optarg, 1, 1000000, &o->placements); break;
-      case 'k': bad = int_arg(optarg, 1, 1000, &o->objects); break;
-      case 'm': bad = int_arg(optarg, 1, 100, &o->per_com); break;
-      case 'l': bad = int_arg(optarg, 0, 256, &o->lines); break;
-      case 's': {
-        char *end = NULL;
-        errno = 0;
-        o->seed = strtoull(optarg, &end, 0);
-        bad = errno != 0 || end == optarg || *end != '\0' || optarg[0] == '-';
-        break;
-      }
+      case 'n': bad = tool_parse_int(optarg, 1, 1000000, &o->placements); break;
+      case 'k': bad = tool_parse_int(optarg, 1, 1000, &o->objects); break;
+      case 'm': bad = tool_parse_int(optarg, 1, 100, &o->per_com); break;
+      case 'l': bad = tool_parse_int(optarg, 0, 256, &o->lines); break;
+      case 's': bad = tool_parse_u64(optarg, &o->seed); break;
       case 'f': bad = families_arg(optarg, o); break;
-      case 'd': bad = int_arg(optarg, 0, MAX_SHOW, &o->show); break;
+      case 'd': bad = tool_parse_int(optarg, 0, MAX_SHOW, &o->show); break;
       case 't': {
         char *end = NULL;
         o->cfg.tol_m = 1e-6 * strtod(optarg, &end);

@@ -22,7 +22,6 @@
  *   {"type": "line", ...}        object, face, normal, margin, yaw, orientation, u, threshold
  *   {"type": "placement", ...}   line, d, release pose, outcome, rotation, displacement, steps
  * Deterministic. Exit 0, 1 (an object could not be loaded or simulated), 2 (usage). */
-#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -36,13 +35,14 @@
 #include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "tool_args.h"
 
 enum { FACE_CAP = 512, FACES_MAX = 16, YAWS_MAX = 64, UNIFORM_MAX = 1000, DENSE_N = 12 };
 
 typedef struct {
   int faces, yaws, uniform, stock;
   double range_m, bracket_m, min_margin_m, resolution_m;
-  unsigned long long seed;
+  uint64_t seed;
 } dump_opts_t;
 
 /* One object in its world, and the counters of the output. */
@@ -317,7 +317,7 @@ static void print_config(const balance_config_t *cfg, const dump_opts_t *opt) {
   key_num("bracket_m", opt->bracket_m);
   key_num("resolution_m", opt->resolution_m);
   printf(", \"faces\": %d, \"yaws\": %d, \"uniform\": %d, \"seed\": %llu}\n", opt->faces, opt->yaws,
-         opt->uniform, opt->seed);
+         opt->uniform, (unsigned long long)opt->seed);
 }
 
 static void usage(FILE *f) {
@@ -344,31 +344,6 @@ static void usage(FILE *f) {
       FACES_MAX, YAWS_MAX, UNIFORM_MAX);
 }
 
-static int parse_int(const char *s, int lo, int hi, int *out) {
-  char *end = NULL;
-  const long v = strtol(s, &end, 10);
-  if (end == s || *end != '\0' || v < lo || v > hi) return -1;
-  *out = (int)v;
-  return 0;
-}
-
-static int parse_len(const char *s, double lo, double hi, double *out) {
-  char *end = NULL;
-  const double v = strtod(s, &end);
-  if (end == s || *end != '\0' || !(v >= lo && v <= hi)) return -1;
-  *out = v;
-  return 0;
-}
-
-static int parse_seed(const char *s, unsigned long long *out) {
-  char *end = NULL;
-  errno = 0;
-  const unsigned long long v = strtoull(s, &end, 0);
-  if (end == s || *end != '\0' || errno != 0 || s[0] == '-') return -1;
-  *out = v;
-  return 0;
-}
-
 /* Options into *opt; 0, or 2 for a usage error (1 with --help: exit 0). */
 static int parse_args(int argc, char **argv, dump_opts_t *opt) {
   static const struct option lo[] = {{"faces", required_argument, NULL, 'f'},
@@ -385,12 +360,12 @@ static int parse_args(int argc, char **argv, dump_opts_t *opt) {
   int ch, bad = 0;
   while ((ch = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
     switch (ch) {
-      case 'f': bad |= parse_int(optarg, 1, FACES_MAX, &opt->faces); break;
-      case 'y': bad |= parse_int(optarg, 1, YAWS_MAX, &opt->yaws); break;
-      case 'u': bad |= parse_int(optarg, 0, UNIFORM_MAX, &opt->uniform); break;
-      case 'r': bad |= parse_len(optarg, 1e-4, 0.1, &opt->range_m); break;
-      case 'm': bad |= parse_len(optarg, 0.0, 0.1, &opt->min_margin_m); break;
-      case 'b': bad |= parse_len(optarg, 1e-4, 0.1, &opt->bracket_m); break;
+      case 'f': bad |= tool_parse_int(optarg, 1, FACES_MAX, &opt->faces); break;
+      case 'y': bad |= tool_parse_int(optarg, 1, YAWS_MAX, &opt->yaws); break;
+      case 'u': bad |= tool_parse_int(optarg, 0, UNIFORM_MAX, &opt->uniform); break;
+      case 'r': bad |= tool_parse_double(optarg, 1e-4, 0.1, &opt->range_m); break;
+      case 'm': bad |= tool_parse_double(optarg, 0.0, 0.1, &opt->min_margin_m); break;
+      case 'b': bad |= tool_parse_double(optarg, 1e-4, 0.1, &opt->bracket_m); break;
       case 'c':
         if (strcmp(optarg, "fast") == 0)
           opt->stock = 0;
@@ -399,8 +374,8 @@ static int parse_args(int argc, char **argv, dump_opts_t *opt) {
         else
           bad = 1;
         break;
-      case 'e': bad |= parse_len(optarg, 1e-9, 1e-3, &opt->resolution_m); break;
-      case 's': bad |= parse_seed(optarg, &opt->seed); break;
+      case 'e': bad |= tool_parse_double(optarg, 1e-9, 1e-3, &opt->resolution_m); break;
+      case 's': bad |= tool_parse_u64(optarg, &opt->seed); break;
       case 'h': usage(stdout); return 1;
       default: usage(stderr); return 2;
     }
