@@ -163,8 +163,8 @@ struct estimate {
   int face_src[ESTIMATE_MAX_FACES];    /* out->face[i] is faces[face_src[i]] */
   model_face_t faces[FACE_CAP];
   size_t nfaces;
-  size_t nflat_list;      /* faces[0, nflat_list) are model_faces_find's; the rest closed patches
-                             (model_faces_stable's, then faces found under settled poses) */
+  size_t nflat_list;      /* faces[0, nflat_list) are model_faces_find's flat candidates; the
+                             rest closed patches (model_faces_stable's, settled poses') */
   int closed1, closed2;   /* face 1's / face 2's closed patches were listed */
   uint32_t face_redos;    /* faces chosen again after their closed patch failed (face_redo) */
   int face1_redone;       /* face 1 was replaced: its new searches go straight to the check */
@@ -258,9 +258,14 @@ static estimate_trial_t *log_trial(est_t *est, const estimate_trial_reply_t *rep
   return t;
 }
 
-/* faces[fi] is a closed patch from model_faces_stable or a settled pose (not a flat face). */
+/* faces[fi] is a closed patch (from model_faces_stable or a settled pose), not a flat face. */
 static int face_is_closed(const est_t *est, int fi) {
-  return fi >= 0 && (size_t)fi >= est->nflat_list;
+  return fi >= 0 && est->faces[fi].closed && !est->faces[fi].flat;
+}
+
+/* The same face: unit normals within 1e-3 rad (model_faces_find's merge angle). */
+static int same_normal(const double a[3], const double b[3]) {
+  return cl_vec3_dot(a, b) > cos(1e-3);
 }
 
 /* Set the object down in `face`'s resting orientation with the current estimate over B's middle;
@@ -947,7 +952,7 @@ static estimate_status_t plan_closed(est_t *est, int fi, face_plan_t *p);
 /* Was a face with this normal checked already (in out->face)? */
 static int face_recorded(const est_t *est, const double normal[3]) {
   for (size_t i = 0; i < est->result.face_count; ++i) {
-    if (cl_vec3_dot(est->result.face[i].normal_link, normal) > cos(1e-3)) return 1;
+    if (same_normal(est->result.face[i].normal_link, normal)) return 1;
   }
   return 0;
 }
@@ -984,7 +989,7 @@ static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
   if (ms != MODEL_OK) return ESTIMATE_OK; /* nothing usable under that pose */
   if (!f.closed || f.flat || !face_allowed(est, &f)) return ESTIMATE_OK;
   for (size_t i = est->ci + 1; i < est->np; ++i) {
-    if (cl_vec3_dot(est->faces[est->plans[i].face].normal_link, f.normal_link) > cos(1e-3))
+    if (same_normal(est->faces[est->plans[i].face].normal_link, f.normal_link))
       return ESTIMATE_OK; /* planned already */
   }
   if (face_recorded(est, f.normal_link)) return ESTIMATE_OK; /* checked already */
