@@ -120,6 +120,37 @@ done:
   return st;
 }
 
+/* The line p + s d (d unit) and the edge from a point at signed distance ha and position sa along
+ * it to one at hb, sb, into [*lo, *hi]: the first point itself when it lies on the line, the
+ * crossing when the two lie on either side (the second is counted as the next edge's first). */
+static void chord_step(double ha, double sa, double hb, double sb, double *lo, double *hi) {
+  if (ha == 0.0) {
+    if (sa < *lo) *lo = sa;
+    if (sa > *hi) *hi = sa;
+  }
+  if ((ha < 0.0 && hb > 0.0) || (ha > 0.0 && hb < 0.0)) {
+    const double x = sa + (sb - sa) * (ha / (ha - hb));
+    if (x < *lo) *lo = x;
+    if (x > *hi) *hi = x;
+  }
+}
+
+/* Signed distance from the line p + s d and position along it of point q. */
+static void chord_coords(const double q[2], const double p[2], const double d[2], double *h,
+                         double *sp) {
+  const double rx = q[0] - p[0], ry = q[1] - p[1];
+  *h = d[0] * ry - d[1] * rx;
+  *sp = d[0] * rx + d[1] * ry;
+}
+
+/* A chord of positive length [lo, hi] into [*s0, *s1]: 1, else 0. */
+static int chord_result(double lo, double hi, double *s0, double *s1) {
+  if (!(hi > lo)) return 0;
+  *s0 = lo;
+  *s1 = hi;
+  return 1;
+}
+
 int model_support_closed(const model_support_contact_t *ct, double hull_area_m2) {
   return ct->region_count == 1 && ct->region_area_m2 > 0.0 &&
          hull_area_m2 <= ct->region_area_m2 * (1.0 + 1e-6);
@@ -161,55 +192,30 @@ int model_support_edges_close(const model_mesh_t *mesh, const double (*xy)[2],
 int model_polygon_chord(const double (*poly)[2], size_t n, const double p[2], const double d[2],
                         double *s0, double *s1) {
   double lo = HUGE_VAL, hi = -HUGE_VAL;
+  if (n == 0) return 0;
+  double h0, sp0, ha, sa;
+  chord_coords(poly[0], p, d, &h0, &sp0);
+  ha = h0;
+  sa = sp0;
   for (size_t k = 0; k < n; ++k) {
-    const double *a = poly[k], *b = poly[(k + 1) % n];
-    const double ha = d[0] * (a[1] - p[1]) - d[1] * (a[0] - p[0]);
-    const double hb = d[0] * (b[1] - p[1]) - d[1] * (b[0] - p[0]);
-    const double sa = d[0] * (a[0] - p[0]) + d[1] * (a[1] - p[1]);
-    const double sb = d[0] * (b[0] - p[0]) + d[1] * (b[1] - p[1]);
-    if (ha == 0.0) {
-      lo = fmin(lo, sa);
-      hi = fmax(hi, sa);
-    }
-    if ((ha < 0.0 && hb > 0.0) || (ha > 0.0 && hb < 0.0)) {
-      const double x = sa + (sb - sa) * (ha / (ha - hb));
-      lo = fmin(lo, x);
-      hi = fmax(hi, x);
-    }
+    double hb = h0, sb = sp0; /* the last edge closes the polygon */
+    if (k + 1 < n) chord_coords(poly[k + 1], p, d, &hb, &sb);
+    chord_step(ha, sa, hb, sb, &lo, &hi);
+    ha = hb;
+    sa = sb;
   }
-  if (!(hi > lo)) return 0;
-  *s0 = lo;
-  *s1 = hi;
-  return 1;
+  return chord_result(lo, hi, s0, s1);
 }
 
 int model_support_tris_chord(const double (*tri_xy)[3][2], size_t n, const double p[2],
                              const double d[2], double *s0, double *s1) {
   double lo = HUGE_VAL, hi = -HUGE_VAL;
   for (size_t t = 0; t < n; ++t) {
-    double h[3], s[3];
-    for (int k = 0; k < 3; ++k) {
-      const double rx = tri_xy[t][k][0] - p[0], ry = tri_xy[t][k][1] - p[1];
-      h[k] = d[0] * ry - d[1] * rx; /* signed distance from the line */
-      s[k] = d[0] * rx + d[1] * ry; /* position along it */
-    }
-    for (int k = 0; k < 3; ++k) {
-      const int j = (k + 1) % 3;
-      if (h[k] == 0.0) {
-        if (s[k] < lo) lo = s[k];
-        if (s[k] > hi) hi = s[k];
-      }
-      if ((h[k] < 0.0 && h[j] > 0.0) || (h[k] > 0.0 && h[j] < 0.0)) {
-        const double x = s[k] + (s[j] - s[k]) * (h[k] / (h[k] - h[j]));
-        if (x < lo) lo = x;
-        if (x > hi) hi = x;
-      }
-    }
+    double h[3], sp[3];
+    for (int k = 0; k < 3; ++k) chord_coords(tri_xy[t][k], p, d, &h[k], &sp[k]);
+    for (int k = 0; k < 3; ++k) chord_step(h[k], sp[k], h[(k + 1) % 3], sp[(k + 1) % 3], &lo, &hi);
   }
-  if (!(hi > lo)) return 0;
-  *s0 = lo;
-  *s1 = hi;
-  return 1;
+  return chord_result(lo, hi, s0, s1);
 }
 
 /* ---- configuration ------------------------------------------------------------------------ */
