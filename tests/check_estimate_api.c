@@ -196,6 +196,7 @@ START_TEST(failure_is_final) {
   estimate_config_t cfg;
   estimate_config_default(&cfg);
   cfg.closed_patches = 0; /* flat faces only: none is usable (with closed patches it is) */
+  cfg.rough_faces = 0;
   estimate_t *est = NULL;
   ck_assert_int_eq(estimate_create(&flat, kBase, &cfg, &est), ESTIMATE_OK);
   estimate_trial_request_t req;

@@ -20,6 +20,15 @@ enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw s
  * stayed on it within this angle: off it, the object rolls onto a neighbouring facet, a few
  * degrees away on the meshes measured (docs/estimate.md, "Closed patches"). */
 #define ESTIMATE_CLOSED_ROTATION_RAD 1e-3
+/* An INVALID trial (the horizon came first) counts as at rest on a rough face when the object
+ * turned by at most this much and moved by at most ESTIMATE_CREEP_M. A CoM beyond its support by
+ * delta turns the object by alpha T^2 / 2 in the horizon T, alpha = g delta / k^2 with k <= R
+ * (the farthest vertex): so delta <= 2 theta R^2 / (g T^2), which stays_bound adds (lib/balance's
+ * and comlearn-sim's horizon T = 0.75 s; 7.7 um for a 0.12 m box turned by 5e-3 rad).
+ * docs/estimate.md, "Rough faces". */
+#define ESTIMATE_CREEP_ROTATION_RAD 5e-3
+#define ESTIMATE_CREEP_M 2e-4
+#define ESTIMATE_CREEP_HORIZON_S 0.75
 enum {
   ESTIMATE_SETTLED_MAX = 8, /* faces taken from settled poses, per estimate */
   ESTIMATE_FACE_REDO = 3    /* a face replaced by another closed patch, per estimate */
@@ -87,6 +96,7 @@ void estimate_config_default(estimate_config_t *cfg) {
   cfg->verify_margin_m = 0.001;
   cfg->max_retests = 3;
   cfg->closed_patches = 1;
+  cfg->rough_faces = 1;
 }
 
 typedef struct {
@@ -163,9 +173,12 @@ struct estimate {
   int face_src[ESTIMATE_MAX_FACES];    /* out->face[i] is faces[face_src[i]] */
   model_face_t faces[FACE_CAP];
   size_t nfaces;
-  size_t nflat_list;      /* faces[0, nflat_list) are model_faces_find's flat candidates; the
-                             rest closed patches (model_faces_stable's, settled poses') */
-  int closed1, closed2;   /* face 1's / face 2's closed patches were listed */
+  size_t nflat_list;             /* faces[0, nflat_list) are model_faces_find's flat candidates; the
+                                    rest closed patches (model_faces_stable's, settled poses') */
+  int closed1, closed2;          /* face 1's / face 2's closed patches were listed */
+  int rough1, rough2;            /* face 1's / face 2's rough faces were listed */
+  unsigned char rough[FACE_CAP]; /* faces[i] is searched as a rough face: by its stays bounds */
+  int mirror_next;               /* the search about to start mirrors this one (-1: none) */
   uint32_t face_redos;    /* faces chosen again after their closed patch failed (face_redo) */
   int face1_redone;       /* face 1 was replaced: its new searches go straight to the check */
   int redo_of;            /* the search that face_redo replaces, or -1 */
@@ -260,7 +273,33 @@ static estimate_trial_t *log_trial(est_t *est, const estimate_trial_reply_t *rep
 
 /* faces[fi] is a closed patch (from model_faces_stable or a settled pose), not a flat face. */
 static int face_is_closed(const est_t *est, int fi) {
-  return fi >= 0 && est->faces[fi].closed && !est->faces[fi].flat;
+  return fi >= 0 && !est->rough[fi] && est->faces[fi].closed && !est->faces[fi].flat;
+}
+
+/* Search si runs on a rough face (its STAYS trials bound the CoM, from both sides). */
+static int search_rough(const est_t *est, int si) {
+  return si >= 0 && (size_t)si < est->result.search_count &&
+         est->rough[est->face_src[est->result.search[si].face]];
+}
+
+/* Came to rest: STAYS, or on a rough face the horizon came while the object barely crept
+ * (ESTIMATE_CREEP_*: what lib/balance reports on faces of many noise peaks, docs/physics.md). */
+static int at_rest(const estimate_trial_t *t, int rough) {
+  if (t->outcome == ESTIMATE_STAYS) return 1;
+  if (!rough || t->outcome != ESTIMATE_INVALID) return 0;
+  double d2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double dk = t->settled.position_m[k] - t->released.position_m[k];
+    d2 += dk * dk;
+  }
+  return cl_quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz) <=
+             ESTIMATE_CREEP_ROTATION_RAD &&
+         sqrt(d2) <= ESTIMATE_CREEP_M;
+}
+
+/* The outcome an edge trial counts as: on a rough face a barely creeping INVALID is a STAYS. */
+static estimate_outcome_t seen_outcome(const est_t *est, const estimate_trial_t *t) {
+  return at_rest(t, search_rough(est, t->search)) ? ESTIMATE_STAYS : t->outcome;
 }
 
 /* The same face: unit normals within 1e-3 rad (model_faces_find's merge angle). */
@@ -293,15 +332,16 @@ static estimate_status_t stable_request(est_t *est, int face_index, int log_face
   return request(est, &req, log_face, 0.0);
 }
 
-/* Did the stable check t confirm its face? On a closed patch it must barely have turned. */
-static int stable_confirmed(const estimate_trial_t *t, int closed) {
+/* Did the stable check t confirm its face? On a closed patch it must barely have turned; a rough
+ * face may also have crept at the horizon (at_rest). */
+static int stable_confirmed(const estimate_trial_t *t, int closed, int rough) {
   model_stable_config_t sc;
   model_stable_config_default(&sc);
   if (closed) sc.max_rotation_rad = ESTIMATE_CLOSED_ROTATION_RAD;
   double dx = t->settled.position_m[0] - t->released.position_m[0];
   double dy = t->settled.position_m[1] - t->released.position_m[1];
   double dz = t->settled.position_m[2] - t->released.position_m[2];
-  return t->outcome == ESTIMATE_STAYS &&
+  return at_rest(t, rough) &&
          cl_quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz) <=
              sc.max_rotation_rad &&
          sqrt(dx * dx + dy * dy + dz * dz) <= sc.max_displacement_m;
@@ -387,14 +427,16 @@ static estimate_trial_t *edge_logged(est_t *est, const search_ctx_t *sc,
   return t;
 }
 
-static int clear_outcome(const estimate_trial_t *t) {
-  return t->outcome == ESTIMATE_STAYS || t->outcome == ESTIMATE_TIPS;
+static int clear_outcome(const est_t *est, const estimate_trial_t *t) {
+  const estimate_outcome_t o = seen_outcome(est, t);
+  return o == ESTIMATE_STAYS || o == ESTIMATE_TIPS;
 }
 
 /* Record a clear trial's outcome in a policy. */
-static qlearn_status_t observe_trial(qlearn_policy_t *pol, const estimate_trial_t *t) {
+static qlearn_status_t observe_trial(const est_t *est, qlearn_policy_t *pol,
+                                     const estimate_trial_t *t) {
   return qlearn_policy_observe(pol, t->x_m,
-                               t->outcome == ESTIMATE_STAYS ? QLEARN_STAYS : QLEARN_TIPS);
+                               seen_outcome(est, t) == ESTIMATE_STAYS ? QLEARN_STAYS : QLEARN_TIPS);
 }
 
 /* Does trial i (of search sr, clear) set the threshold? Noiseless: it is one of the two
@@ -418,6 +460,8 @@ static void probit_config(const est_t *est, qlearn_policy_config_t *pc) {
 
 static estimate_status_t search_done(est_t *est);
 static estimate_status_t walk_end(est_t *est);
+static estimate_status_t search_start(est_t *est, int face_index, int log_face, double yaw_rad,
+                                      double margin_m, int retest_of);
 static void search_plane(est_t *est, const search_ctx_t *sc);
 static void search_estimate(est_t *est, const search_ctx_t *sc, const qlearn_policy_t *pol);
 
@@ -435,11 +479,19 @@ static estimate_status_t walk_request(est_t *est) {
 static estimate_status_t walk_next(est_t *est) {
   walk_t *w = &est->walk;
   if (!(w->n < QLEARN_MAX_TRIALS && !qlearn_policy_done(w->pol))) return walk_end(est);
+  const double last_x = w->x;
+  const int last_retried = w->n > 0 && w->attempt > 0;
   qlearn_status_t qs = qlearn_policy_next(w->pol, &w->x);
   if (qs == QLEARN_E_DONE) return walk_end(est);
   if (qs != QLEARN_OK) {
     snprintf(est->result.msg, sizeof est->result.msg, "policy next: %s", qlearn_status_str(qs));
     return ESTIMATE_E_LEARNER;
+  }
+  /* The last x needed retries, and the clear outcome they found told the policy nothing new: it
+   * asks for the same x again, and would forever. */
+  if (last_retried && w->x == last_x) {
+    snprintf(w->stopped, sizeof w->stopped, "no clear outcome near x = %.3f mm", 1e3 * w->x);
+    return walk_end(est);
   }
   w->attempt = 0;
   return walk_request(est);
@@ -455,12 +507,12 @@ static estimate_status_t walk_reply(est_t *est, const estimate_trial_reply_t *re
   walk_t *w = &est->walk;
   const estimate_trial_t *t = edge_logged(est, &w->sc, reply);
   if (w->ran) ++*w->ran;
-  if (!clear_outcome(t)) {
+  if (!clear_outcome(est, t)) {
     if (++w->attempt <= ESTIMATE_RETRIES) return walk_request(est);
     snprintf(w->stopped, sizeof w->stopped, "no clear outcome near x = %.3f mm", 1e3 * w->x);
     return walk_end(est);
   }
-  qlearn_status_t qs = observe_trial(w->pol, t);
+  qlearn_status_t qs = observe_trial(est, w->pol, t);
   if (qs == QLEARN_E_RANGE) {
     snprintf(w->stopped, sizeof w->stopped,
              "outcome at x = %.3f mm contradicts the earlier ones (noise, or physics the "
@@ -496,8 +548,8 @@ static estimate_status_t handover_start(est_t *est) {
   uint32_t seen = 0;
   for (size_t i = 0; qs == QLEARN_OK && i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
-    if (t->search != sc->si || !clear_outcome(t)) continue;
-    qs = observe_trial(pba, t);
+    if (t->search != sc->si || !clear_outcome(est, t)) continue;
+    qs = observe_trial(est, pba, t);
     ++seen;
   }
   if (qs == QLEARN_E_DONE) qs = QLEARN_OK; /* already narrow enough */
@@ -515,10 +567,88 @@ static estimate_status_t handover_start(est_t *est) {
   return walk_next(est);
 }
 
+/* The bound a STAYS trial t of a rough-face search sets along u (unit, link frame). At rest, the
+ * CoM lies over the support polygon, and every contact is on B's top or its edge line, so in the
+ * settled pose n_s . c <= d_s (trial_plane) exactly, whatever the support looks like. Along u,
+ * with g the estimate and r the distance from g to the farthest vertex (the CoM is inside the
+ * object): u . c <= d_s + (u - n_s) . g + |u - n_s| r. */
+static double stays_bound(const est_t *est, const estimate_trial_t *t, const double u[3]) {
+  double n_s[3], d_s, du[3], r2 = 0.0;
+  trial_plane(est, &t->settled, n_s, &d_s);
+  for (int k = 0; k < 3; ++k) du[k] = u[k] - n_s[k];
+  for (size_t i = 0; i < est->mesh->vertex_count; ++i) {
+    double v[3];
+    cl_vec3_sub(est->mesh->vertices_m[i], est->guess_m, v);
+    r2 = fmax(r2, cl_vec3_dot(v, v));
+  }
+  double creep = 0.0; /* a creeping INVALID: how far beyond its support the CoM can be */
+  if (t->outcome != ESTIMATE_STAYS)
+    creep = 2.0 * cl_quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz) * r2 /
+            (9.81 * ESTIMATE_CREEP_HORIZON_S * ESTIMATE_CREEP_HORIZON_S);
+  return d_s + cl_vec3_dot(du, est->guess_m) + sqrt(cl_vec3_dot(du, du) * r2) + creep;
+}
+
+/* The plane of a rough face's pair of searches: search a along u and its mirror b along -u (yaw
+ * + pi). Their tightest STAYS bounds enclose the CoM from both sides: -B_b <= u . c <= B_a, a
+ * bound without a physics budget. Only a is fed; b says where its trials went. */
+static void rough_plane(est_t *est, int a, int b) {
+  estimate_result_t *out = &est->result;
+  estimate_search_t *sa = &out->search[a], *sb = &out->search[b];
+  double hi = HUGE_VAL, lo = -HUGE_VAL;
+  for (size_t i = 0; i < out->trial_count; ++i) {
+    const estimate_trial_t *t = &out->trial[i];
+    if ((t->search != a && t->search != b) || seen_outcome(est, t) != ESTIMATE_STAYS) continue;
+    if (t->search == a) hi = fmin(hi, stays_bound(est, t, sa->dir_link));
+    if (t->search == b) lo = fmax(lo, -stays_bound(est, t, sb->dir_link));
+  }
+  snprintf(sb->note, sizeof sb->note, "mirrors search %d: its STAYS bound is in that plane", a);
+  if (!isfinite(hi) || !isfinite(lo)) {
+    snprintf(sa->note, sizeof sa->note, "no placement stayed on %s",
+             isfinite(hi) ? "the mirror's side" : "its side");
+    return;
+  }
+  if (lo > hi) {
+    snprintf(sa->note, sizeof sa->note,
+             "the STAYS bounds of both sides contradict each other (%.3f mm > %.3f mm)", 1e3 * lo,
+             1e3 * hi);
+    return;
+  }
+  sa->c_m = 0.5 * (lo + hi);
+  sa->halfwidth_m = 0.5 * (hi - lo);
+  memcpy(sa->plane_n_obj, sa->dir_link, sizeof sa->plane_n_obj);
+  sa->plane_d_m = sa->c_m;
+  sa->bias_m = 0.0;
+  sa->fed = 1;
+}
+
+/* A rough face's search ended: the first of a pair starts its mirror at yaw + pi (the edge on the
+ * other side of the CoM); the mirror's end sets the pair's plane (rough_plane). A walk that
+ * stopped early or contradicted itself still leaves valid STAYS bounds: its note is dropped. */
+static estimate_status_t rough_end(est_t *est) {
+  estimate_result_t *out = &est->result;
+  walk_t *w = &est->walk;
+  const int si = w->sc.si;
+  estimate_search_t *sr = &out->search[si];
+  search_estimate(est, &w->sc, w->pol);
+  sr->note[0] = '\0';
+  if (sr->mirror_of >= 0) {
+    rough_plane(est, sr->mirror_of, si);
+    return search_done(est);
+  }
+  if (out->search_count >= ESTIMATE_MAX_SEARCHES) {
+    snprintf(sr->note, sizeof sr->note, "no room left for its mirror search");
+    return search_done(est);
+  }
+  est->mirror_next = si;
+  return search_start(est, est->face_src[sr->face], sr->face, sr->yaw_rad + CL_PI,
+                      sr->chord_margin_m, -1);
+}
+
 /* The walk ended: hand over (noisy, not PBA), or take the search's estimate and plane. */
 static estimate_status_t walk_end(est_t *est) {
   walk_t *w = &est->walk;
   estimate_search_t *sr = &est->result.search[w->sc.si];
+  if (search_rough(est, w->sc.si)) return rough_end(est);
   if (!w->in_handover) {
     if (est->noisy && est->cfg.policy != QLEARN_POLICY_PBA) return handover_start(est);
     if (w->stopped[0]) {
@@ -565,7 +695,7 @@ static void search_plane(est_t *est, const search_ctx_t *sc) {
   }
   for (size_t i = 0; i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
-    if (t->search != sc->si || !clear_outcome(t)) continue;
+    if (t->search != sc->si || !clear_outcome(est, t)) continue;
     if (deciding_trial(est, sr, i) && t->flagged) {
       sr->flat_failed = 1;
       snprintf(sr->note, sizeof sr->note,
@@ -596,11 +726,11 @@ static void search_estimate(est_t *est, const search_ctx_t *sc, const qlearn_pol
   sr->lo_trial = sr->hi_trial = -1;
   for (size_t i = 0; i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
-    if (t->search != sc->si || !clear_outcome(t)) continue;
-    if (t->outcome == ESTIMATE_TIPS && (sr->lo_trial < 0 || t->x_m >= out->trial[sr->lo_trial].x_m))
+    if (t->search != sc->si || !clear_outcome(est, t)) continue;
+    const estimate_outcome_t o = seen_outcome(est, t);
+    if (o == ESTIMATE_TIPS && (sr->lo_trial < 0 || t->x_m >= out->trial[sr->lo_trial].x_m))
       sr->lo_trial = (int)i;
-    if (t->outcome == ESTIMATE_STAYS &&
-        (sr->hi_trial < 0 || t->x_m <= out->trial[sr->hi_trial].x_m))
+    if (o == ESTIMATE_STAYS && (sr->hi_trial < 0 || t->x_m <= out->trial[sr->hi_trial].x_m))
       sr->hi_trial = (int)i;
   }
   const double lo = sr->lo_trial >= 0 ? out->trial[sr->lo_trial].x_m : sc->lo;
@@ -647,6 +777,8 @@ static estimate_status_t search_start(est_t *est, int face_index, int log_face, 
   sr->verified_margin_m = NAN;
   sr->lo_trial = sr->hi_trial = -1;
   sr->retest_of = retest_of;
+  sr->mirror_of = est->mirror_next;
+  est->mirror_next = -1;
   model_orientation_yawed(est->faces[face_index].orientation_wxyz, yaw_rad, sc->q);
   dir_of(sc->q, sc->u);
   memcpy(sr->dir_link, sc->u, sizeof sc->u);
@@ -923,6 +1055,7 @@ static int record_face(est_t *est, int fi) {
   f->regions = est->faces[fi].region_count;
   f->com_margin_m = est->faces[fi].com_margin_m;
   f->confirmed = 0;
+  f->rough = est->rough[fi];
   est->face_src[out->face_count] = fi;
   return (int)out->face_count++;
 }
@@ -995,6 +1128,7 @@ static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
   if (face_recorded(est, f.normal_link)) return ESTIMATE_OK; /* checked already */
   const int fi = (int)est->nfaces++;
   est->faces[fi] = f;
+  est->rough[fi] = 0;
   ++est->found_settled;
   face_plan_t p;
   estimate_status_t s = plan_closed(est, fi, &p);
@@ -1009,7 +1143,7 @@ static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
 static estimate_status_t confirm_reply(est_t *est, const estimate_trial_reply_t *reply) {
   const estimate_trial_t *t = log_trial(est, reply);
   const int fi = est->plans[est->ci].face;
-  const int conf = stable_confirmed(t, face_is_closed(est, fi));
+  const int conf = stable_confirmed(t, face_is_closed(est, fi), est->rough[fi]);
   est->result.face[est->chosen_log].confirmed = conf;
   if (conf) {
     est->chosen = est->plans[est->ci];
@@ -1062,6 +1196,7 @@ static estimate_status_t closed_plans(est_t *est, size_t *np) {
 
 static estimate_status_t face_one_closed(est_t *est);
 static estimate_status_t closed_append(est_t *est);
+static estimate_status_t faces_append(est_t *est, int rough);
 
 /* The closed patches of the current phase under the estimate, listed and planned once (*listed
  * marks it): *np plans, 0 when listed before or closed patches are off. */
@@ -1071,6 +1206,25 @@ static estimate_status_t closed_once(est_t *est, int *listed, size_t *np) {
   *listed = 1;
   estimate_status_t s = closed_append(est);
   return s == ESTIMATE_OK ? closed_plans(est, np) : s;
+}
+
+/* The rough faces of the current phase under the estimate, once the flat faces and closed
+ * patches are used up: every hull face that holds the estimate and was not checked yet, listed
+ * and planned once (*listed marks it). Noiseless only: a STAYS bound takes the settled pose as
+ * observed, and pose noise would move it. */
+static estimate_status_t rough_once(est_t *est, int *listed, size_t *np) {
+  *np = 0;
+  if (!est->cfg.rough_faces || est->noisy || *listed) return ESTIMATE_OK;
+  *listed = 1;
+  estimate_status_t s = faces_append(est, 1);
+  return s == ESTIMATE_OK ? closed_plans(est, np) : s;
+}
+
+/* What the face choice tried, for its messages. */
+static const char *faces_tried(const est_t *est) {
+  return est->rough1 || est->rough2 ? "flat face, closed patch or rough face"
+         : est->cfg.closed_patches  ? "flat face or closed patch"
+                                    : "flat face";
 }
 
 /* Face 1: the flat, stable-candidate faces with the best pairs of chord margins, to confirm in
@@ -1094,14 +1248,15 @@ static estimate_status_t face_one(est_t *est) {
 static estimate_status_t face_one_closed(est_t *est) {
   size_t np = 0;
   estimate_status_t s = closed_once(est, &est->closed1, &np);
+  if (s == ESTIMATE_OK && np == 0) s = rough_once(est, &est->rough1, &np);
   if (s != ESTIMATE_OK) return s;
-  if (np == 0)
-    return est->closed1 || est->result.face_count > 0
-               ? fail(est, ESTIMATE_E_NOPOSE,
-                      est->cfg.closed_patches
-                          ? "no flat resting face or closed patch was confirmed stable"
-                          : "no flat resting face was confirmed stable")
-               : fail(est, ESTIMATE_E_GEOMETRY, "no flat face with two usable edge directions");
+  if (np == 0) {
+    if (!est->closed1 && !est->rough1 && est->result.face_count == 0)
+      return fail(est, ESTIMATE_E_GEOMETRY, "no flat face with two usable edge directions");
+    char m[ESTIMATE_NOTE_SIZE];
+    snprintf(m, sizeof m, "no resting %s was confirmed stable", faces_tried(est));
+    return fail(est, ESTIMATE_E_NOPOSE, m);
+  }
   return confirm_plans(est, np);
 }
 
@@ -1133,12 +1288,12 @@ static estimate_status_t face_two(est_t *est) {
 static estimate_status_t face_two_closed(est_t *est) {
   size_t np = 0;
   estimate_status_t s = closed_once(est, &est->closed2, &np);
+  if (s == ESTIMATE_OK && np == 0) s = rough_once(est, &est->rough2, &np);
   if (s != ESTIMATE_OK) return s;
   if (np == 0) {
     snprintf(est->face2_note, sizeof est->face2_note,
-             "no second %s resting face at >= %.0f deg to the first was confirmed stable",
-             est->cfg.closed_patches ? "flat or closed" : "flat",
-             est->cfg.min_face_angle_rad * 180.0 / CL_PI);
+             "no second resting %s at >= %.0f deg to the first was confirmed stable",
+             faces_tried(est), est->cfg.min_face_angle_rad * 180.0 / CL_PI);
     return verify_begin(est);
   }
   return confirm_plans(est, np);
@@ -1200,9 +1355,10 @@ static double search_verified_margin(est_t *est, int si, const qlearn_solve_resu
   const double sigma = est->cfg.noise_sigma_m;
   double worst = HUGE_VAL;
   *bounded = 1;
+  if (search_rough(est, si)) return worst; /* its STAYS bounds need no regime */
   for (size_t i = 0; i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
-    if (t->search != si || !clear_outcome(t) || !deciding_trial(est, sr, i)) continue;
+    if (t->search != si || !clear_outcome(est, t) || !deciding_trial(est, sr, i)) continue;
     if (model_regime_classify_in(est->mesh, &t->released, est->base_size_m, MODEL_EDGE_PX,
                                  est->guess_m, NULL, est->work, &est->regime) != MODEL_OK)
       return -HUGE_VAL;
@@ -1337,8 +1493,10 @@ static int worst_search(est_t *est, const qlearn_solve_result_t *res, int *unver
     if (!sr->fed) continue;
     int bounded = 0;
     sr->verified_margin_m = search_verified_margin(est, (int)i, res, &bounded);
-    sr->verify_need_m = face_is_closed(est, est->face_src[sr->face]) ? ESTIMATE_CLOSED_MARGIN_M
-                                                                     : est->cfg.verify_margin_m;
+    const int fi = est->face_src[sr->face];
+    sr->verify_need_m = est->rough[fi]            ? 0.0
+                        : face_is_closed(est, fi) ? ESTIMATE_CLOSED_MARGIN_M
+                                                  : est->cfg.verify_margin_m;
     const double slack = sr->verified_margin_m - sr->verify_need_m;
     sr->verified = bounded && slack >= 0.0;
     if (!bounded || sr->verified) continue;
@@ -1416,7 +1574,8 @@ static estimate_status_t search_done(est_t *est) {
     case PHASE_FACE1_SEARCH0: {
       face_plan_t *c = &est->chosen;
       s = update_guess(est);
-      if (s == ESTIMATE_OK && !face_is_closed(est, c->face)) /* closed: any yaw, kept at 90 deg */
+      if (s == ESTIMATE_OK && !face_is_closed(est, c->face) && !est->rough[c->face])
+        /* closed and rough: any yaw, kept at 90 deg */
         s = plan_partner(est, c->face, c->yaw[0], &c->yaw[1], &c->margin[1]);
       if (s != ESTIMATE_OK) return s;
       est->phase = PHASE_FACE1_SEARCH1;
@@ -1455,7 +1614,8 @@ static void component_reason(est_t *est, int k, int determined, int unverified, 
   } else {
     int last = -1; /* the last search that is not fed says most */
     for (size_t i = 0; i < out->search_count; ++i)
-      if (!out->search[i].fed && out->search[i].note[0]) last = (int)i;
+      if (!out->search[i].fed && out->search[i].note[0] && out->search[i].mirror_of < 0)
+        last = (int)i;
     if (last >= 0)
       snprintf(r, sizeof r, "not determined: search %d not used: %s", last, out->search[last].note);
     else
@@ -1491,7 +1651,12 @@ static estimate_status_t finish(est_t *est) {
 /* The closed patches the current estimate can rest on (model_faces_stable), appended to faces[]
  * from est->closed_from on: at the start under the prior, for face 2 again under the estimate
  * after face 1's searches (its in-plane components are known then). */
-static estimate_status_t closed_append(est_t *est) {
+static estimate_status_t closed_append(est_t *est) { return faces_append(est, 0); }
+
+/* The faces model_faces_stable lists under the estimate, appended to faces[] from
+ * est->closed_from on: the closed patches (rough 0), or every face not checked yet, marked rough
+ * (rough 1). */
+static estimate_status_t faces_append(est_t *est, int rough) {
   est->closed_from = est->nfaces;
   size_t n = 0;
   const model_status_t ms =
@@ -1504,7 +1669,10 @@ static estimate_status_t closed_append(est_t *est) {
   if (n > FACE_CAP - est->nfaces) n = FACE_CAP - est->nfaces;
   size_t kept = est->nfaces;
   for (size_t i = est->nfaces; i < est->nfaces + n; ++i) {
-    if (est->faces[i].closed && !est->faces[i].flat) est->faces[kept++] = est->faces[i];
+    const model_face_t *f = &est->faces[i];
+    if (rough ? face_recorded(est, f->normal_link) : !f->closed || f->flat) continue;
+    est->rough[kept] = (unsigned char)rough;
+    est->faces[kept++] = *f;
   }
   est->nfaces = kept;
   return ESTIMATE_OK;
@@ -1530,6 +1698,7 @@ static estimate_status_t strategy_start(est_t *est) {
   est->face1 = -1;
   est->redo_of = -1;
   est->redo_face = -1;
+  est->mirror_next = -1;
   /* the hull stays in est->work: model_support_work_hull(est->work, est->mesh, ...) reuses it */
   const model_status_t ms = model_faces_find_in(est->mesh, est->guess_m, NULL, est->work,
                                                 est->faces, FACE_CAP, &est->nfaces);

@@ -164,13 +164,19 @@ typedef struct {
    * under the pose a stable check settled in; any chord of one spans the CoM, so no chord margin
    * is needed (docs/estimate.md, "Closed patches"). 0: flat faces only, as before. */
   int closed_patches;
+  /* Rough faces too (default 1; noiseless only): when no flat face or closed patch is left, any
+   * hull face that holds the estimate (a noisy scanned face, the facets of a pebble) is searched
+   * from both sides, yaw and yaw + pi, and only its STAYS trials set the plane: at rest, the CoM
+   * lies over B's top in the settled pose, exactly, whatever the support looks like
+   * (docs/estimate.md, "Rough faces"). 0: not used. */
+  int rough_faces;
 } estimate_config_t;
 
 void estimate_config_default(estimate_config_t *cfg);
 
 enum {
   ESTIMATE_MAX_TRIALS = 512,
-  ESTIMATE_MAX_SEARCHES = 12,
+  ESTIMATE_MAX_SEARCHES = 16,
   ESTIMATE_MAX_FACES = 16,
   ESTIMATE_NOTE_SIZE = 160,
   ESTIMATE_REASON_SIZE = 224
@@ -218,6 +224,8 @@ typedef struct {
                                ESTIMATE_CLOSED_MARGIN_M (closed patches, 0.25 mm) */
   int lo_trial, hi_trial;   /* indices into trial[] of the bracketing TIPS / STAYS (-1: none) */
   int retest_of;            /* the search this one repeats with a new yaw, or -1 */
+  int mirror_of;            /* rough face: the search this one mirrors (yaw + pi), whose plane
+                               both set; -1 */
   int retested;             /* a later search repeats this one (or none could) */
   int flat_failed;          /* a trial that sets its threshold left the flat-patch regime */
   int verified;             /* fed and its check at the final estimate passed; a fed search
@@ -233,6 +241,7 @@ typedef struct {
   size_t regions;         /* regions of in-plane triangles (two feet: 2) */
   double com_margin_m;
   int confirmed; /* stable check stayed */
+  int rough;     /* checked and searched as a rough face (estimate_config_t.rough_faces) */
 } estimate_face_t;
 
 typedef struct {
