@@ -120,7 +120,8 @@ static void json_faces(const estimate_result_t *r) {
     printf(", \"regions\": %zu", f->regions);
     printf(", \"com_margin_m\": ");
     cli_json_number(stdout, f->com_margin_m);
-    printf(", \"stable\": %s}", f->confirmed ? "true" : "false");
+    printf(", \"stable\": %s, \"rough\": %s}", f->confirmed ? "true" : "false",
+           f->rough ? "true" : "false");
   }
 }
 
@@ -150,9 +151,9 @@ static void json_searches(const estimate_result_t *r) {
     printf(", \"verify_need_m\": ");
     cli_json_number(stdout, isnan(s->verified_margin_m) ? NAN : s->verify_need_m);
     printf(
-        ", \"trials\": %u, \"handover_trials\": %u, \"retest_of\": %d, \"fed\": %s, "
-        "\"note\": ",
-        s->trials, s->handover_trials, s->retest_of, s->fed ? "true" : "false");
+        ", \"trials\": %u, \"handover_trials\": %u, \"retest_of\": %d, \"mirror_of\": %d, "
+        "\"fed\": %s, \"note\": ",
+        s->trials, s->handover_trials, s->retest_of, s->mirror_of, s->fed ? "true" : "false");
     cli_json_string(stdout, s->note, 0);
     printf("}");
   }
