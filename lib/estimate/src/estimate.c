@@ -1517,10 +1517,7 @@ static int worst_search(est_t *est, const qlearn_solve_result_t *res, int *unver
     if (!sr->fed) continue;
     int bounded = 0;
     sr->verified_margin_m = search_verified_margin(est, (int)i, res, &bounded);
-    const int fi = est->face_src[sr->face];
-    sr->verify_need_m = est->rough[fi]            ? 0.0
-                        : face_is_closed(est, fi) ? ESTIMATE_CLOSED_MARGIN_M
-                                                  : est->cfg.verify_margin_m;
+    sr->verify_need_m = search_rough(est, (int)i) ? 0.0 : est->cfg.verify_margin_m;
     const double slack = sr->verified_margin_m - sr->verify_need_m;
     sr->verified = bounded && slack >= 0.0;
     if (!bounded || sr->verified) continue;

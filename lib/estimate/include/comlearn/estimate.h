@@ -155,8 +155,11 @@ typedef struct {
    * deciding trials of every search are checked against the final estimate: their chord must
    * span the estimate's interval box, seen along the edge, with this margin to spare (default
    * 1 mm: the measured flat-patch bias does not grow down to a 1 mm margin, docs/physics.md; in
-   * [0, 0.02]). The search that fails worst is dropped and searched again with a yaw chosen at
-   * the estimate, until all hold (at most max_retests new searches; default 3, in [0, 6]). */
+   * [0, 0.02]). On a closed patch, where any chord spans the CoM, the estimate must project
+   * this far inside the patch, its box included (a CoM 0.58 mm inside a lumpy rock's facet tipped
+   * 58 um early; docs/estimate.md, "Closed patches"). The search that fails worst is dropped and
+   * searched again with a yaw chosen at the estimate, or made rough (its STAYS bound it), until
+   * all hold (at most max_retests new searches; default 3, in [0, 6]). */
   double verify_margin_m;
   uint32_t max_retests;
   /* Rest on closed patches too (default 1): small convex facets (one triangle of a rounded
@@ -220,8 +223,8 @@ typedef struct {
                                not checked); fed only when >= verify_need_m. On a closed patch:
                                how far inside the patch the estimate projects, less the box's
                                extent in the patch plane */
-  double verify_need_m;     /* what that check needs: verify_margin_m (flat faces) or
-                               ESTIMATE_CLOSED_MARGIN_M (closed patches, 0.25 mm) */
+  double verify_need_m;     /* what that check needs: verify_margin_m (flat faces and closed
+                               patches), 0 for a search bounded by its STAYS (rough) */
   int lo_trial, hi_trial;   /* indices into trial[] of the bracketing TIPS / STAYS (-1: none) */
   int retest_of;            /* the search this one repeats with a new yaw, or -1 */
   int mirror_of;            /* rough face: the search this one mirrors (yaw + pi), whose plane
@@ -270,12 +273,6 @@ typedef struct {
 } estimate_result_t;
 
 /* ---- the loop ------------------------------------------------------------------------------- */
-
-/* On a closed patch the CoM must project this far inside the patch at the final estimate (its
- * box included) for a search there to count: nearer a side, the release transient can roll the
- * object sideways off the patch (measured on a mug's side strip with the CoM 30 um inside: one
- * placement 0.31 mm behind the threshold tipped; docs/estimate.md, "Closed patches"). */
-#define ESTIMATE_CLOSED_MARGIN_M 2.5e-4
 
 typedef struct estimate estimate_t; /* opaque */
 
