@@ -804,6 +804,14 @@ static estimate_status_t search_start(est_t *est, int face_index, int log_face, 
   sr->prior_m = prior;
   sr->range_lo_m = sc->lo;
   sr->range_hi_m = sc->hi;
+  if (!(sc->hi - sc->lo >= est->cfg.resolution_m)) { /* a thin plate's side, a narrow patch */
+    snprintf(sr->note, sizeof sr->note, "its range, %.3f mm, is under the resolution",
+             1e3 * fmax(sc->hi - sc->lo, 0.0));
+    if (sr->mirror_of >= 0)
+      snprintf(out->search[sr->mirror_of].note, sizeof out->search[sr->mirror_of].note,
+               "its mirror search %d had no range", sc->si);
+    return search_done(est);
+  }
 
   qlearn_policy_config_t *pc = &w->pc;
   qlearn_policy_config_default(est->cfg.policy, pc);
