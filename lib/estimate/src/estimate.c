@@ -802,7 +802,7 @@ static estimate_status_t search_start(est_t *est, int face_index, int log_face, 
   for (int k = 1; k < 3; ++k)
     if (fabs(sc->u[k]) > fabs(sc->u[sc->comp])) sc->comp = k;
   search_range(est, sc->u, &sc->lo, &sc->hi);
-  if (face_is_closed(est, face_index))
+  if (face_is_closed(est, face_index) && sr->mirror_of < 0) /* a mirror: the CoM may be off it */
     search_range_closed(est, &est->faces[face_index], sc->u, &sc->lo, &sc->hi);
   double prior = cl_vec3_dot(est->start_m, sc->u);
   if (prior < sc->lo) prior = sc->lo;
@@ -1500,7 +1500,9 @@ static estimate_status_t retest_start(est_t *est, int si, int *started) {
   const estimate_search_t old = out->search[si];
   const int fi = est->face_src[old.face];
   if (face_is_closed(est, fi)) {
-    estimate_status_t s = face_redo(est, si, started);
+    estimate_status_t s = rough_retest(est, si, started);
+    if (s != ESTIMATE_OK || *started) return s;
+    s = face_redo(est, si, started);
     if (s != ESTIMATE_OK || *started) return s;
   }
   double m[YAW_STEPS];
