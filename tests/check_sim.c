@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/prctl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -845,6 +846,99 @@ START_TEST(implausible_load_refused) {
 }
 END_TEST
 
+/* Files that crash, hang or exhaust a parser, named in SIM_CONTROL LOAD (docs/security.md): a
+ * URDF whose mesh makes Debian's assimp segfault (21 bytes) or loop (29 bytes, refused after the
+ * mesh reader's 5 s CPU limit), a URDF nested 100 levels deep (tinyxml recurses), a named pipe
+ * and /dev/zero as the URDF. Each is refused with SIM_CONTROL_ERR_LOAD and a reason naming the
+ * file; the sim keeps running, and the object loaded before gives the same outcomes after. */
+static void write_mesh_urdf(const char *path, const char *mesh) {
+  FILE *fp = fopen(path, "w");
+  ck_assert_ptr_nonnull(fp);
+  fprintf(fp,
+          "<?xml version=\"1.0\"?>\n<robot name=\"m\"><link name=\"m\"><inertial><mass "
+          "value=\"0.2\"/><inertia ixx=\"1e-4\" ixy=\"0\" ixz=\"0\" iyy=\"1e-4\" iyz=\"0\" "
+          "izz=\"1e-4\"/></inertial><collision><geometry><mesh filename=\"%s\"/></geometry>"
+          "</collision></link></robot>\n",
+          mesh);
+  fclose(fp);
+}
+
+START_TEST(hostile_load_refused) {
+  fx_t f;
+  spawn(&f, NULL);
+  const char *tmp = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
+  char urdf[256], segv[256], segv_urdf[256], loop[256], loop_urdf[256], deep[256], fifo[256];
+  const int pid = (int)getpid();
+  snprintf(urdf, sizeof urdf, "%s/check_sim_ok_h%d.urdf", tmp, pid);
+  snprintf(segv, sizeof segv, "%s/check_sim_segv_%d.ply", tmp, pid);
+  snprintf(segv_urdf, sizeof segv_urdf, "%s/check_sim_segv_%d.urdf", tmp, pid);
+  snprintf(loop, sizeof loop, "%s/check_sim_loop_%d.ply", tmp, pid);
+  snprintf(loop_urdf, sizeof loop_urdf, "%s/check_sim_loop_%d.urdf", tmp, pid);
+  snprintf(deep, sizeof deep, "%s/check_sim_deep_%d.urdf", tmp, pid);
+  snprintf(fifo, sizeof fifo, "%s/check_sim_fifo_%d.urdf", tmp, pid);
+  const double com_x = 0.006;
+  write_box_urdf(urdf, com_x);
+  FILE *fp = fopen(segv, "wb");
+  ck_assert_ptr_nonnull(fp);
+  fwrite("ply\nformat binary_\0\0\0", 1, 21, fp);
+  fclose(fp);
+  write_mesh_urdf(segv_urdf, segv);
+  fp = fopen(loop, "wb");
+  ck_assert_ptr_nonnull(fp);
+  fwrite("ply\nformat ascii 1.0\ncomment\n", 1, 29, fp);
+  fclose(fp);
+  write_mesh_urdf(loop_urdf, loop);
+  fp = fopen(deep, "w");
+  ck_assert_ptr_nonnull(fp);
+  fprintf(fp, "<robot name=\"d\"><link name=\"d\">");
+  for (int i = 0; i < 100; ++i) fprintf(fp, "<x>");
+  for (int i = 0; i < 100; ++i) fprintf(fp, "</x>");
+  fprintf(fp, "</link></robot>\n");
+  fclose(fp);
+  ck_assert_int_eq(mkfifo(fifo, 0600), 0);
+  int64_t sc_seq = 0, seq = 0;
+  ck_assert_int_eq(place_trial(&f, urdf, 1, &sc_seq, &seq, com_x + 0.002), 1);
+  const struct {
+    const char *path, *why;
+    double wait_s;
+  } cases[] = {
+      {segv_urdf, "crashed", 5.0},
+      {loop_urdf, "time limit", 20.0},
+      {deep, "nested deeper", 5.0},
+      {fifo, "not a regular file", 5.0},
+      {"/dev/zero", "not a regular file", 5.0},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    comlearn_sim_control_t sc;
+    memset(&sc, 0, sizeof sc);
+    sc.seq = ++sc_seq;
+    sc.action = SCA(ACTION_LOAD);
+    sc.object_id = (char *)"hostile";
+    sc.urdf_path = (char *)cases[i].path;
+    sc.arm = SCA(ARM_RIGHT);
+    sc.link_in_tool_position_m[2] = 0.010;
+    sc.link_in_tool_wxyz[1] = 1.0;
+    sc.gripper_width_m = 0.04;
+    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc),
+                     0);
+    ck_assert_msg(wait_for(&f, sc_acked, &sc_seq, cases[i].wait_s), "case %zu: no answer", i);
+    ck_assert_int_eq(f.os.sim_control_result, OS(SIM_CONTROL_ERR_LOAD));
+    ck_assert_msg(wait_for(&f, status_says_load_refused, cases[i].why, 2.0),
+                  "case %zu: status error_text: %s", i, f.st.error_text);
+    ck_assert_msg(strstr(f.st.error_text, cases[i].path) != NULL, "case %zu: no file in %s", i,
+                  f.st.error_text);
+    ck_assert(f.os.tracked);
+    ck_assert_str_eq(f.os.object_id, "box_test");
+  }
+  /* the sim still answers, with the same physics */
+  ck_assert_int_eq(place_trial(&f, urdf, 0, &sc_seq, &seq, com_x - 0.002), 2);
+  ck_assert_int_eq(place_trial(&f, urdf, 1, &sc_seq, &seq, com_x + 0.002), 1);
+  const char *files[] = {urdf, segv, segv_urdf, loop, loop_urdf, deep, fifo};
+  for (size_t i = 0; i < sizeof files / sizeof files[0]; ++i) remove(files[i]);
+  finish(&f);
+}
+END_TEST
+
 START_TEST(drop_rate_survives) {
   const char *extra[] = {"--drop-rate", "0.5", "--seed", "3", NULL};
   fx_t f;
@@ -892,6 +986,7 @@ int main(void) {
   tcase_add_test(tc, garbage_counted);
   tcase_add_test(tc, place_box_over_edge);
   tcase_add_test(tc, implausible_load_refused);
+  tcase_add_test(tc, hostile_load_refused);
   tcase_add_test(tc, drop_rate_survives);
   suite_add_tcase(s, tc);
   SRunner *sr = srunner_create(s);

@@ -420,6 +420,69 @@ START_TEST(test_urdf_bad_files) {
 }
 END_TEST
 
+/* URDFs that crash tinyxml or urdfdom, or that are no files (docs/security.md): 60 000 nested
+ * elements overflow tinyxml's stack, a chain of 200 000 fixed joints urdfdom's; both are refused
+ * by the shape check before either parser runs (here with 100 levels and 1 001 joints, over the
+ * limits), as are a pipe, /dev/zero and a file over MODEL_URDF_MAX_BYTES; by both loaders (the
+ * geometry and the inertial). A '>' inside an attribute value and a comment do not count. */
+START_TEST(test_urdf_hostile_files) {
+  mt_tmpdir_t d;
+  mt_tmpdir_make(&d);
+  char urdf[512];
+  mt_join(&d, "hostile.urdf", urdf, sizeof urdf);
+  model_object_t obj;
+  model_mass_t mass;
+  model_error_t err;
+  const size_t cap = 200000;
+  char *text = malloc(cap);
+  ck_assert_ptr_nonnull(text);
+
+  size_t n = (size_t)snprintf(text, cap, "<robot name=\"r\"><link name=\"a\">");
+  for (int i = 0; i < 100; ++i) n += (size_t)snprintf(text + n, cap - n, "<x>");
+  for (int i = 0; i < 100; ++i) n += (size_t)snprintf(text + n, cap - n, "</x>");
+  snprintf(text + n, cap - n, "</link></robot>");
+  mt_write_text(urdf, text);
+  ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), MODEL_E_PARSE);
+  ck_assert_msg(strstr(err.msg, "nested deeper") && strstr(err.msg, urdf), "%s", err.msg);
+  ck_assert_int_eq(model_inertial_load(urdf, NULL, &mass, &err), MODEL_E_PARSE);
+  ck_assert_ptr_nonnull(strstr(err.msg, "nested deeper"));
+
+  n = (size_t)snprintf(text, cap, "<robot name=\"r\"><link name=\"l0\"/>");
+  for (int i = 1; i <= 1001; ++i)
+    n += (size_t)snprintf(text + n, cap - n,
+                          "<link name=\"l%d\"/><joint name=\"j%d\" type=\"fixed\"><parent "
+                          "link=\"l%d\"/><child link=\"l%d\"/></joint>",
+                          i, i, i - 1, i);
+  snprintf(text + n, cap - n, "</robot>");
+  mt_write_text(urdf, text);
+  ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), MODEL_E_PARSE);
+  ck_assert_msg(strstr(err.msg, "links or joints") != NULL, "%s", err.msg);
+
+  /* within the limits, with '>' in a value and a comment: loads */
+  write_urdf(urdf, "rock",
+             "<!-- a <comment> --><collision name=\"a>b\"><geometry><box size=\"1 1 1\"/>"
+             "</geometry></collision>");
+  ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), MODEL_OK);
+  model_object_free(&obj);
+
+  char fifo[512];
+  mt_join(&d, "pipe.urdf", fifo, sizeof fifo);
+  ck_assert_int_eq(mkfifo(fifo, 0600), 0);
+  ck_assert_int_eq(model_object_load(fifo, NULL, &obj, &err), MODEL_E_NOFILE);
+  ck_assert_msg(strstr(err.msg, "not a regular file") != NULL, "%s", err.msg);
+  ck_assert_int_eq(model_inertial_load("/dev/zero", NULL, &mass, &err), MODEL_E_NOFILE);
+  FILE *f = fopen(urdf, "wb");
+  ck_assert_ptr_nonnull(f);
+  ck_assert_int_eq(ftruncate(fileno(f), (off_t)MODEL_URDF_MAX_BYTES + 1), 0);
+  fclose(f);
+  ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), MODEL_E_PARSE);
+  ck_assert_msg(strstr(err.msg, "limit") != NULL, "%s", err.msg);
+  free(text);
+  const char *names[] = {"hostile.urdf", "pipe.urdf"};
+  mt_tmpdir_remove(&d, names, 2);
+}
+END_TEST
+
 /* ---- inertial -------------------------------------------------------------------------------- */
 
 static void write_inertial(const char *path, const char *origin, const char *mass,
@@ -640,6 +703,7 @@ Suite *model_urdf_suite(void) {
   tcase_add_test(geo, test_urdf_package_and_relative_paths);
   tcase_add_test(geo, test_urdf_links);
   tcase_add_test(geo, test_urdf_bad_files);
+  tcase_add_test(geo, test_urdf_hostile_files);
   suite_add_tcase(s, geo);
   TCase *in = tcase_create("inertial");
   tcase_add_test(in, test_inertial_rotated_origin);

@@ -38,6 +38,36 @@ size_t model_polygon_hull_tol(double (*points)[2], size_t count, double (*hull)[
 /* Allocate a mesh's arrays (uninitialised contents). out must not own arrays. */
 model_status_t model_mesh_alloc(model_mesh_t *out, size_t vertex_count, size_t triangle_count);
 
+/* ---- file_guard.c: before a third-party parser sees a file ---------------------------------- */
+
+/* Open path read-only when it is a regular file of 1 .. max_bytes bytes: a folder, device, pipe
+ * or socket is refused (MODEL_E_NOFILE), as is a file over the limit or empty (MODEL_E_PARSE);
+ * messages name `what` ("mesh", "URDF") and the path. A pipe is opened without blocking. *fd_out
+ * (-1 on error) is the caller's to close. */
+model_status_t model_file_open_checked(const char *path, const char *what, size_t max_bytes,
+                                       int *fd_out, size_t *size_out, model_error_t *err);
+
+/* The shape of a URDF's XML, before tinyxml and urdfdom see it (both recurse: 60 000 nested
+ * elements overflow tinyxml's stack, a chain of 200 000 joints urdfdom's): at most
+ * MODEL_URDF_MAX_DEPTH levels, MODEL_URDF_MAX_ELEMENTS elements, MODEL_URDF_MAX_LINKS <link> and
+ * as many <joint> elements, no DOCTYPE internal subset. Comments, CDATA and processing
+ * instructions are skipped; attribute values may hold '>'. Malformed XML is left to tinyxml.
+ * MODEL_E_PARSE naming the limit. */
+model_status_t model_xml_check(const char *text, size_t n, const char *path, model_error_t *err);
+
+/* A mesh parser: path and scale to an unchecked mesh, or an error. */
+typedef model_status_t (*model_mesh_parse_fn)(const char *path, const double scale[3],
+                                              model_mesh_t *out, model_error_t *err);
+
+/* Run parse in a child process (fork) limited to cpu_s seconds of CPU (and twice that plus 5 s of
+ * wall time, 4 GiB + 16 x file_bytes of memory without a sanitizer, no core file), and take its
+ * mesh back through a pipe. A child that crashes, aborts or runs over its limits gives
+ * MODEL_E_PARSE naming the signal; the caller's process is untouched. *out is the caller's on
+ * MODEL_OK. */
+model_status_t model_mesh_parse_isolated(const char *path, const double scale[3], double cpu_s,
+                                         size_t file_bytes, model_mesh_parse_fn parse,
+                                         model_mesh_t *out, model_error_t *err);
+
 /* ---- urdf.cpp, geometry side (comlearn_model) ------------------------------------------------ */
 
 typedef enum {

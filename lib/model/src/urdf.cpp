@@ -20,6 +20,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+
+#include <unistd.h>
 #include <mutex>
 #include <new>
 #include <string>
@@ -76,23 +78,29 @@ void quiet_console() {
 }
 
 model_status_t read_text(const char *path, std::string &text, model_error_t *err) {
-  errno = 0;
-  std::FILE *f = std::fopen(path, "rb");
-  if (f == nullptr) {
-    return model_fail(err, MODEL_E_NOFILE, "cannot open URDF %s: %s", path, std::strerror(errno));
+  int fd = -1;
+  size_t bytes = 0;
+  model_status_t st = model_file_open_checked(path, "URDF", MODEL_URDF_MAX_BYTES, &fd, &bytes, err);
+  if (st != MODEL_OK) {
+    return st;
   }
-  char buf[8192];
-  size_t got;
-  while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) {
-    text.append(buf, got);
+  text.resize(bytes);
+  size_t got = 0;
+  while (got < bytes) {
+    const ssize_t k = ::read(fd, &text[got], bytes - got);
+    if (k < 0 && errno == EINTR) {
+      continue;
+    }
+    if (k <= 0) {
+      const int saved = errno;
+      ::close(fd);
+      return model_fail(err, MODEL_E_NOFILE, "cannot read URDF %s: %s", path,
+                        k == 0 ? "it shrank while read" : std::strerror(saved));
+    }
+    got += static_cast<size_t>(k);
   }
-  int failed = std::ferror(f);
-  int saved = errno;
-  std::fclose(f);
-  if (failed) {
-    return model_fail(err, MODEL_E_NOFILE, "cannot read URDF %s: %s", path, std::strerror(saved));
-  }
-  return MODEL_OK;
+  ::close(fd);
+  return model_xml_check(text.data(), text.size(), path, err);
 }
 
 } // namespace

@@ -110,6 +110,16 @@ model_status_t model_mesh_copy(const model_mesh_t *src, model_mesh_t *dst);
 model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
                                 model_error_t *err);
 
+/* Limits of model_object_load's URDF (the file, its XML's nesting and size, its links and as
+ * many joints; a robot of 200 links is far inside them) and of model_mesh_load (the file's size
+ * and its triangles). */
+#define MODEL_URDF_MAX_BYTES ((size_t)4 << 20)
+#define MODEL_URDF_MAX_DEPTH 64
+#define MODEL_URDF_MAX_ELEMENTS 100000
+#define MODEL_URDF_MAX_LINKS 1000
+#define MODEL_MESH_MAX_BYTES ((size_t)256 << 20)
+#define MODEL_MESH_MAX_TRIANGLES 4000000
+
 /* Load a mesh file through assimp's C API: STL (ascii and binary), OBJ, PLY (ascii and binary),
  * DAE, glTF and whatever else assimp 5.2 reads (chosen by extension, then by content). Every mesh
  * the node tree references is merged in, with its node transforms applied (in double); polygons
@@ -120,10 +130,16 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
  * and `report` filled. Collada: <unit meter="..."> is honoured; <up_axis> is ignored (no Y-up
  * rotation: coordinates as written, as ROS's rviz and geometric_shapes do). Files store floats,
  * so coordinates carry float precision.
+ * Hostile files: only a regular file of at most MODEL_MESH_MAX_BYTES is opened (a device, pipe
+ * or socket is refused before any read), and assimp runs in a child process (fork) with a CPU
+ * limit of 5 s + 1 s per MB, a wall-time and a memory limit: a file that makes assimp crash,
+ * abort or loop is refused with MODEL_E_PARSE naming what happened, and the caller's process is
+ * untouched. At most MODEL_MESH_MAX_TRIANGLES triangles. docs/security.md.
  * Errors (the message names the file): MODEL_E_ARG (NULL/empty path, NULL out, a zero scale),
- * MODEL_E_NONFINITE (non-finite scale or vertex), MODEL_E_NOFILE (missing, unreadable, a folder),
- * MODEL_E_PARSE (empty, corrupt, truncated, unknown format, no triangles), and every error of
- * model_mesh_check(). On error *out is zeroed. Allocates. */
+ * MODEL_E_NONFINITE (non-finite scale or vertex), MODEL_E_NOFILE (missing, unreadable, a folder,
+ * not a regular file), MODEL_E_PARSE (empty, too large, corrupt, truncated, unknown format, no
+ * triangles, too many, the reader crashed or ran over its limits), MODEL_E_NOMEM, and every error
+ * of model_mesh_check(). On error *out is zeroed. Allocates; forks once. */
 model_status_t model_mesh_load(const char *path, const double scale[3], model_mesh_t *out,
                                model_mesh_report_t *report, model_error_t *err);
 
