@@ -290,6 +290,20 @@ static int32_t refuse(sim_t *s, int32_t code, const char *fmt, const char *detai
 /* The checks of a command before it is accepted, in order: sequence, expiry, mode, joint limits
  * and gripper widths, velocity scale, the stop latch. Returns 0, or the refusal's code (counted
  * and explained by refuse()). */
+/* The time a POSITION command's straight line takes: its slowest axis at its limit x
+ * velocity_scale (every axis arrives together). */
+static double motion_time_s(const sim_t *s, const comlearn_yumi_command_t *c) {
+  double t = 0.0;
+  for (int a = 0; a < 2; a++) {
+    for (int k = 0; k < PLACEMENT_JOINTS; k++)
+      t = fmax(t, fabs(c->q_commanded_rad[a][k] - s->q[a][k]) /
+                      (s->arm[a].velocity_rad_s[k] * c->velocity_scale));
+    t = fmax(t, fabs(c->gripper_width_commanded_m[a] - s->width[a]) /
+                    (SIM_GRIPPER_SPEED_M_S * c->velocity_scale));
+  }
+  return t;
+}
+
 static int32_t command_check(sim_t *s, const comlearn_yumi_command_t *c) {
   char d[SIM_TEXT_MAX];
   if (c->seq <= s->last_seq) {
@@ -297,10 +311,22 @@ static int32_t command_check(sim_t *s, const comlearn_yumi_command_t *c) {
              (long long)s->last_seq);
     return refuse(s, ERR(ERR_SEQ), "command refused: %s", d);
   }
+  if (c->seq > s->last_seq + SIM_SEQ_MAX_JUMP) { /* last_seq grows by <= the jump: no overflow */
+    snprintf(d, sizeof d, "seq %lld jumps more than %lld past the last accepted %lld",
+             (long long)c->seq, (long long)SIM_SEQ_MAX_JUMP, (long long)s->last_seq);
+    return refuse(s, ERR(ERR_SEQ), "command refused: %s", d);
+  }
   if (s->utime >= c->expire_utime) {
     snprintf(d, sizeof d, "seq %lld stale: expire_utime %lld <= controller utime %lld",
              (long long)c->seq, (long long)c->expire_utime, (long long)s->utime);
     return refuse(s, ERR(ERR_STALE), "command refused: %s", d);
+  }
+  if (c->expire_utime > s->utime + SIM_EXPIRE_MAX_US) { /* the sim clock is small: no overflow */
+    snprintf(d, sizeof d,
+             "seq %lld: expire_utime %lld is more than %.0f s past controller utime %lld",
+             (long long)c->seq, (long long)c->expire_utime, 1e-6 * (double)SIM_EXPIRE_MAX_US,
+             (long long)s->utime);
+    return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
   }
   if (c->mode != COMLEARN_YUMI_COMMAND_T_MODE_HOLD &&
       c->mode != COMLEARN_YUMI_COMMAND_T_MODE_POSITION &&
@@ -326,9 +352,16 @@ static int32_t command_check(sim_t *s, const comlearn_yumi_command_t *c) {
     }
   }
   if (c->mode == COMLEARN_YUMI_COMMAND_T_MODE_POSITION &&
-      (!isfinite(c->velocity_scale) || c->velocity_scale <= 0.0 || c->velocity_scale > 1.0)) {
-    snprintf(d, sizeof d, "seq %lld: velocity_scale %g outside (0, 1]", (long long)c->seq,
-             c->velocity_scale);
+      (!isfinite(c->velocity_scale) || c->velocity_scale < SIM_VELOCITY_SCALE_MIN ||
+       c->velocity_scale > 1.0)) {
+    snprintf(d, sizeof d, "seq %lld: velocity_scale %g outside [%g, 1]", (long long)c->seq,
+             c->velocity_scale, SIM_VELOCITY_SCALE_MIN);
+    return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
+  }
+  if (c->mode == COMLEARN_YUMI_COMMAND_T_MODE_POSITION &&
+      !(motion_time_s(s, c) <= SIM_MOTION_MAX_S)) {
+    snprintf(d, sizeof d, "seq %lld: the motion would take %g s, over %g s", (long long)c->seq,
+             motion_time_s(s, c), SIM_MOTION_MAX_S);
     return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
   }
   if (c->mode == COMLEARN_YUMI_COMMAND_T_MODE_POSITION && s->stop_latched) {
@@ -358,18 +391,14 @@ static void command_hold(sim_t *s, const comlearn_yumi_command_t *c) {
 static void command_motion_start(sim_t *s, const comlearn_yumi_command_t *c) {
   s->state = ERR(STATE_POSITION);
   s->active_expire_utime = c->expire_utime;
-  double t = 0.0;
+  const double t = motion_time_s(s, c); /* <= SIM_MOTION_MAX_S (command_check) */
   for (int a = 0; a < 2; a++) {
     for (int k = 0; k < PLACEMENT_JOINTS; k++) {
       s->q_start[a][k] = s->q[a][k];
       s->q_target[a][k] = c->q_commanded_rad[a][k];
-      t = fmax(t, fabs(s->q_target[a][k] - s->q[a][k]) /
-                      (s->arm[a].velocity_rad_s[k] * c->velocity_scale));
     }
     s->width_start[a] = s->width[a];
     s->width_target[a] = c->gripper_width_commanded_m[a];
-    t = fmax(t,
-             fabs(s->width_target[a] - s->width[a]) / (SIM_GRIPPER_SPEED_M_S * c->velocity_scale));
   }
   s->motion_t0 = s->utime;
   s->motion_us = (int64_t)ceil(t * 1e6);
@@ -434,9 +463,10 @@ static void put_in_gripper(sim_t *s, const comlearn_sim_control_t *c) {
 }
 
 int32_t sim_control(sim_t *s, const comlearn_sim_control_t *c) {
-  if (c->seq <= s->sc_seq_processed) {
+  if (c->seq <= s->sc_seq_processed || c->seq > s->sc_seq_processed + SIM_SEQ_MAX_JUMP) {
     /* Ignored: the acknowledgement keeps naming the last processed seq (so a restarted sender
-     * resumes from it + 1), with ERR_SEQ as the result. */
+     * resumes from it + 1), with ERR_SEQ as the result; so is a seq too far ahead (it would block
+     * every later message). */
     s->sc_ack_result = SC(SIM_CONTROL_ERR_SEQ);
     s->n_rejected++;
     return SC(SIM_CONTROL_ERR_SEQ);

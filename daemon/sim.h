@@ -41,6 +41,16 @@ enum {
 #define SIM_GRIPPER_MAX_M 0.05
 /* Joint positions within this of the target count as reached. */
 #define SIM_POS_TOL_RAD 1e-12
+/* The safety envelope of a command (docs/sim.md, docs/security.md): its seq at most
+ * SIM_SEQ_MAX_JUMP past the last accepted (a sender resumes from YUMI_STATUS.last_accepted_seq;
+ * one message with seq INT64_MAX would otherwise block every later command), its expiry at most
+ * SIM_EXPIRE_MAX_US ahead of the controller clock (no command that never expires), its
+ * velocity_scale at least SIM_VELOCITY_SCALE_MIN and its motion at most SIM_MOTION_MAX_S long.
+ * SIM_CONTROL's seq has the same jump bound. */
+#define SIM_SEQ_MAX_JUMP ((int64_t)1 << 20)
+#define SIM_EXPIRE_MAX_US ((int64_t)60000000)
+#define SIM_VELOCITY_SCALE_MIN 1e-3
+#define SIM_MOTION_MAX_S 120.0
 
 typedef struct {
   const char *yumi_urdf;    /* assets/yumi/yumi.urdf */

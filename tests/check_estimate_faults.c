@@ -312,7 +312,7 @@ END_TEST
 
 /* ---- garbage on the subscribed channels ---------------------------------------------------- */
 
-static atomic_ullong garbage_sent;
+static atomic_ullong garbage_sent, forged_sent; /* bad buffers; decodable but absurd messages */
 
 static void *garbler_main(void *arg) {
   (void)arg;
@@ -332,7 +332,19 @@ static void *garbler_main(void *arg) {
   tr.object_id = (char *)"box";
   tr.policy = (char *)"bisect";
   const int tr_len = comlearn_com_trial_t_encode(tr_buf, 0, sizeof tr_buf, &tr);
-  if (st_len <= 16 || os_len <= 16 || tr_len <= 16) {
+  /* decodable but absurd: clocks and seqs at INT64_MAX (the client's expiry and seq arithmetic
+   * would overflow on them), a NaN position */
+  static unsigned char fst_buf[4096], fos_buf[4096];
+  comlearn_yumi_status_t fst = st;
+  fst.utime = INT64_MAX;
+  fst.last_accepted_seq = INT64_MAX;
+  const int fst_len = comlearn_yumi_status_t_encode(fst_buf, 0, sizeof fst_buf, &fst);
+  comlearn_object_state_t fos = os;
+  fos.utime = INT64_MAX;
+  fos.sim_control_seq = INT64_MAX;
+  fos.position_measured_m[0] = NAN;
+  const int fos_len = comlearn_object_state_t_encode(fos_buf, 0, sizeof fos_buf, &fos);
+  if (st_len <= 16 || os_len <= 16 || tr_len <= 16 || fst_len <= 16 || fos_len <= 16) {
     lcm_destroy(lcm);
     return NULL;
   }
@@ -368,6 +380,8 @@ static void *garbler_main(void *arg) {
       n += lcm_publish(lcm, ch[c], bad, 3) == 0;   /* shorter than a fingerprint */
       n += lcm_publish(lcm, ch[c], bad, 0) == 0;   /* empty */
       atomic_fetch_add(&garbage_sent, n);
+      atomic_fetch_add(&forged_sent, lcm_publish(lcm, ch[c], c == 0 ? fst_buf : fos_buf,
+                                                 (unsigned)(c == 0 ? fst_len : fos_len)) == 0);
     }
     sleep_ms(2);
   }
@@ -379,6 +393,7 @@ START_TEST(garbage_on_subscribed_channels) {
   atomic_store(&sim_pid, spawn_sim(NULL));
   ck_assert_int_gt(atomic_load(&sim_pid), 0);
   atomic_store(&garbage_sent, 0);
+  atomic_store(&forged_sent, 0);
   ck_assert_int_eq(pthread_create(&garbler, NULL, garbler_main, NULL), 0);
   garbler_running = 1;
   box_run_t b = {0};
@@ -392,6 +407,9 @@ START_TEST(garbage_on_subscribed_channels) {
   ck_assert_uint_gt(atomic_load(&garbage_sent), 0);
   ck_assert_uint_gt(b.st.undecodable, 0);
   ck_assert_uint_le(b.st.undecodable, atomic_load(&garbage_sent));
+  /* the forged ones decoded and were refused, and the estimate is as without them (box_run) */
+  ck_assert_uint_gt(b.st.refused, 0);
+  ck_assert_uint_le(b.st.refused, atomic_load(&forged_sent));
   stop_sim_clean();
   box_free(&b);
 }

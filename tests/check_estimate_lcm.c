@@ -117,6 +117,7 @@ static void run_both(const char *urdf, const double truth_m[3], double tol_m) {
   ck_assert_uint_le(st.commands_resent, st.trials);
   ck_assert_uint_ge(st.controls_sent, st.trials);
   ck_assert_uint_eq(st.undecodable, 0);
+  ck_assert_uint_eq(st.refused, 0); /* the real sim sends nothing absurd */
   free(d);
   free(l);
   model_object_free(&obj);

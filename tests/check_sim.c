@@ -409,7 +409,7 @@ START_TEST(seq_rules) {
   double q[2][7], w[2] = {0, 0};
   memcpy(q, f.st.q_measured_rad, sizeof q);
   int64_t n = 0;
-  const int64_t far = f.st.utime + 600000000;
+  const int64_t far = f.st.utime + 30000000; /* within SIM_EXPIRE_MAX_US */
   send_cmd_sync(&f, &n, 5, CMD(MODE_HOLD), (const double(*)[7])q, w, 1.0, far);
   ck_assert_int_eq(f.st.last_accepted_seq, 5);
   ck_assert_int_eq(f.st.last_accepted_utime, 50);
@@ -456,6 +456,72 @@ START_TEST(seq_rules) {
 }
 END_TEST
 
+/* The safety envelope (docs/sim.md): a command whose seq jumps far ahead (INT64_MAX), that never
+ * expires (expire_utime INT64_MAX) or expires more than 60 s ahead, with velocity_scale 1e-300
+ * (its motion time overflows) or a motion over 120 s long is refused with its reason, and the
+ * next normal command is accepted and executed; a SIM_CONTROL with seq INT64_MAX is ignored
+ * (ERR_SEQ) and the next one processed. */
+START_TEST(envelope_rules) {
+  fx_t f;
+  spawn(&f, NULL);
+  double q[2][7], w[2] = {0, 0};
+  memcpy(q, f.st.q_measured_rad, sizeof q);
+  int64_t n = 0;
+  const int64_t soon = f.st.utime + 30000000;
+  send_cmd_sync(&f, &n, 1, CMD(MODE_HOLD), (const double(*)[7])q, w, 1.0, soon);
+  ck_assert_int_eq(f.st.last_accepted_seq, 1);
+  double q2[2][7];
+  memcpy(q2, q, sizeof q2);
+  q2[1][0] += 0.3;
+  const struct {
+    int64_t seq, expire;
+    double scale, width;
+    int32_t code;
+    const char *why;
+  } cases[] = {
+      {INT64_MAX, soon, 1.0, 0.0, ST(ERR_SEQ), "jumps"},
+      {2, INT64_MAX, 1.0, 0.0, ST(ERR_INVALID), "more than 60 s"},
+      {2, f.st.utime + 61000000, 1.0, 0.0, ST(ERR_INVALID), "more than 60 s"},
+      {2, soon, 1e-300, 0.0, ST(ERR_INVALID), "velocity_scale"},
+      {2, soon, 1e-3, 0.05, ST(ERR_INVALID), "would take"}, /* 50 mm of gripper: 2000 s */
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+    const int64_t rejected = f.st.messages_rejected;
+    const double wi[2] = {0.0, cases[i].width};
+    send_cmd_sync(&f, &n, cases[i].seq, CMD(MODE_POSITION), (const double(*)[7])q2, wi,
+                  cases[i].scale, cases[i].expire);
+    ck_assert_msg(f.st.error_code == cases[i].code, "case %zu: error %d (%s)", i,
+                  (int)f.st.error_code, f.st.error_text);
+    ck_assert_msg(strstr(f.st.error_text, cases[i].why) != NULL, "case %zu: %s", i,
+                  f.st.error_text);
+    ck_assert_int_eq(f.st.last_accepted_seq, 1);
+    ck_assert_int_eq(f.st.messages_rejected, rejected + 1);
+  }
+  send_cmd_sync(&f, &n, 2, CMD(MODE_POSITION), (const double(*)[7])q2, w, 1.0, soon);
+  ck_assert_int_eq(f.st.last_accepted_seq, 2);
+  ck_assert_int_eq(f.st.error_code, ST(ERR_NONE));
+  int64_t seq = 2;
+  ck_assert(wait_for(&f, seq_in_position, &seq, 5.0));
+  ck_assert_double_eq_tol(f.st.q_measured_rad[1][0], q2[1][0], 1e-12);
+
+  comlearn_sim_control_t sc;
+  memset(&sc, 0, sizeof sc);
+  sc.action = SCA(ACTION_REMOVE);
+  sc.object_id = (char *)"nothing";
+  sc.urdf_path = (char *)"";
+  sc.seq = INT64_MAX;
+  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+  int64_t none = -1; /* nothing processed yet: the acknowledgement keeps naming -1 */
+  ck_assert(wait_for(&f, sc_acked, &none, 5.0));
+  sc.seq = 1;
+  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+  int64_t one = 1;
+  ck_assert_msg(wait_for(&f, sc_acked, &one, 5.0),
+                "SIM_CONTROL seq 1 not processed after INT64_MAX");
+  finish(&f);
+}
+END_TEST
+
 START_TEST(invalid_commands_refused) {
   fx_t f;
   spawn(&f, NULL);
@@ -464,7 +530,7 @@ START_TEST(invalid_commands_refused) {
                    PLACEMENT_OK);
   double q[2][7], w[2] = {0.01, 0.01};
   memcpy(q, f.st.q_measured_rad, sizeof q);
-  const int64_t far = f.st.utime + 600000000;
+  const int64_t far = f.st.utime + 30000000; /* within SIM_EXPIRE_MAX_US */
   int64_t n = 0, seq = 0;
   struct {
     int arm, joint;
@@ -983,6 +1049,7 @@ int main(void) {
   tcase_add_test(tc, joint_tracking_velocity_limit);
   tcase_add_test(tc, seq_rules);
   tcase_add_test(tc, invalid_commands_refused);
+  tcase_add_test(tc, envelope_rules);
   tcase_add_test(tc, garbage_counted);
   tcase_add_test(tc, place_box_over_edge);
   tcase_add_test(tc, implausible_load_refused);

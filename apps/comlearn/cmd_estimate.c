@@ -464,11 +464,12 @@ static void lcm_report(estimate_lcm_t *lcmb, estimate_status_t es, const estimat
   estimate_lcm_stats(lcmb, &ls);
   LOG_D(
       "lcm: %llu trials, %llu commands (%llu resent), %llu sim controls, %llu trial "
-      "restarts, %llu statuses, %llu object states, %llu undecodable",
+      "restarts, %llu statuses, %llu object states, %llu undecodable, %llu refused",
       (unsigned long long)ls.trials, (unsigned long long)ls.commands_sent,
       (unsigned long long)ls.commands_resent, (unsigned long long)ls.controls_sent,
       (unsigned long long)ls.trial_restarts, (unsigned long long)ls.statuses,
-      (unsigned long long)ls.object_states, (unsigned long long)ls.undecodable);
+      (unsigned long long)ls.object_states, (unsigned long long)ls.undecodable,
+      (unsigned long long)ls.refused);
 }
 
 /* Print the result (the truth read now, after the estimate, when asked): the exit status. */

@@ -132,11 +132,26 @@ static void block_to_world(const estimate_lcm_t *l, const model_pose_t *in, doub
 
 /* ---- LCM handlers and waits ---------------------------------------------------------------- */
 
+/* A clock or counter value the arithmetic here can take: adding a timeout or 1 cannot overflow. */
+static int sane_count(int64_t v) { return v >= -1 && v <= ((int64_t)1 << 62); }
+
+static int all_finite(const double *v, size_t n) {
+  for (size_t i = 0; i < n; ++i)
+    if (!isfinite(v[i])) return 0;
+  return 1;
+}
+
 static void on_status(const lcm_recv_buf_t *rb, const char *ch, const void *msg, void *user) {
   (void)rb;
   (void)ch;
   estimate_lcm_t *l = user;
-  l->st = *(const comlearn_yumi_status_t *)msg;
+  const comlearn_yumi_status_t *m = msg;
+  if (!sane_count(m->utime) || !sane_count(m->last_accepted_seq) ||
+      !sane_count(m->last_accepted_utime) || !all_finite(&m->q_measured_rad[0][0], 14)) {
+    l->counters.refused++;
+    return;
+  }
+  l->st = *m;
   /* the string is valid only during the call: keep a copy */
   snprintf(l->st_text, sizeof l->st_text, "%s", l->st.error_text ? l->st.error_text : "");
   l->st.error_text = NULL;
@@ -148,6 +163,11 @@ static void on_object(const lcm_recv_buf_t *rb, const char *ch, const void *msg,
   (void)ch;
   estimate_lcm_t *l = user;
   const comlearn_object_state_t *o = msg;
+  if (!sane_count(o->utime) || !sane_count(o->sim_control_seq) ||
+      !all_finite(o->position_measured_m, 3) || !all_finite(o->orientation_measured_wxyz, 4)) {
+    l->counters.refused++;
+    return;
+  }
   l->os = *o;
   snprintf(l->os_id, sizeof l->os_id, "%s", o->object_id);
   l->os.object_id = l->os_id;
