@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Idempotent setup: install the Debian packages comlearn needs (only the missing ones), then
 # configure and build one CMake preset. Safe to run again; a second run only rebuilds what changed.
-# usage: scripts/setup.sh [PRESET]      (PRESET: default | asan; default: default)
+# usage: scripts/setup.sh [PRESET]      (PRESET: default | asan | fuzz; default: default)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 preset=${1:-default}
@@ -12,6 +12,10 @@ pkgs=(gcc g++ make cmake pkg-config git
       libode-dev liblcm-dev liblcm-bin liblcm-java libccd-dev libassimp-dev
       liburdfdom-dev liburdfdom-tools check libglib2.0-dev libjchart2d-java
       default-jdk-headless default-jre iproute2 binutils clang-format)
+# The fuzz preset (scripts/fuzz.sh) builds with clang and its libFuzzer.
+if [ "$preset" = fuzz ]; then
+  pkgs+=(clang libclang-rt-14-dev)
+fi
 
 missing=()
 for p in "${pkgs[@]}"; do

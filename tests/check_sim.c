@@ -246,7 +246,7 @@ static void send_cmd(fx_t *f, int64_t seq, int8_t mode, const double q[2][7], co
                      double scale, int64_t expire) {
   comlearn_yumi_command_t c;
   memset(&c, 0, sizeof c);
-  c.utime = seq * 10;
+  c.utime = seq > 0 && seq < INT64_MAX / 10 ? seq * 10 : 0; /* seq INT64_MAX: envelope_rules */
   c.seq = seq;
   c.expire_utime = expire;
   c.mode = mode;
@@ -914,7 +914,7 @@ END_TEST
 
 /* Files that crash, hang or exhaust a parser, named in SIM_CONTROL LOAD (docs/security.md): a
  * URDF whose mesh makes Debian's assimp segfault (21 bytes) or loop (29 bytes, refused after the
- * mesh reader's 5 s CPU limit), a URDF nested 100 levels deep (tinyxml recurses), a named pipe
+ * mesh reader's 2 s CPU limit), a URDF nested 100 levels deep (tinyxml recurses), a named pipe
  * and /dev/zero as the URDF. Each is refused with SIM_CONTROL_ERR_LOAD and a reason naming the
  * file; the sim keeps running, and the object loaded before gives the same outcomes after. */
 static void write_mesh_urdf(const char *path, const char *mesh) {

@@ -554,7 +554,7 @@ END_TEST
 /* Files that crash, hang or exhaust a parser, or that are no files (docs/security.md): each is
  * refused with a message naming the file and what happened, and the process goes on. Debian's
  * assimp 5.2.5 segfaults on the 21-byte PLY and loops forever on the 29-byte one (in a child
- * process here: "crashed", "time limit", after 5 s of CPU); a pipe, /dev/zero and a file over
+ * process here: "crashed", "time limit", after 2 s of CPU); a pipe, /dev/zero and a file over
  * MODEL_MESH_MAX_BYTES are refused before any parser reads a byte. A good mesh loads after them. */
 START_TEST(test_load_hostile_files) {
   mt_tmpdir_t d;

@@ -116,12 +116,13 @@ static void child_run(int fd, const char *path, const double scale[3], double cp
 #endif
   /* wall time too: a file that names a pipe (an OBJ's mtllib) would block without CPU; the
    * limits' signals end the child whatever the caller made of them */
-  signal(SIGALRM, SIG_DFL);
-  signal(SIGXCPU, SIG_DFL);
+  static const int sigs[] = {SIGALRM, SIGXCPU, SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT};
   sigset_t set;
   sigemptyset(&set);
-  sigaddset(&set, SIGALRM);
-  sigaddset(&set, SIGXCPU);
+  for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; ++i) {
+    signal(sigs[i], SIG_DFL); /* the caller's crash handlers are not the parser's */
+    sigaddset(&set, sigs[i]);
+  }
   sigprocmask(SIG_UNBLOCK, &set, NULL);
   alarm((unsigned)(2.0 * cpu_s + 5.0));
   model_mesh_t m = {0};
@@ -161,6 +162,12 @@ static model_status_t child_failed(const char *path, pid_t pid, double cpu_s, mo
                       "corrupt",
                       path, sig, strsignal(sig));
   }
+  if (r == pid && WIFEXITED(ws) && WEXITSTATUS(ws) != 0) /* a sanitizer's report, say */
+    return model_fail(
+        err, MODEL_E_PARSE,
+        "mesh %s: the mesh reader (assimp) crashed on it (exit status %d): refused as "
+        "corrupt",
+        path, WEXITSTATUS(ws));
   return model_fail(err, MODEL_E_PARSE, "mesh %s: the mesh reader (assimp) gave no answer: refused",
                     path);
 }

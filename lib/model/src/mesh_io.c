@@ -249,8 +249,8 @@ model_status_t model_mesh_load(const char *path, const double scale[3], model_me
     return st;
   }
   close(fd); /* assimp opens it by name, in the child */
-  /* 5 s of CPU, and 1 s more per MB (assimp reads a 100 MB binary STL in ~5 s here) */
-  st = model_mesh_parse_isolated(path, w.scale, 5.0 + 1e-6 * (double)bytes, bytes, parse_mesh, out,
+  /* 2 s of CPU, and 1 s more per MB (assimp reads a 100 MB binary STL in ~5 s here) */
+  st = model_mesh_parse_isolated(path, w.scale, 2.0 + 1e-6 * (double)bytes, bytes, parse_mesh, out,
                                  err);
   if (st == MODEL_OK) {
     st = model_mesh_check(out, report, err);

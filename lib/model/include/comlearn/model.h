@@ -132,7 +132,7 @@ model_status_t model_mesh_check(model_mesh_t *mesh, model_mesh_report_t *report,
  * so coordinates carry float precision.
  * Hostile files: only a regular file of at most MODEL_MESH_MAX_BYTES is opened (a device, pipe
  * or socket is refused before any read), and assimp runs in a child process (fork) with a CPU
- * limit of 5 s + 1 s per MB, a wall-time and a memory limit: a file that makes assimp crash,
+ * limit of 2 s + 1 s per MB, a wall-time and a memory limit: a file that makes assimp crash,
  * abort or loop is refused with MODEL_E_PARSE naming what happened, and the caller's process is
  * untouched. At most MODEL_MESH_MAX_TRIANGLES triangles. docs/security.md.
  * Errors (the message names the file): MODEL_E_ARG (NULL/empty path, NULL out, a zero scale),
