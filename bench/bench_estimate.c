@@ -83,7 +83,8 @@ static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_resul
   char url[128], msg[512] = "";
   unique_url(url, sizeof url);
   const double t0 = cli_time_now_s();
-  const pid_t pid = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, msg, sizeof msg);
+  const pid_t pid =
+      estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, NULL, msg, sizeof msg); /* the rocks: assets */
   if (pid <= 0) {
     LOG_E("%s", msg);
     return -1.0;

@@ -31,6 +31,8 @@ typedef struct {
   double placement_noise_mm, pose_noise_mm, drop_rate;
   const char *prefix;
   const char *yumi_urdf;
+  const char *object_dirs[SIM_OBJECT_DIRS_MAX];
+  size_t object_dir_count;
 } options_t;
 
 static void usage(FILE *f) {
@@ -56,12 +58,16 @@ static void usage(FILE *f) {
       "                            (default: 0)\n"
       "  --channel-prefix P        prefix of every channel name, e.g. TEST_ (default: none)\n"
       "  --yumi-urdf PATH          YuMi model (default: %s)\n"
+      "  --object-dir DIR          a folder SIM_CONTROL LOAD may read URDFs and meshes from,\n"
+      "                            with everything below it; repeat for more, at most %d\n"
+      "                            (default: the bundled assets, %s, and the current folder)\n"
       "  -v, --verbose             log every refused message (default: off)\n"
       "  -q, --quiet               errors only (default: off)\n"
       "  -h, --help                this help\n"
       "\n"
       "Exit codes: 0 stopped by a signal, 1 runtime failure, 2 bad usage.\n",
-      COMLEARN_MSG_LCM_URL_DEFAULT, cli_paths_yumi_urdf());
+      COMLEARN_MSG_LCM_URL_DEFAULT, cli_paths_yumi_urdf(), SIM_OBJECT_DIRS_MAX,
+      cli_paths_assets_dir());
 }
 
 static int parse_double(const char *s, double lo, double hi, double *out) {
@@ -82,6 +88,7 @@ static int parse_options(int argc, char **argv, options_t *o) {
                                            {"drop-rate", required_argument, NULL, 'd'},
                                            {"channel-prefix", required_argument, NULL, 'c'},
                                            {"yumi-urdf", required_argument, NULL, 'y'},
+                                           {"object-dir", required_argument, NULL, 'o'},
                                            {"verbose", no_argument, NULL, 'v'},
                                            {"quiet", no_argument, NULL, 'q'},
                                            {"help", no_argument, NULL, 'h'},
@@ -120,6 +127,13 @@ static int parse_options(int argc, char **argv, options_t *o) {
         break;
       case 'c': o->prefix = optarg; break;
       case 'y': o->yumi_urdf = optarg; break;
+      case 'o':
+        if (o->object_dir_count >= SIM_OBJECT_DIRS_MAX) {
+          LOG_E("--object-dir: at most %d folders", SIM_OBJECT_DIRS_MAX);
+          return 2;
+        }
+        o->object_dirs[o->object_dir_count++] = optarg;
+        break;
       case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
       case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return -1;
@@ -315,6 +329,12 @@ int main(int argc, char **argv) {
                       .seed = o.seed,
                       .placement_noise_m = o.placement_noise_mm * 1e-3,
                       .pose_noise_m = o.pose_noise_mm * 1e-3};
+  if (o.object_dir_count == 0) { /* the bundled assets and the current folder */
+    o.object_dirs[o.object_dir_count++] = cli_paths_assets_dir();
+    o.object_dirs[o.object_dir_count++] = ".";
+  }
+  memcpy(cfg.object_dirs, o.object_dirs, sizeof cfg.object_dirs);
+  cfg.object_dir_count = o.object_dir_count;
   char err[512];
   if (sim_init(&d.sim, &cfg, err, sizeof err) != 0) {
     LOG_E("%s", err);

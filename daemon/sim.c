@@ -1,10 +1,15 @@
 /* sim.c - comlearn-sim's kinematic YuMi, held object and physics (see sim.h, docs/sim.md). */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "sim.h"
 
+#include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "comlearn/math3d.h"
 #include "comlearn/model_inertial.h"
@@ -65,6 +70,20 @@ static void rot_delta(const placement_pose_t *pa, const placement_pose_t *pb, do
 int sim_init(sim_t *s, const sim_config_t *cfg, char *err, size_t err_len) {
   memset(s, 0, sizeof *s);
   s->cfg = *cfg;
+  if (cfg->object_dir_count > SIM_OBJECT_DIRS_MAX) {
+    snprintf(err, err_len, "more than %d object folders", SIM_OBJECT_DIRS_MAX);
+    return -1;
+  }
+  for (size_t i = 0; i < cfg->object_dir_count; ++i) {
+    struct stat st;
+    if (realpath(cfg->object_dirs[i], s->object_dir[i]) == NULL ||
+        stat(s->object_dir[i], &st) != 0 || !S_ISDIR(st.st_mode)) {
+      snprintf(err, err_len, "object folder %s: %s", cfg->object_dirs[i],
+               errno ? strerror(errno) : "not a folder");
+      return -1;
+    }
+    s->cfg.object_dirs[i] = s->object_dir[i];
+  }
   for (int a = 0; a < 2; a++) {
     placement_error_t pe = {{0}};
     placement_status_t ps = placement_arm_load_yumi(
@@ -449,6 +468,36 @@ static int32_t sc_load_refused(sim_t *s, const comlearn_sim_control_t *c, model_
   return sc_done(s, c, SC(SIM_CONTROL_ERR_LOAD));
 }
 
+/* Is path (canonical) inside one of the folders a LOAD may read? Any path when none is set. */
+static int object_dir_allowed(const sim_t *s, const char *path) {
+  if (s->cfg.object_dir_count == 0) return 1;
+  for (size_t i = 0; i < s->cfg.object_dir_count; ++i) {
+    const size_t n = strlen(s->object_dir[i]);
+    if (strncmp(path, s->object_dir[i], n) == 0 &&
+        (path[n] == '/' || (n > 0 && s->object_dir[i][n - 1] == '/')))
+      return 1;
+  }
+  return 0;
+}
+
+/* The URDF of a LOAD, canonical, inside the allowed folders (--object-dir); 0 refused, with a
+ * reason in why. */
+static int load_path_allowed(const sim_t *s, const char *urdf, char *canon, size_t canon_size,
+                             char *why, size_t why_size) {
+  char buf[PATH_MAX];
+  if (realpath(urdf, buf) == NULL) {
+    snprintf(why, why_size, "cannot open URDF %.300s: %s", urdf, strerror(errno));
+    return 0;
+  }
+  if (!object_dir_allowed(s, buf)) {
+    snprintf(why, why_size,
+             "URDF %.300s is outside the folders this simulator may read (--object-dir)", buf);
+    return 0;
+  }
+  snprintf(canon, canon_size, "%s", buf);
+  return 1;
+}
+
 static void put_in_gripper(sim_t *s, const comlearn_sim_control_t *c) {
   s->held_arm = c->arm;
   s->held_width = c->gripper_width_m;
@@ -495,9 +544,20 @@ int32_t sim_control(sim_t *s, const comlearn_sim_control_t *c) {
     model_object_t mo;
     model_mass_t mass;
     model_error_t me = {{0}};
-    model_status_t ms = model_object_load(c->urdf_path, NULL, &mo, &me);
+    char urdf[PATH_MAX];
+    if (!load_path_allowed(s, c->urdf_path, urdf, sizeof urdf, me.msg, sizeof me.msg))
+      return sc_load_refused(s, c, MODEL_E_NOFILE, me.msg);
+    model_status_t ms = model_object_load(urdf, NULL, &mo, &me);
     if (ms != MODEL_OK) return sc_load_refused(s, c, ms, me.msg);
-    ms = model_inertial_load(c->urdf_path, NULL, &mass, &me);
+    if (mo.mesh_path[0] != '\0' && !object_dir_allowed(s, mo.mesh_path)) {
+      snprintf(me.msg, sizeof me.msg,
+               "mesh %.250s of URDF %.150s is outside the folders this simulator may read "
+               "(--object-dir)",
+               mo.mesh_path, urdf);
+      model_object_free(&mo);
+      return sc_load_refused(s, c, MODEL_E_NOFILE, me.msg);
+    }
+    ms = model_inertial_load(urdf, NULL, &mass, &me);
     if (ms == MODEL_OK && (ms = model_mass_plausible(&mass, &mo.mesh, &me)) != MODEL_OK) {
       char why[sizeof me.msg];
       memcpy(why, me.msg, sizeof why);

@@ -52,17 +52,25 @@ enum {
 #define SIM_VELOCITY_SCALE_MIN 1e-3
 #define SIM_MOTION_MAX_S 120.0
 
+enum { SIM_OBJECT_DIRS_MAX = 16 };
+
 typedef struct {
   const char *yumi_urdf;    /* assets/yumi/yumi.urdf */
   uint64_t seed;            /* placement / pose noise stream */
   double placement_noise_m; /* [0, 0.1] */
   double pose_noise_m;      /* [0, 0.1] */
+  /* The folders a SIM_CONTROL LOAD may read a URDF from (and its meshes: the first one is
+   * checked), each with everything below it; existing folders, resolved at sim_init. None: any
+   * file (the library's default; comlearn-sim passes --object-dir or its defaults). */
+  const char *object_dirs[SIM_OBJECT_DIRS_MAX];
+  size_t object_dir_count;
 } sim_config_t;
 
 typedef enum { SIM_OBJ_NONE = 0, SIM_OBJ_HELD, SIM_OBJ_TRIAL, SIM_OBJ_REFUSED } sim_obj_phase_t;
 
 typedef struct {
   sim_config_t cfg;
+  char object_dir[SIM_OBJECT_DIRS_MAX][4096]; /* cfg.object_dirs, canonical (realpath) */
   placement_arm_t arm[2];
   placement_plan_config_t plan; /* block_in_base, block size */
   placement_pose_t base_in_block;

@@ -60,9 +60,9 @@ static void sleep_ms(long ms) {
  * when the thread that forked it ends (PR_SET_PDEATHSIG), so helper threads stay alive until the
  * teardown has stopped their daemon. */
 static pid_t spawn_sim(const char *const *extra) {
-  const char *argv[16] = {COMLEARN_SIM_EXE, "--lcm-url", url, "-q"};
-  int n = 4;
-  for (; extra && *extra && n < 14; ++extra) argv[n++] = *extra;
+  const char *argv[20] = {COMLEARN_SIM_EXE, "--lcm-url", url, "-q", "--object-dir", tmpdir};
+  int n = 6;
+  for (; extra && *extra && n < 18; ++extra) argv[n++] = *extra;
   argv[n] = NULL;
   const pid_t pid = fork();
   if (pid == 0) {

@@ -64,7 +64,8 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
                               estimate_lcm_stats_t *stats) {
   char url[128], msg[512] = "";
   unique_url(url, sizeof url);
-  sim_pid = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, msg, sizeof msg);
+  const char *dirs[] = {tmpdir, COMLEARN_ASSETS_DIR, NULL};
+  sim_pid = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, dirs, msg, sizeof msg);
   ck_assert_msg(sim_pid > 0, "%s", msg);
   estimate_lcm_config_t lc;
   estimate_lcm_config_default(&lc);

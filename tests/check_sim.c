@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <check.h>
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
@@ -172,8 +173,11 @@ static void spawn(fx_t *f, const char *const *extra) {
       comlearn_msg_subscribe(f->lcm, COMLEARN_MSG_CHANNEL_OBJECT_STATE, &c2, &f->sub_os),
       COMLEARN_MSG_OK);
   comlearn_msg_subscription_set_queue_capacity(f->sub_st, 0);
-  const char *argv[32] = {COMLEARN_SIM_EXE, "--lcm-url", f->url, "-q"};
-  int n = 4;
+  /* objects come from $TMPDIR (the tests write them there) and the bundled assets */
+  const char *tmp = getenv("TMPDIR") && getenv("TMPDIR")[0] ? getenv("TMPDIR") : "/tmp";
+  const char *argv[32] = {COMLEARN_SIM_EXE, "--lcm-url", f->url,         "-q",
+                          "--object-dir",   tmp,         "--object-dir", COMLEARN_ASSETS_DIR};
+  int n = 8;
   for (int i = 0; extra && extra[i] && n < 30; i++) argv[n++] = extra[i];
   argv[n] = NULL;
   f->pid = fork();
@@ -915,8 +919,10 @@ END_TEST
 /* Files that crash, hang or exhaust a parser, named in SIM_CONTROL LOAD (docs/security.md): a
  * URDF whose mesh makes Debian's assimp segfault (21 bytes) or loop (29 bytes, refused after the
  * mesh reader's 2 s CPU limit), a URDF nested 100 levels deep (tinyxml recurses), a named pipe
- * and /dev/zero as the URDF. Each is refused with SIM_CONTROL_ERR_LOAD and a reason naming the
- * file; the sim keeps running, and the object loaded before gives the same outcomes after. */
+ * as the URDF; and files outside the sim's --object-dir folders ($TMPDIR and the assets here):
+ * /dev/zero as the URDF, a URDF whose mesh lies elsewhere. Each is refused with
+ * SIM_CONTROL_ERR_LOAD and a reason naming the file; the sim keeps running, and the object loaded
+ * before gives the same outcomes after. */
 static void write_mesh_urdf(const char *path, const char *mesh) {
   FILE *fp = fopen(path, "w");
   ck_assert_ptr_nonnull(fp);
@@ -962,6 +968,16 @@ START_TEST(hostile_load_refused) {
   fprintf(fp, "</link></robot>\n");
   fclose(fp);
   ck_assert_int_eq(mkfifo(fifo, 0600), 0);
+  /* a URDF the sim may read whose mesh is not: the mesh sits in the test's working folder */
+  char outside_mesh[PATH_MAX], outside_urdf[256];
+  ck_assert_ptr_nonnull(getcwd(outside_mesh, sizeof outside_mesh - 64));
+  snprintf(outside_mesh + strlen(outside_mesh), 64, "/check_sim_outside_%d.obj", pid);
+  fp = fopen(outside_mesh, "w");
+  ck_assert_ptr_nonnull(fp);
+  fprintf(fp, "v 0 0 0\nv 0.02 0 0\nv 0 0.02 0\nv 0 0 0.02\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  fclose(fp);
+  snprintf(outside_urdf, sizeof outside_urdf, "%s/check_sim_outside_%d.urdf", tmp, pid);
+  write_mesh_urdf(outside_urdf, outside_mesh);
   int64_t sc_seq = 0, seq = 0;
   ck_assert_int_eq(place_trial(&f, urdf, 1, &sc_seq, &seq, com_x + 0.002), 1);
   const struct {
@@ -972,7 +988,8 @@ START_TEST(hostile_load_refused) {
       {loop_urdf, "time limit", 20.0},
       {deep, "nested deeper", 5.0},
       {fifo, "not a regular file", 5.0},
-      {"/dev/zero", "not a regular file", 5.0},
+      {"/dev/zero", "outside the folders", 5.0}, /* --object-dir */
+      {outside_urdf, "outside the folders", 5.0},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     comlearn_sim_control_t sc;
@@ -999,7 +1016,8 @@ START_TEST(hostile_load_refused) {
   /* the sim still answers, with the same physics */
   ck_assert_int_eq(place_trial(&f, urdf, 0, &sc_seq, &seq, com_x - 0.002), 2);
   ck_assert_int_eq(place_trial(&f, urdf, 1, &sc_seq, &seq, com_x + 0.002), 1);
-  const char *files[] = {urdf, segv, segv_urdf, loop, loop_urdf, deep, fifo};
+  const char *files[] = {urdf, segv, segv_urdf,    loop,        loop_urdf,
+                         deep, fifo, outside_urdf, outside_mesh};
   for (size_t i = 0; i < sizeof files / sizeof files[0]; ++i) remove(files[i]);
   finish(&f);
 }

@@ -8,6 +8,7 @@
 
 #include <errno.h>
 #include <getopt.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -432,7 +433,15 @@ static int backend_open(const est_args_t *a, const model_object_t *obj, est_back
     }
     const char *exe = getenv("COMLEARN_SIM");
     if (!exe || !exe[0]) exe = cli_paths_sim_exe();
-    b->child = estimate_lcm_sim_spawn(exe, url, err, sizeof err);
+    /* the simulator may read the object's folder and the bundled assets */
+    char dir[PATH_MAX];
+    if (realpath(a->urdf, dir) == NULL) {
+      LOG_E("--spawn-sim: %s: %s", a->urdf, strerror(errno));
+      return EXIT_USAGE;
+    }
+    *strrchr(dir, '/') = '\0';
+    const char *dirs[] = {dir[0] ? dir : "/", cli_paths_assets_dir(), NULL};
+    b->child = estimate_lcm_sim_spawn(exe, url, dirs, err, sizeof err);
     if (b->child < 0) {
       LOG_E("--spawn-sim: %s", err);
       return EXIT_FAILURE;

@@ -712,11 +712,24 @@ void estimate_lcm_close(estimate_lcm_t *l) {
 
 /* ---- --spawn-sim ----------------------------------------------------------------------------- */
 
-pid_t estimate_lcm_sim_spawn(const char *exe, const char *url, char *err, size_t err_size) {
+pid_t estimate_lcm_sim_spawn(const char *exe, const char *url, const char *const *object_dirs,
+                             char *err, size_t err_size) {
   if (!exe || !url) {
     snprintf(err, err_size, "spawn: bad argument");
     return -1;
   }
+  enum { DIRS_MAX = 16 };
+  const char *argv[5 + 2 * DIRS_MAX] = {exe, "--lcm-url", url, "-q"};
+  int argc = 4;
+  for (int i = 0; object_dirs && object_dirs[i]; ++i) {
+    if (i >= DIRS_MAX) {
+      snprintf(err, err_size, "spawn: more than %d object folders", DIRS_MAX);
+      return -1;
+    }
+    argv[argc++] = "--object-dir";
+    argv[argc++] = object_dirs[i];
+  }
+  argv[argc] = NULL;
   if (access(exe, X_OK) != 0) {
     snprintf(err, err_size, "spawn: %s: %s", exe, strerror(errno));
     return -1;
@@ -730,7 +743,7 @@ pid_t estimate_lcm_sim_spawn(const char *exe, const char *url, char *err, size_t
   if (pid == 0) {
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(127);
-    execl(exe, exe, "--lcm-url", url, "-q", (char *)NULL);
+    execv(exe, (char *const *)argv);
     _exit(127);
   }
   return pid;
