@@ -344,7 +344,18 @@ static void *garbler_main(void *arg) {
   fos.sim_control_seq = INT64_MAX;
   fos.position_measured_m[0] = NAN;
   const int fos_len = comlearn_object_state_t_encode(fos_buf, 0, sizeof fos_buf, &fos);
-  if (st_len <= 16 || os_len <= 16 || tr_len <= 16 || fst_len <= 16 || fos_len <= 16) {
+  /* sane but not the estimator's: a seq it never sent, the state of another object */
+  static unsigned char xst_buf[4096], xos_buf[4096];
+  comlearn_yumi_status_t xst = st;
+  xst.last_accepted_seq = (int64_t)1 << 40;
+  const int xst_len = comlearn_yumi_status_t_encode(xst_buf, 0, sizeof xst_buf, &xst);
+  comlearn_object_state_t xos = os;
+  xos.object_id = (char *)"intruder";
+  xos.tracked = 1;
+  xos.at_rest = 1;
+  const int xos_len = comlearn_object_state_t_encode(xos_buf, 0, sizeof xos_buf, &xos);
+  if (st_len <= 16 || os_len <= 16 || tr_len <= 16 || fst_len <= 16 || fos_len <= 16 ||
+      xst_len <= 16 || xos_len <= 16) {
     lcm_destroy(lcm);
     return NULL;
   }
@@ -382,6 +393,8 @@ static void *garbler_main(void *arg) {
       atomic_fetch_add(&garbage_sent, n);
       atomic_fetch_add(&forged_sent, lcm_publish(lcm, ch[c], c == 0 ? fst_buf : fos_buf,
                                                  (unsigned)(c == 0 ? fst_len : fos_len)) == 0);
+      atomic_fetch_add(&forged_sent, lcm_publish(lcm, ch[c], c == 0 ? xst_buf : xos_buf,
+                                                 (unsigned)(c == 0 ? xst_len : xos_len)) == 0);
     }
     sleep_ms(2);
   }

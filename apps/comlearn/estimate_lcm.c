@@ -63,6 +63,7 @@ struct estimate_lcm {
   uint64_t n_os;
   /* senders */
   int64_t seq, sc_seq;
+  int opened; /* estimate_lcm_open took the cell's seqs: from now on they are ours */
   int loaded;
   int64_t run_id;
   estimate_lcm_stats_t counters;
@@ -132,6 +133,15 @@ static void block_to_world(const estimate_lcm_t *l, const model_pose_t *in, doub
 
 /* ---- LCM handlers and waits ---------------------------------------------------------------- */
 
+/* The seq of the next message, after `ours` (the last sent) and `theirs` (the last the controller
+ * accepted): one past the larger. When ours lies far ahead of theirs (adopted at open from a
+ * status nobody else could check, and the controller refuses jumps of more than 2^20,
+ * docs/messages.md), start again from theirs. */
+static int64_t next_seq(int64_t ours, int64_t theirs) {
+  if (ours > theirs + ((int64_t)1 << 19)) ours = theirs;
+  return (theirs > ours ? theirs : ours) + 1;
+}
+
 /* A clock or counter value the arithmetic here can take: adding a timeout or 1 cannot overflow. */
 static int sane_count(int64_t v) { return v >= -1 && v <= ((int64_t)1 << 62); }
 
@@ -147,7 +157,8 @@ static void on_status(const lcm_recv_buf_t *rb, const char *ch, const void *msg,
   estimate_lcm_t *l = user;
   const comlearn_yumi_status_t *m = msg;
   if (!sane_count(m->utime) || !sane_count(m->last_accepted_seq) ||
-      !sane_count(m->last_accepted_utime) || !all_finite(&m->q_measured_rad[0][0], 14)) {
+      !sane_count(m->last_accepted_utime) || !all_finite(&m->q_measured_rad[0][0], 14) ||
+      (l->opened && m->last_accepted_seq > l->seq)) { /* a seq we never sent: not our cell's */
     l->counters.refused++;
     return;
   }
@@ -164,7 +175,9 @@ static void on_object(const lcm_recv_buf_t *rb, const char *ch, const void *msg,
   estimate_lcm_t *l = user;
   const comlearn_object_state_t *o = msg;
   if (!sane_count(o->utime) || !sane_count(o->sim_control_seq) ||
-      !all_finite(o->position_measured_m, 3) || !all_finite(o->orientation_measured_wxyz, 4)) {
+      !all_finite(o->position_measured_m, 3) || !all_finite(o->orientation_measured_wxyz, 4) ||
+      (l->opened && o->sim_control_seq > l->sc_seq) || /* a SIM_CONTROL we never sent */
+      (l->loaded && o->tracked && strcmp(o->object_id, l->object_id) != 0)) { /* another object */
     l->counters.refused++;
     return;
   }
@@ -245,8 +258,8 @@ static int sim_control(estimate_lcm_t *l, int8_t action, int arm, const double g
   sc.gripper_width_m = width;
   for (int k = 0; k <= l->cfg.max_resends; ++k) {
     /* continue after whatever the simulator processed last (it may have restarted) */
-    if (l->n_os > 0 && l->os.sim_control_seq >= l->sc_seq) l->sc_seq = l->os.sim_control_seq;
-    sc.seq = ++l->sc_seq;
+    l->sc_seq = next_seq(l->sc_seq, l->n_os > 0 ? l->os.sim_control_seq : l->sc_seq);
+    sc.seq = l->sc_seq;
     sc.utime = wall_us();
     if (comlearn_sim_control_t_publish(l->lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc) != 0) {
       snprintf(err, err_size, "publish %s failed", COMLEARN_MSG_CHANNEL_SIM_CONTROL);
@@ -282,8 +295,8 @@ static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t 
            sizeof c.gripper_width_commanded_m);
     memcpy(c.q_commanded_rad[arm], wp->q_rad, sizeof wp->q_rad);
     c.gripper_width_commanded_m[arm] = wp->gripper_width_m;
-    if (l->st.last_accepted_seq >= l->seq) l->seq = l->st.last_accepted_seq;
-    c.seq = ++l->seq;
+    l->seq = next_seq(l->seq, l->st.last_accepted_seq);
+    c.seq = l->seq;
     c.utime = wall_us();
     /* The sim times joints at scale x their limits and the gripper at scale x 25 mm/s: the
      * planned duration / scale bounds the motion on the controller's clock. */
@@ -662,6 +675,7 @@ int estimate_lcm_open(const estimate_lcm_config_t *cfg, estimate_lcm_t **out,
   if (lcm_connect(l, err, err_size) != 0) return 1; /* l freed */
   l->seq = l->st.last_accepted_seq > 0 ? l->st.last_accepted_seq : 0;
   l->sc_seq = l->os.sim_control_seq > 0 ? l->os.sim_control_seq : 0;
+  l->opened = 1;
   backend->ctx = l;
   backend->name = "lcm";
   balance_config_t bc;

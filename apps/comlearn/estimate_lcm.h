@@ -82,7 +82,8 @@ typedef struct {
   uint64_t undecodable;    /* buffers on the subscribed channels that did not decode */
   uint64_t refused;        /* decoded but refused (docs/security.md): a utime or seq outside
                               [-1, 2^62] or a non-finite pose, which would otherwise overflow the
-                              expiry and seq arithmetic or poison the trial */
+                              expiry and seq arithmetic or poison the trial; a seq this estimator
+                              never sent; the state of another object than the one it loaded */
 } estimate_lcm_stats_t;
 
 void estimate_lcm_stats(const estimate_lcm_t *l, estimate_lcm_stats_t *out);
