@@ -412,14 +412,24 @@ END_TEST
  * (the default) the failed search is made rough first: its mirror at yaw + pi is searched and the
  * pair's STAYS bound it, on the same face. Either way every component is found, inside its bound
  * and within 0.3 mm. */
-START_TEST(face_redo_pebble) {
+/* Generate shapegen object (family, seed) into tmpdir; its even or uneven URDF into urdf. */
+static void shaped_urdf(shapegen_family_t family, uint64_t seed, int uneven, char *urdf,
+                        size_t size) {
   shapegen_object_t *so = malloc(sizeof *so);
-  estimate_result_t *r = malloc(sizeof *r);
-  ck_assert(so && r);
-  ck_assert_int_eq(shapegen_generate(SHAPEGEN_PEBBLE, 65, so), MODEL_OK);
-  char failed[512], urdf[512];
+  ck_assert_ptr_nonnull(so);
+  ck_assert_int_eq(shapegen_generate(family, seed, so), MODEL_OK);
+  char failed[512];
   ck_assert_msg(shapegen_write(so, tmpdir, failed, sizeof failed) == 0, "cannot write %s", failed);
-  snprintf(urdf, sizeof urdf, "%s/%s_uneven.urdf", tmpdir, so->spec.name);
+  snprintf(urdf, size, "%s/%s_%s.urdf", tmpdir, so->spec.name, uneven ? "uneven" : "even");
+  shapegen_object_free(so);
+  free(so);
+}
+
+START_TEST(face_redo_pebble) {
+  estimate_result_t *r = malloc(sizeof *r);
+  ck_assert_ptr_nonnull(r);
+  char urdf[512];
+  shaped_urdf(SHAPEGEN_PEBBLE, 65, 1, urdf, sizeof urdf);
   estimate_config_t no_rough;
   estimate_config_default(&no_rough);
   no_rough.rough_faces = 0;
@@ -438,8 +448,6 @@ START_TEST(face_redo_pebble) {
     ck_assert_int_eq(redone, !rough);
     ck_assert_int_eq(mirrored, rough);
   }
-  shapegen_object_free(so);
-  free(so);
   free(r);
 }
 END_TEST
@@ -449,13 +457,10 @@ END_TEST
  * skipped with a note (before, the policy refused its range and the whole estimate failed with a
  * learner error); the plate's two in-plane components are found inside their bounds. */
 START_TEST(thin_plate_search_skipped) {
-  shapegen_object_t *so = malloc(sizeof *so);
   estimate_result_t *r = malloc(sizeof *r);
-  ck_assert(so && r);
-  ck_assert_int_eq(shapegen_generate(SHAPEGEN_PLATE, 1096, so), MODEL_OK);
-  char failed[512], urdf[512];
-  ck_assert_msg(shapegen_write(so, tmpdir, failed, sizeof failed) == 0, "cannot write %s", failed);
-  snprintf(urdf, sizeof urdf, "%s/%s_even.urdf", tmpdir, so->spec.name);
+  ck_assert_ptr_nonnull(r);
+  char urdf[512];
+  shaped_urdf(SHAPEGEN_PLATE, 1096, 0, urdf, sizeof urdf);
   model_mass_t truth;
   estimate_urdf(urdf, r, &truth);
   ck_assert_int_ge(check_covered("plate_s1096", r, &truth), 2);
@@ -464,8 +469,6 @@ START_TEST(thin_plate_search_skipped) {
     skipped += r->search[i].trials == 0 && strstr(r->search[i].note, "under the resolution");
   ck_assert_int_ge(skipped, 1);
   check_bookkeeping(r);
-  shapegen_object_free(so);
-  free(so);
   free(r);
 }
 END_TEST

@@ -173,11 +173,16 @@ static void spawn(fx_t *f, const char *const *extra) {
       comlearn_msg_subscribe(f->lcm, COMLEARN_MSG_CHANNEL_OBJECT_STATE, &c2, &f->sub_os),
       COMLEARN_MSG_OK);
   comlearn_msg_subscription_set_queue_capacity(f->sub_st, 0);
-  /* objects come from $TMPDIR (the tests write them there) and the bundled assets */
+  /* objects come from $TMPDIR (the tests write them there) and the bundled assets, unless the
+   * test names its own --object-dir folders */
   const char *tmp = getenv("TMPDIR") && getenv("TMPDIR")[0] ? getenv("TMPDIR") : "/tmp";
-  const char *argv[32] = {COMLEARN_SIM_EXE, "--lcm-url", f->url,         "-q",
-                          "--object-dir",   tmp,         "--object-dir", COMLEARN_ASSETS_DIR};
-  int n = 8;
+  const char *argv[32] = {COMLEARN_SIM_EXE, "--lcm-url", f->url, "-q"};
+  int n = 4, own_dirs = 0;
+  for (int i = 0; extra && extra[i]; i++) own_dirs |= strcmp(extra[i], "--object-dir") == 0;
+  if (!own_dirs) {
+    const char *dirs[] = {"--object-dir", tmp, "--object-dir", COMLEARN_ASSETS_DIR};
+    for (int i = 0; i < 4; i++) argv[n++] = dirs[i];
+  }
   for (int i = 0; extra && extra[i] && n < 30; i++) argv[n++] = extra[i];
   argv[n] = NULL;
   f->pid = fork();
@@ -850,6 +855,26 @@ static int status_says_load_refused(const fx_t *f, const void *arg) {
   return f->n_st > 0 && strstr(f->st.error_text, (const char *)arg) != NULL;
 }
 
+/* SIM_CONTROL LOAD of urdf as id into the right gripper (the next seq); it must be answered
+ * within wait_s with SIM_CONTROL_ERR_LOAD. */
+static void load_refused(fx_t *f, int64_t *sc_seq, const char *id, const char *urdf,
+                         double wait_s) {
+  comlearn_sim_control_t sc;
+  memset(&sc, 0, sizeof sc);
+  sc.seq = ++*sc_seq;
+  sc.action = SCA(ACTION_LOAD);
+  sc.object_id = (char *)id;
+  sc.urdf_path = (char *)urdf;
+  sc.arm = SCA(ARM_RIGHT);
+  sc.link_in_tool_position_m[2] = 0.010;
+  sc.link_in_tool_wxyz[1] = 1.0;
+  sc.gripper_width_m = 0.04;
+  ck_assert_int_eq(comlearn_sim_control_t_publish(f->lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc),
+                   0);
+  ck_assert_msg(wait_for(f, sc_acked, sc_seq, wait_s), "LOAD of %s: no answer", urdf);
+  ck_assert_int_eq(f->os.sim_control_result, OS(SIM_CONTROL_ERR_LOAD));
+}
+
 /* A LOAD of a URDF whose truth no real object of that shape can have (model_mass_plausible) is
  * refused with SIM_CONTROL_ERR_LOAD and the reason in YUMI_STATUS.error_text; the object loaded
  * before stays and still simulates with its own truth; a valid LOAD still works afterwards. */
@@ -877,20 +902,7 @@ START_TEST(implausible_load_refused) {
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     const int64_t rejected = f.st.messages_rejected;
-    comlearn_sim_control_t sc;
-    memset(&sc, 0, sizeof sc);
-    sc.seq = ++sc_seq;
-    sc.action = SCA(ACTION_LOAD);
-    sc.object_id = (char *)"box_bad";
-    sc.urdf_path = (char *)cases[i].path;
-    sc.arm = SCA(ARM_RIGHT);
-    sc.link_in_tool_position_m[2] = 0.010;
-    sc.link_in_tool_wxyz[1] = 1.0;
-    sc.gripper_width_m = 0.04;
-    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc),
-                     0);
-    ck_assert(wait_for(&f, sc_acked, &sc_seq, 5.0));
-    ck_assert_int_eq(f.os.sim_control_result, OS(SIM_CONTROL_ERR_LOAD));
+    load_refused(&f, &sc_seq, "box_bad", cases[i].path, 5.0);
     ck_assert_msg(wait_for(&f, status_says_load_refused, cases[i].why[0], 2.0),
                   "case %zu: status error_text: %s", i, f.st.error_text);
     ck_assert_int_eq(f.st.error_code, ST(ERR_INVALID));
@@ -936,10 +948,18 @@ static void write_mesh_urdf(const char *path, const char *mesh) {
 }
 
 START_TEST(hostile_load_refused) {
+  /* the sim may read `allowed` (and the assets); `other` beside it is not inside */
+  const char *base = getenv("TMPDIR") && getenv("TMPDIR")[0] ? getenv("TMPDIR") : "/tmp";
+  char allowed[200], other[200];
+  snprintf(allowed, sizeof allowed, "%s/check_sim_allowed_XXXXXX", base);
+  snprintf(other, sizeof other, "%s/check_sim_other_XXXXXX", base);
+  ck_assert_ptr_nonnull(mkdtemp(allowed));
+  ck_assert_ptr_nonnull(mkdtemp(other));
+  const char *dirs[] = {"--object-dir", allowed, "--object-dir", COMLEARN_ASSETS_DIR, NULL};
   fx_t f;
-  spawn(&f, NULL);
-  const char *tmp = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
-  char urdf[256], segv[256], segv_urdf[256], loop[256], loop_urdf[256], deep[256], fifo[256];
+  spawn(&f, dirs);
+  const char *tmp = allowed;
+  char urdf[512], segv[512], segv_urdf[512], loop[512], loop_urdf[512], deep[512], fifo[512];
   const int pid = (int)getpid();
   snprintf(urdf, sizeof urdf, "%s/check_sim_ok_h%d.urdf", tmp, pid);
   snprintf(segv, sizeof segv, "%s/check_sim_segv_%d.ply", tmp, pid);
@@ -968,10 +988,9 @@ START_TEST(hostile_load_refused) {
   fprintf(fp, "</link></robot>\n");
   fclose(fp);
   ck_assert_int_eq(mkfifo(fifo, 0600), 0);
-  /* a URDF the sim may read whose mesh is not: the mesh sits in the test's working folder */
-  char outside_mesh[PATH_MAX], outside_urdf[256];
-  ck_assert_ptr_nonnull(getcwd(outside_mesh, sizeof outside_mesh - 64));
-  snprintf(outside_mesh + strlen(outside_mesh), 64, "/check_sim_outside_%d.obj", pid);
+  /* a URDF the sim may read whose mesh is not */
+  char outside_mesh[PATH_MAX], outside_urdf[512];
+  snprintf(outside_mesh, sizeof outside_mesh, "%s/check_sim_outside_%d.obj", other, pid);
   fp = fopen(outside_mesh, "w");
   ck_assert_ptr_nonnull(fp);
   fprintf(fp, "v 0 0 0\nv 0.02 0 0\nv 0 0.02 0\nv 0 0 0.02\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
@@ -992,20 +1011,7 @@ START_TEST(hostile_load_refused) {
       {outside_urdf, "outside the folders", 5.0},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-    comlearn_sim_control_t sc;
-    memset(&sc, 0, sizeof sc);
-    sc.seq = ++sc_seq;
-    sc.action = SCA(ACTION_LOAD);
-    sc.object_id = (char *)"hostile";
-    sc.urdf_path = (char *)cases[i].path;
-    sc.arm = SCA(ARM_RIGHT);
-    sc.link_in_tool_position_m[2] = 0.010;
-    sc.link_in_tool_wxyz[1] = 1.0;
-    sc.gripper_width_m = 0.04;
-    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc),
-                     0);
-    ck_assert_msg(wait_for(&f, sc_acked, &sc_seq, cases[i].wait_s), "case %zu: no answer", i);
-    ck_assert_int_eq(f.os.sim_control_result, OS(SIM_CONTROL_ERR_LOAD));
+    load_refused(&f, &sc_seq, "hostile", cases[i].path, cases[i].wait_s);
     ck_assert_msg(wait_for(&f, status_says_load_refused, cases[i].why, 2.0),
                   "case %zu: status error_text: %s", i, f.st.error_text);
     ck_assert_msg(strstr(f.st.error_text, cases[i].path) != NULL, "case %zu: no file in %s", i,
@@ -1019,6 +1025,8 @@ START_TEST(hostile_load_refused) {
   const char *files[] = {urdf, segv, segv_urdf,    loop,        loop_urdf,
                          deep, fifo, outside_urdf, outside_mesh};
   for (size_t i = 0; i < sizeof files / sizeof files[0]; ++i) remove(files[i]);
+  rmdir(allowed);
+  rmdir(other);
   finish(&f);
 }
 END_TEST
