@@ -109,7 +109,7 @@ static void child_run(int fd, const char *path, const double scale[3], double cp
   (void)setrlimit(RLIMIT_CORE, &(struct rlimit){0, 0}); /* a crash leaves no core file */
 #if !defined(__SANITIZE_ADDRESS__) && !COMLEARN_HAS_ASAN
   /* memory: 4 GiB and 16 bytes per byte of file (a sanitizer's shadow memory needs more) */
-  const rlim_t as = (rlim_t)4 << 30 | (rlim_t)16 * file_bytes;
+  const rlim_t as = ((rlim_t)4 << 30) + (rlim_t)16 * file_bytes;
   (void)setrlimit(RLIMIT_AS, &(struct rlimit){as, as});
 #else
   (void)file_bytes;
