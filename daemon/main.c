@@ -33,6 +33,7 @@ typedef struct {
   const char *yumi_urdf;
   const char *object_dirs[SIM_OBJECT_DIRS_MAX];
   size_t object_dir_count;
+  double workspace_margin_mm;
 } options_t;
 
 static void usage(FILE *f) {
@@ -61,13 +62,16 @@ static void usage(FILE *f) {
       "  --object-dir DIR          a folder SIM_CONTROL LOAD may read URDFs and meshes from,\n"
       "                            with everything below it; repeat for more, at most %d\n"
       "                            (default: the bundled assets, %s, and the current folder)\n"
+      "  --workspace-margin-mm M   the arm's tool stays in the box over B grown by M mm on every\n"
+      "                            side, from 50 mm under B to 600 mm over it, 0..10000\n"
+      "                            (default: %.0f)\n"
       "  -v, --verbose             log every refused message (default: off)\n"
       "  -q, --quiet               errors only (default: off)\n"
       "  -h, --help                this help\n"
       "\n"
       "Exit codes: 0 stopped by a signal, 1 runtime failure, 2 bad usage.\n",
       COMLEARN_MSG_LCM_URL_DEFAULT, cli_paths_yumi_urdf(), SIM_OBJECT_DIRS_MAX,
-      cli_paths_assets_dir());
+      cli_paths_assets_dir(), 1e3 * SIM_WORKSPACE_MARGIN_DEFAULT_M);
 }
 
 static int parse_double(const char *s, double lo, double hi, double *out) {
@@ -89,6 +93,7 @@ static int parse_options(int argc, char **argv, options_t *o) {
                                            {"channel-prefix", required_argument, NULL, 'c'},
                                            {"yumi-urdf", required_argument, NULL, 'y'},
                                            {"object-dir", required_argument, NULL, 'o'},
+                                           {"workspace-margin-mm", required_argument, NULL, 'w'},
                                            {"verbose", no_argument, NULL, 'v'},
                                            {"quiet", no_argument, NULL, 'q'},
                                            {"help", no_argument, NULL, 'h'},
@@ -127,6 +132,12 @@ static int parse_options(int argc, char **argv, options_t *o) {
         break;
       case 'c': o->prefix = optarg; break;
       case 'y': o->yumi_urdf = optarg; break;
+      case 'w':
+        if (parse_double(optarg, 0.0, 10000.0, &o->workspace_margin_mm)) {
+          LOG_E("--workspace-margin-mm: need a number in [0, 10000], got '%s'", optarg);
+          return 2;
+        }
+        break;
       case 'o':
         if (o->object_dir_count >= SIM_OBJECT_DIRS_MAX) {
           LOG_E("--object-dir: at most %d folders", SIM_OBJECT_DIRS_MAX);
@@ -305,7 +316,8 @@ int main(int argc, char **argv) {
   options_t o = {.lcm_url = COMLEARN_MSG_LCM_URL_DEFAULT,
                  .seed = 1,
                  .prefix = "",
-                 .yumi_urdf = cli_paths_yumi_urdf()};
+                 .yumi_urdf = cli_paths_yumi_urdf(),
+                 .workspace_margin_mm = 1e3 * SIM_WORKSPACE_MARGIN_DEFAULT_M};
   int prc = parse_options(argc, argv, &o);
   if (prc < 0) return 0;
   if (prc > 0) return prc;
@@ -335,6 +347,7 @@ int main(int argc, char **argv) {
   }
   memcpy(cfg.object_dirs, o.object_dirs, sizeof cfg.object_dirs);
   cfg.object_dir_count = o.object_dir_count;
+  cfg.workspace_margin_m = 1e-3 * o.workspace_margin_mm;
   char err[512];
   if (sim_init(&d.sim, &cfg, err, sizeof err) != 0) {
     LOG_E("%s", err);

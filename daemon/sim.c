@@ -323,6 +323,37 @@ static double motion_time_s(const sim_t *s, const comlearn_yumi_command_t *c) {
   return t;
 }
 
+/* Is the tool point of arm a at q inside the workspace box (B's frame)? *p_block: where it is. */
+static int in_workspace(const sim_t *s, int a, const double q[PLACEMENT_JOINTS],
+                        double p_block[3]) {
+  placement_pose_t tip;
+  if (placement_fk(&s->arm[a], q, &tip) != PLACEMENT_OK) return 0;
+  const placement_pose_t *b = &s->base_in_block;
+  for (int i = 0; i < 3; i++)
+    p_block[i] = b->rot[i][0] * tip.pos_m[0] + b->rot[i][1] * tip.pos_m[1] +
+                 b->rot[i][2] * tip.pos_m[2] + b->pos_m[i];
+  const double m = s->cfg.workspace_margin_m, *sz = s->plan.block_size_m;
+  return fabs(p_block[0]) <= 0.5 * sz[0] + m && fabs(p_block[1]) <= 0.5 * sz[1] + m &&
+         p_block[2] >= -sz[2] - SIM_WORKSPACE_BELOW_M && p_block[2] <= SIM_WORKSPACE_ABOVE_M;
+}
+
+/* The first arm whose tool point leaves the workspace along a POSITION command's straight joint
+ * line (SIM_WORKSPACE_SAMPLES points, the target last), or -1; p_block: where. */
+static int workspace_leaving_arm(const sim_t *s, const comlearn_yumi_command_t *c,
+                                 double p_block[3]) {
+  for (int a = 0; a < 2; a++) {
+    const int start_in = in_workspace(s, a, s->q[a], p_block);
+    for (int k = start_in ? 1 : SIM_WORKSPACE_SAMPLES; k <= SIM_WORKSPACE_SAMPLES; k++) {
+      const double f = (double)k / SIM_WORKSPACE_SAMPLES;
+      double q[PLACEMENT_JOINTS];
+      for (int j = 0; j < PLACEMENT_JOINTS; j++)
+        q[j] = s->q[a][j] + f * (c->q_commanded_rad[a][j] - s->q[a][j]);
+      if (!in_workspace(s, a, q, p_block)) return a;
+    }
+  }
+  return -1;
+}
+
 static int32_t command_check(sim_t *s, const comlearn_yumi_command_t *c) {
   char d[SIM_TEXT_MAX];
   if (c->seq <= s->last_seq) {
@@ -381,6 +412,16 @@ static int32_t command_check(sim_t *s, const comlearn_yumi_command_t *c) {
       !(motion_time_s(s, c) <= SIM_MOTION_MAX_S)) {
     snprintf(d, sizeof d, "seq %lld: the motion would take %g s, over %g s", (long long)c->seq,
              motion_time_s(s, c), SIM_MOTION_MAX_S);
+    return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
+  }
+  double p[3];
+  const int leaving =
+      c->mode == COMLEARN_YUMI_COMMAND_T_MODE_POSITION ? workspace_leaving_arm(s, c, p) : -1;
+  if (leaving >= 0) {
+    snprintf(d, sizeof d,
+             "seq %lld: arm %d's tool would leave the workspace box around B, at (%.3f, %.3f, "
+             "%.3f) m in B's frame (--workspace-margin-mm)",
+             (long long)c->seq, leaving, p[0], p[1], p[2]);
     return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
   }
   if (c->mode == COMLEARN_YUMI_COMMAND_T_MODE_POSITION && s->stop_latched) {

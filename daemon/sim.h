@@ -51,6 +51,15 @@ enum {
 #define SIM_EXPIRE_MAX_US ((int64_t)60000000)
 #define SIM_VELOCITY_SCALE_MIN 1e-3
 #define SIM_MOTION_MAX_S 120.0
+/* The workspace of POSITION commands: the box over B's footprint grown by
+ * sim_config_t.workspace_margin_m on every side, from SIM_WORKSPACE_BELOW_M under B's bottom to
+ * SIM_WORKSPACE_ABOVE_M over its top (B's frame: top at z = 0). The tool point (each arm's FK tip)
+ * must stay inside along the whole straight joint line of a command, checked at
+ * SIM_WORKSPACE_SAMPLES points; from a start outside the box only the target must be inside. */
+#define SIM_WORKSPACE_BELOW_M 0.05
+#define SIM_WORKSPACE_ABOVE_M 0.60
+#define SIM_WORKSPACE_MARGIN_DEFAULT_M 0.35
+enum { SIM_WORKSPACE_SAMPLES = 16 };
 
 enum { SIM_OBJECT_DIRS_MAX = 16 };
 
@@ -64,6 +73,7 @@ typedef struct {
    * file (the library's default; comlearn-sim passes --object-dir or its defaults). */
   const char *object_dirs[SIM_OBJECT_DIRS_MAX];
   size_t object_dir_count;
+  double workspace_margin_m; /* the workspace box around B (SIM_WORKSPACE_*); [0, 10] */
 } sim_config_t;
 
 typedef enum { SIM_OBJ_NONE = 0, SIM_OBJ_HELD, SIM_OBJ_TRIAL, SIM_OBJ_REFUSED } sim_obj_phase_t;

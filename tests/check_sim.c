@@ -467,9 +467,10 @@ END_TEST
 
 /* The safety envelope (docs/sim.md): a command whose seq jumps far ahead (INT64_MAX), that never
  * expires (expire_utime INT64_MAX) or expires more than 60 s ahead, with velocity_scale 1e-300
- * (its motion time overflows) or a motion over 120 s long is refused with its reason, and the
- * next normal command is accepted and executed; a SIM_CONTROL with seq INT64_MAX is ignored
- * (ERR_SEQ) and the next one processed. */
+ * (its motion time overflows), a motion over 120 s long, or a target that swings the tool out of
+ * the workspace box over B is refused with its reason, and the next normal command is accepted
+ * and executed; a SIM_CONTROL with seq INT64_MAX is ignored (ERR_SEQ) and the next one
+ * processed. */
 START_TEST(envelope_rules) {
   fx_t f;
   spawn(&f, NULL);
@@ -506,6 +507,22 @@ START_TEST(envelope_rules) {
     ck_assert_int_eq(f.st.last_accepted_seq, 1);
     ck_assert_int_eq(f.st.messages_rejected, rejected + 1);
   }
+  /* the workspace box: the right arm's base joint near its limit swings the tool behind the
+   * robot, far outside the box over B (B spans x in [0.25, 0.55] m of the robot's frame) */
+  placement_arm_t arm;
+  ck_assert_int_eq(placement_arm_load_yumi(&arm, YUMI_URDF, PLACEMENT_ARM_RIGHT, NULL),
+                   PLACEMENT_OK);
+  double q4[2][7];
+  memcpy(q4, q, sizeof q4);
+  q4[1][0] = arm.lower_rad[0] + 0.05;
+  placement_pose_t tip;
+  ck_assert_int_eq(placement_fk(&arm, q4[1], &tip), PLACEMENT_OK);
+  ck_assert_msg(tip.pos_m[0] < 0.40 - 0.15 - 0.35, "the test pose is inside the box: x %.3f m",
+                tip.pos_m[0]);
+  send_cmd_sync(&f, &n, 2, CMD(MODE_POSITION), (const double(*)[7])q4, w, 1.0, soon);
+  ck_assert_int_eq(f.st.error_code, ST(ERR_INVALID));
+  ck_assert_msg(strstr(f.st.error_text, "workspace box") != NULL, "%s", f.st.error_text);
+  ck_assert_int_eq(f.st.last_accepted_seq, 1);
   send_cmd_sync(&f, &n, 2, CMD(MODE_POSITION), (const double(*)[7])q2, w, 1.0, soon);
   ck_assert_int_eq(f.st.last_accepted_seq, 2);
   ck_assert_int_eq(f.st.error_code, ST(ERR_NONE));
