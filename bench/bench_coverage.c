@@ -172,6 +172,7 @@ static void run_one(const opts_t *o, const obj_t *ob, int pi, int seed, estimate
   if (seed > 0) {
     estimate_direct_set_noise(sim, (uint64_t)seed, o->placement_m, o->pose_m);
     cfg.noise_sigma_m = o->placement_m;
+    cfg.pose_noise_sigma_m = o->pose_m; /* rough faces with noise need it */
     cfg.noise_stop_width_m = o->stop_m;
     cfg.seed = (uint64_t)seed;
   }

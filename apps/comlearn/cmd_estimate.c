@@ -52,7 +52,8 @@ static void usage(FILE *out) {
           "                     most W mm wide, 0..10 (default: 0: max(resolution, noise))\n"
           "  --placement-noise-mm S  --direct: std. dev. of the horizontal release offset, as\n"
           "                     comlearn-sim's option, 0..100 mm (default: 0)\n"
-          "  --pose-noise-mm S  --direct: std. dev. of the perceived settled position, 0..100 mm\n"
+          "  --pose-noise-mm S  --direct: std. dev. of the perceived settled position, 0..100 mm;\n"
+          "                     the estimator is told it too (rough faces with noise)\n"
           "                     (default: 0)\n"
           "  --seed N           --direct: noise seed, as comlearn-sim --seed (default: 1)\n"
           "  --direct           run the trials in-process on lib/balance (no LCM, no arm)\n"
@@ -382,6 +383,7 @@ static int parse_args(int argc, char **argv, est_args_t *a) {
     return EXIT_USAGE;
   }
   if (!a->noise_given) a->cfg.noise_sigma_m = a->placement_noise_m; /* the trials' noise */
+  a->cfg.pose_noise_sigma_m = a->pose_noise_m; /* --direct: the perception's noise is known */
   return 0;
 }
 

@@ -33,6 +33,9 @@ enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw s
  * the CoM up to 0.5 um beyond B's edge in its settled pose (PBA bisecting a pebble's rough face
  * to 1e-7 m, shapegen pebble seed 23 uneven: soft contact and the rest test's residual motion). */
 #define ESTIMATE_STAYS_SLACK_M 2e-6
+/* With pose noise a STAYS bound allows this many standard deviations of the perceived settled
+ * position: the tightest of ~10 bounds per side then errs with ~1 % probability (3 sigma each). */
+#define ESTIMATE_POSE_Z 3.0
 /* With a noise model a closed patch needs only this much at the estimate (noiseless: the 1 mm of
  * verify_margin_m): the tens of um of bias nearer a side (58 um at 0.58 mm, a lumpy rock) are a
  * small part of a 95 % interval (0.27 mm mean half width at 0.5 mm noise), rough faces, where a
@@ -599,7 +602,7 @@ static double stays_bound(const est_t *est, const estimate_trial_t *t, const dou
     creep = 2.0 * cl_quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz) * r2 /
             (9.81 * ESTIMATE_CREEP_HORIZON_S * ESTIMATE_CREEP_HORIZON_S);
   return d_s + cl_vec3_dot(du, est->guess_m) + sqrt(cl_vec3_dot(du, du) * r2) + creep +
-         ESTIMATE_STAYS_SLACK_M;
+         ESTIMATE_STAYS_SLACK_M + ESTIMATE_POSE_Z * est->cfg.pose_noise_sigma_m;
 }
 
 /* The plane of a rough face's pair of searches: search a along u and its mirror b along -u (yaw
@@ -1236,9 +1239,13 @@ static estimate_status_t closed_once(est_t *est, int *listed, size_t *np) {
  * patches are used up: every hull face that holds the estimate and was not checked yet, listed
  * and planned once (*listed marks it). Noiseless only: a STAYS bound takes the settled pose as
  * observed, and pose noise would move it. */
+static int rough_usable(const est_t *est) {
+  return est->cfg.rough_faces && (!est->noisy || est->cfg.pose_noise_sigma_m > 0.0);
+}
+
 static estimate_status_t rough_once(est_t *est, int *listed, size_t *np) {
   *np = 0;
-  if (!est->cfg.rough_faces || est->noisy || *listed) return ESTIMATE_OK;
+  if (!rough_usable(est) || *listed) return ESTIMATE_OK;
   *listed = 1;
   estimate_status_t s = faces_append(est, 1);
   return s == ESTIMATE_OK ? closed_plans(est, np) : s;
@@ -1478,8 +1485,7 @@ static estimate_status_t face_redo(est_t *est, int si, int *started) {
  * check then no longer matters. */
 static estimate_status_t rough_retest(est_t *est, int si, int *started) {
   estimate_result_t *out = &est->result;
-  if (!est->cfg.rough_faces || est->noisy || out->search_count >= ESTIMATE_MAX_SEARCHES)
-    return ESTIMATE_OK;
+  if (!rough_usable(est) || out->search_count >= ESTIMATE_MAX_SEARCHES) return ESTIMATE_OK;
   estimate_search_t *sr = &out->search[si];
   est->search_rough[si] = 1;
   sr->retested = 1;
@@ -1770,7 +1776,9 @@ static int config_ok(const estimate_config_t *cfg) {
          cfg->noise_sigma_m >= 0.0 && cfg->noise_sigma_m <= 0.1 && cfg->noise_max_trials >= 1 &&
          cfg->noise_max_trials <= 200 && cfg->verify_margin_m >= 0.0 &&
          cfg->verify_margin_m <= 0.02 && cfg->max_retests <= 6 &&
-         (cfg->closed_patches == 0 || cfg->closed_patches == 1) && cfg->noise_stop_width_m >= 0.0 &&
+         (cfg->closed_patches == 0 || cfg->closed_patches == 1) &&
+         (cfg->rough_faces == 0 || cfg->rough_faces == 1) && cfg->pose_noise_sigma_m >= 0.0 &&
+         cfg->pose_noise_sigma_m <= 0.1 && cfg->noise_stop_width_m >= 0.0 &&
          cfg->noise_stop_width_m <= 0.01 &&
          (cfg->start == ESTIMATE_START_UNIFORM || cfg->start == ESTIMATE_START_BBOX) &&
          (cfg->policy == QLEARN_POLICY_BISECT || cfg->policy == QLEARN_POLICY_PBA ||

@@ -167,12 +167,18 @@ typedef struct {
    * under the pose a stable check settled in; any chord of one spans the CoM, so no chord margin
    * is needed (docs/estimate.md, "Closed patches"). 0: flat faces only, as before. */
   int closed_patches;
-  /* Rough faces too (default 1; noiseless only): when no flat face or closed patch is left, any
+  /* Rough faces too (default 1): when no flat face or closed patch is left, any
    * hull face that holds the estimate (a noisy scanned face, the facets of a pebble) is searched
    * from both sides, yaw and yaw + pi, and only its STAYS trials set the plane: at rest, the CoM
    * lies over B's top in the settled pose, exactly, whatever the support looks like
-   * (docs/estimate.md, "Rough faces"). 0: not used. */
+   * (docs/estimate.md, "Rough faces"). 0: not used. With a noise model they are used only when
+   * pose_noise_sigma_m says how well the settled pose is perceived. */
   int rough_faces;
+  /* Std. dev. of the perceived settled position (each axis) [m], in [0, 0.1]; default 0: not
+   * told. With a noise model (noise_sigma_m > 0) and this > 0, rough faces are used too: each
+   * STAYS bound then allows ESTIMATE_POSE_Z of it (the release's own noise does not enter: the
+   * bound is taken in the settled pose). */
+  double pose_noise_sigma_m;
 } estimate_config_t;
 
 void estimate_config_default(estimate_config_t *cfg);
