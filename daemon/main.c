@@ -382,6 +382,9 @@ int main(int argc, char **argv) {
       (double)d.sim.utime * 1e-6, (long long)d.sim.n_received, (long long)d.sim.n_rejected,
       (long long)d.sim.n_undecodable, (unsigned long long)d.dropped_in,
       (unsigned long long)d.dropped_out);
+  char refusals[512];
+  sim_refusals_str(&d.sim, refusals, sizeof refusals);
+  LOG_I("%s", refusals);
   lcm_unsubscribe(d.lcm, s1);
   lcm_unsubscribe(d.lcm, s2);
   lcm_destroy(d.lcm);

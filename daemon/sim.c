@@ -302,6 +302,8 @@ static const char *mode_str(int8_t m) {
 
 static int32_t refuse(sim_t *s, int32_t code, const char *fmt, const char *detail) {
   s->n_rejected++;
+  if (code >= 0 && code < (int32_t)(sizeof s->n_refused_by / sizeof s->n_refused_by[0]))
+    s->n_refused_by[code]++;
   set_error(s, code, fmt, detail);
   return code;
 }
@@ -495,8 +497,25 @@ static int32_t sc_done(sim_t *s, const comlearn_sim_control_t *c, int32_t result
   s->sc_seq_processed = c->seq;
   s->sc_ack_seq = c->seq;
   s->sc_ack_result = result;
-  if (result != SC(SIM_CONTROL_APPLIED)) s->n_rejected++;
+  if (result != SC(SIM_CONTROL_APPLIED)) {
+    s->n_rejected++;
+    if (result > 0 && result < (int32_t)(sizeof s->n_sc_refused_by / sizeof s->n_sc_refused_by[0]))
+      s->n_sc_refused_by[result]++;
+  }
   return result;
+}
+
+void sim_refusals_str(const sim_t *s, char *buf, size_t size) {
+  snprintf(buf, size,
+           "commands refused: %lld seq, %lld stale, %lld invalid, %lld stopped; SIM_CONTROL not "
+           "applied: %lld seq, %lld invalid, %lld load, %lld unknown id",
+           (long long)s->n_refused_by[ERR(ERR_SEQ)], (long long)s->n_refused_by[ERR(ERR_STALE)],
+           (long long)s->n_refused_by[ERR(ERR_INVALID)],
+           (long long)s->n_refused_by[ERR(ERR_STOPPED)],
+           (long long)s->n_sc_refused_by[SC(SIM_CONTROL_ERR_SEQ)],
+           (long long)s->n_sc_refused_by[SC(SIM_CONTROL_ERR_INVALID)],
+           (long long)s->n_sc_refused_by[SC(SIM_CONTROL_ERR_LOAD)],
+           (long long)s->n_sc_refused_by[SC(SIM_CONTROL_ERR_UNKNOWN_ID)]);
 }
 
 /* A LOAD that lib/model refused: SIM_CONTROL_ERR_LOAD, and the reason in the status' error_text
@@ -559,6 +578,7 @@ int32_t sim_control(sim_t *s, const comlearn_sim_control_t *c) {
      * every later message). */
     s->sc_ack_result = SC(SIM_CONTROL_ERR_SEQ);
     s->n_rejected++;
+    s->n_sc_refused_by[SC(SIM_CONTROL_ERR_SEQ)]++;
     return SC(SIM_CONTROL_ERR_SEQ);
   }
   const int act = c->action;

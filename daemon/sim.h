@@ -100,6 +100,8 @@ typedef struct {
   int32_t error_code;
   char error_text[SIM_TEXT_MAX];
   int64_t n_received, n_rejected, n_undecodable;
+  int64_t n_refused_by[8];    /* refused commands by their ERR_* code (n_rejected counts all) */
+  int64_t n_sc_refused_by[5]; /* SIM_CONTROL messages not applied, by SIM_CONTROL_ERR_* result */
 
   /* object */
   int loaded;
@@ -130,6 +132,10 @@ typedef struct {
  * 0 on success; -1 with err filled. */
 int sim_init(sim_t *sim, const sim_config_t *cfg, char *err, size_t err_len);
 void sim_fini(sim_t *sim);
+
+/* The refusals by reason, one line for the log: "commands refused: N seq, N stale, N invalid,
+ * N stopped; SIM_CONTROL not applied: N seq, N invalid, N load, N unknown id". */
+void sim_refusals_str(const sim_t *sim, char *buf, size_t size);
 
 /* 1 while something moves on the sim clock (arm or gripper motion, a trial playing out). */
 int sim_busy(const sim_t *sim);

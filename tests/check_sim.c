@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <check.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <math.h>
 #include <signal.h>
@@ -27,6 +28,7 @@
 #include "comlearn/msg.h"
 #include "comlearn/placement.h"
 #include "comlearn/placement_plan.h"
+#include "file_test_util.h"
 
 #define YUMI_URDF COMLEARN_ASSETS_DIR "/yumi/yumi.urdf"
 #define ST(name) COMLEARN_YUMI_STATUS_T_##name
@@ -123,6 +125,10 @@ static int seq_in_position(const fx_t *f, const void *arg) {
   return f->n_st > 0 && f->st.last_accepted_seq == *(const int64_t *)arg && f->st.in_position;
 }
 
+static int rejected_at_least(const fx_t *f, const void *arg) {
+  return f->n_st > 0 && f->st.messages_rejected >= *(const int64_t *)arg;
+}
+
 static int sc_acked(const fx_t *f, const void *arg) {
   return f->n_os > 0 && f->os.sim_control_seq == *(const int64_t *)arg;
 }
@@ -147,6 +153,9 @@ static void kill_leftovers(void) {
 }
 
 static void self_check_udpm(lcm_t *lcm, const char *url);
+
+/* When set, the next spawned sim's stderr goes to this file (its log). */
+static const char *spawn_log_path;
 
 static void spawn(fx_t *f, const char *const *extra) {
   memset(f, 0, sizeof *f);
@@ -190,6 +199,10 @@ static void spawn(fx_t *f, const char *const *extra) {
   if (f->pid > 0 && n_pids < PIDS_MAX) pids[n_pids++] = f->pid;
   if (f->pid == 0) {
     prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (spawn_log_path) {
+      const int fd = open(spawn_log_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
+      if (fd >= 0) dup2(fd, 2);
+    }
     execv(COMLEARN_SIM_EXE, (char *const *)argv);
     _exit(127);
   }
@@ -545,6 +558,51 @@ START_TEST(envelope_rules) {
   ck_assert_msg(wait_for(&f, sc_acked, &one, 5.0),
                 "SIM_CONTROL seq 1 not processed after INT64_MAX");
   finish(&f);
+}
+END_TEST
+
+/* Refusals are counted by reason and logged when the sim stops: 1 duplicate seq, 2 stale and
+ * 1 unknown-mode command, 1 SIM_CONTROL with action 0 and 1 with a seq already processed. */
+START_TEST(refusals_counted) {
+  char log[256];
+  snprintf(log, sizeof log, "%s/check_sim_log_%d.txt",
+           getenv("TMPDIR") && getenv("TMPDIR")[0] ? getenv("TMPDIR") : "/tmp", (int)getpid());
+  spawn_log_path = log;
+  const char *info[] = {"-v", NULL}; /* after the fixture's -q: the log at info level and up */
+  fx_t f;
+  spawn(&f, info);
+  spawn_log_path = NULL;
+  double q[2][7], w[2] = {0, 0};
+  memcpy(q, f.st.q_measured_rad, sizeof q);
+  int64_t n = 0;
+  const int64_t soon = f.st.utime + 30000000;
+  send_cmd_sync(&f, &n, 1, CMD(MODE_HOLD), (const double(*)[7])q, w, 1.0, soon);
+  send_cmd_sync(&f, &n, 1, CMD(MODE_HOLD), (const double(*)[7])q, w, 1.0, soon); /* seq */
+  send_cmd_sync(&f, &n, 2, CMD(MODE_HOLD), (const double(*)[7])q, w, 1.0, 0);    /* stale */
+  send_cmd_sync(&f, &n, 3, CMD(MODE_HOLD), (const double(*)[7])q, w, 1.0, 0);    /* stale */
+  send_cmd_sync(&f, &n, 4, 9, (const double(*)[7])q, w, 1.0, soon);              /* mode */
+  ck_assert_int_eq(f.st.messages_rejected, 4);
+  comlearn_sim_control_t sc;
+  memset(&sc, 0, sizeof sc);
+  sc.object_id = (char *)"x";
+  sc.urdf_path = (char *)"";
+  sc.seq = 1; /* action 0: SIM_CONTROL_ERR_INVALID */
+  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+  int64_t one = 1;
+  ck_assert(wait_for(&f, sc_acked, &one, 5.0));
+  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+  int64_t rejected = 6;
+  ck_assert(wait_for(&f, rejected_at_least, &rejected, 5.0));
+  finish(&f);
+  size_t len = 0;
+  char *text = test_slurp(log, &len);
+  ck_assert_ptr_nonnull(text);
+  ck_assert_msg(strstr(text,
+                       "commands refused: 1 seq, 2 stale, 1 invalid, 0 stopped; SIM_CONTROL "
+                       "not applied: 1 seq, 1 invalid, 0 load, 0 unknown id") != NULL,
+                "log: %s", text);
+  free(text);
+  remove(log);
 }
 END_TEST
 
@@ -1093,6 +1151,7 @@ int main(void) {
   tcase_add_test(tc, seq_rules);
   tcase_add_test(tc, invalid_commands_refused);
   tcase_add_test(tc, envelope_rules);
+  tcase_add_test(tc, refusals_counted);
   tcase_add_test(tc, garbage_counted);
   tcase_add_test(tc, place_box_over_edge);
   tcase_add_test(tc, implausible_load_refused);
