@@ -3,8 +3,9 @@
  * URL of its own (port from the pid and a counter), runs estimate_run through the LCM backend
  * (YuMi placements planned with lib/placement, commands and states over LCM), and compares with
  * the truth and with the same estimate through the direct backend, trial by trial: the
- * two-material box, every bundled rock (a loop test over assets/rocks) and two generated pebbles
- * (closed patches). The CLI test
+ * two-material box (also after hostile files and commands sent to the sim first), every bundled
+ * rock (a loop test over assets/rocks), two generated pebbles (closed patches) and a scanned box
+ * (rough faces). The CLI test
  * runs `comlearn estimate --spawn-sim` against `--direct`. */
 #include <check.h>
 #include <math.h>
@@ -12,12 +13,17 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "comlearn/comlearn_object_state_t.h"
+#include "comlearn/comlearn_sim_control_t.h"
+#include "comlearn/comlearn_yumi_command_t.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "comlearn/msg.h"
 #include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
@@ -25,10 +31,14 @@
 #include "shapegen.h"
 
 static char tmpdir[256];
+/* Before the estimate, when set: hostile input for the freshly started sim on url. */
+typedef void (*inject_fn)(const char *url);
+static inject_fn before_estimate;
 static unsigned url_counter;
 static pid_t sim_pid = -1;
 
 static void setup(void) {
+  before_estimate = NULL; /* CK_FORK=no: a failed test must not leave it set */
   snprintf(tmpdir, sizeof tmpdir, "/tmp/check_estimate_lcm.XXXXXX");
   ck_assert_ptr_nonnull(mkdtemp(tmpdir));
 }
@@ -67,6 +77,7 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
   const char *dirs[] = {tmpdir, COMLEARN_ASSETS_DIR, NULL};
   sim_pid = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, dirs, msg, sizeof msg);
   ck_assert_msg(sim_pid > 0, "%s", msg);
+  if (before_estimate) before_estimate(url);
   estimate_lcm_config_t lc;
   estimate_lcm_config_default(&lc);
   lc.lcm_url = url;
@@ -130,6 +141,103 @@ START_TEST(box_offset_com_over_lcm) {
   model_mass_t exact;
   write_two_material_box(urdf, &exact);
   run_both(urdf, exact.com_m, 1e-4);
+}
+END_TEST
+
+/* Hostile input first (docs/security.md): SIM_CONTROL LOADs of a URDF whose mesh crashes assimp,
+ * of one nested 100 deep, of /dev/zero and of a pipe, and YUMI_COMMANDs with seq INT64_MAX,
+ * expire_utime INT64_MAX and velocity_scale 1e-300, each refused. Then the sim still answers a
+ * whole estimate of the two-material box, equal to --direct trial by trial (run_both). */
+/* The latest OBJECT_STATE's sim_control_seq, and how many states came. */
+typedef struct {
+  int64_t acked;
+  int states;
+} acks_t;
+
+static void count_acks(const lcm_recv_buf_t *rb, const char *ch, void *user) {
+  (void)ch;
+  comlearn_object_state_t os;
+  if (comlearn_msg_decode(comlearn_object_state_t_get_type_info(), rb->data, rb->data_size, &os,
+                          NULL) != COMLEARN_MSG_OK)
+    return;
+  acks_t *a = user;
+  a->acked = os.sim_control_seq;
+  a->states++;
+  comlearn_object_state_t_decode_cleanup(&os);
+}
+
+static void hostile_input(const char *url) {
+  char segv[512], segv_urdf[512], deep[512], fifo[512];
+  snprintf(segv, sizeof segv, "%s/segv.ply", tmpdir);
+  snprintf(segv_urdf, sizeof segv_urdf, "%s/segv.urdf", tmpdir);
+  snprintf(deep, sizeof deep, "%s/deep.urdf", tmpdir);
+  snprintf(fifo, sizeof fifo, "%s/pipe.urdf", tmpdir);
+  FILE *f = fopen(segv, "wb");
+  ck_assert_ptr_nonnull(f);
+  fwrite("ply\nformat binary_\0\0\0", 1, 21, f);
+  fclose(f);
+  f = fopen(segv_urdf, "w");
+  ck_assert_ptr_nonnull(f);
+  fprintf(
+      f,
+      "<robot name=\"s\"><link name=\"s\"><inertial><mass value=\"0.2\"/><inertia "
+      "ixx=\"1e-4\" ixy=\"0\" ixz=\"0\" iyy=\"1e-4\" iyz=\"0\" izz=\"1e-4\"/></inertial>"
+      "<collision><geometry><mesh filename=\"segv.ply\"/></geometry></collision></link></robot>");
+  fclose(f);
+  f = fopen(deep, "w");
+  ck_assert_ptr_nonnull(f);
+  fprintf(f, "<robot name=\"d\"><link name=\"d\">");
+  for (int i = 0; i < 100; ++i) fprintf(f, "<x>");
+  for (int i = 0; i < 100; ++i) fprintf(f, "</x>");
+  fprintf(f, "</link></robot>");
+  fclose(f);
+  ck_assert_int_eq(mkfifo(fifo, 0600), 0);
+  lcm_t *lcm = lcm_create(url);
+  ck_assert_ptr_nonnull(lcm);
+  acks_t acks = {-1, 0};
+  lcm_subscription_t *sub =
+      lcm_subscribe(lcm, COMLEARN_MSG_CHANNEL_OBJECT_STATE, count_acks, &acks);
+  for (int k = 0; k < 200 && acks.states == 0; ++k) lcm_handle_timeout(lcm, 50); /* it is up */
+  ck_assert_int_gt(acks.states, 0);
+  const char *paths[] = {segv_urdf, deep, "/dev/zero", fifo};
+  for (int i = 0; i < 4; ++i) {
+    comlearn_sim_control_t sc;
+    memset(&sc, 0, sizeof sc);
+    sc.seq = i + 1;
+    sc.action = COMLEARN_SIM_CONTROL_T_ACTION_LOAD;
+    sc.object_id = (char *)"hostile";
+    sc.urdf_path = (char *)paths[i];
+    sc.arm = COMLEARN_SIM_CONTROL_T_ARM_RIGHT;
+    sc.link_in_tool_wxyz[0] = 1.0;
+    sc.gripper_width_m = 0.04;
+    ck_assert_int_eq(comlearn_sim_control_t_publish(lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
+  }
+  const int64_t seqs[3] = {INT64_MAX, 1, 1};
+  const double scales[3] = {1.0, 1.0, 1e-300};
+  for (int i = 0; i < 3; ++i) {
+    comlearn_yumi_command_t c;
+    memset(&c, 0, sizeof c);
+    c.seq = seqs[i];
+    c.expire_utime = i == 1 ? INT64_MAX : 1000000;
+    c.mode = COMLEARN_YUMI_COMMAND_T_MODE_POSITION;
+    c.velocity_scale = scales[i];
+    ck_assert_int_eq(comlearn_yumi_command_t_publish(lcm, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, &c),
+                     0);
+  }
+  for (int k = 0; k < 200 && acks.acked < 4; ++k) lcm_handle_timeout(lcm, 50);
+  ck_assert_int_eq(acks.acked, 4); /* every LOAD was answered (refused): the sim is alive */
+  lcm_unsubscribe(lcm, sub);
+  lcm_destroy(lcm);
+}
+
+START_TEST(estimate_after_hostile_input) {
+  char urdf[512];
+  snprintf(urdf, sizeof urdf, "%s/box.urdf", tmpdir);
+  model_mass_t exact;
+  write_two_material_box(urdf, &exact);
+  before_estimate = hostile_input;
+  run_both(urdf, exact.com_m, 1e-4);
+  before_estimate = NULL;
 }
 END_TEST
 
@@ -229,6 +337,7 @@ int main(void) {
   tcase_add_checked_fixture(tc, setup, teardown);
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, box_offset_com_over_lcm);
+  tcase_add_test(tc, estimate_after_hostile_input);
   tcase_add_loop_test(tc, rock_over_lcm, 0, N_ROCKS);
   tcase_add_loop_test(tc, shaped_over_lcm, 0, (int)(sizeof shaped / sizeof shaped[0]));
   tcase_add_test(tc, cli_spawn_sim_equals_direct);
