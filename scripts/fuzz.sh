@@ -7,7 +7,7 @@
 set -euo pipefail
 case "${1:-}" in
   -h | --help)
-    sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'
     exit 0
     ;;
   "") ;;
