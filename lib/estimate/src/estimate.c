@@ -38,9 +38,9 @@ enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw s
 #define ESTIMATE_POSE_Z 3.0
 /* With a noise model a closed patch needs only this much at the estimate (noiseless: the 1 mm of
  * verify_margin_m): the tens of um of bias nearer a side (58 um at 0.58 mm, a lumpy rock) are a
- * small part of a 95 % interval (0.27 mm mean half width at 0.5 mm noise), rough faces, where a
- * failed search would go noiseless, are not used with noise, and 1 mm cost 490 of 3324 noisy
- * components over bench_coverage --seeds 6 for 0.2 points of coverage (97.9 -> 98.1 %). */
+ * small part of a 95 % interval (0.27 mm mean half width at 0.5 mm noise), and 1 mm cost 490 of
+ * 3324 noisy components over bench_coverage --seeds 6 (before rough faces with noise) for 0.2
+ * points of coverage (97.9 -> 98.1 %). */
 #define ESTIMATE_CLOSED_NOISY_MARGIN_M 2.5e-4
 enum {
   ESTIMATE_SETTLED_MAX = 8, /* faces taken from settled poses, per estimate */
@@ -296,19 +296,23 @@ static int search_rough(const est_t *est, int si) {
   return si >= 0 && (size_t)si < est->result.search_count && est->search_rough[si];
 }
 
+/* How far trial t's object turned and moved from its release to where it settled. */
+static double trial_turned_rad(const estimate_trial_t *t) {
+  return cl_quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz);
+}
+
+static double trial_moved_m(const estimate_trial_t *t) {
+  double d[3];
+  cl_vec3_sub(t->settled.position_m, t->released.position_m, d);
+  return sqrt(cl_vec3_dot(d, d));
+}
+
 /* Came to rest: STAYS, or on a rough face the horizon came while the object barely crept
  * (ESTIMATE_CREEP_*: what lib/balance reports on faces of many noise peaks, docs/physics.md). */
 static int at_rest(const estimate_trial_t *t, int rough) {
   if (t->outcome == ESTIMATE_STAYS) return 1;
-  if (!rough || t->outcome != ESTIMATE_INVALID) return 0;
-  double d2 = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double dk = t->settled.position_m[k] - t->released.position_m[k];
-    d2 += dk * dk;
-  }
-  return cl_quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz) <=
-             ESTIMATE_CREEP_ROTATION_RAD &&
-         sqrt(d2) <= ESTIMATE_CREEP_M;
+  return rough && t->outcome == ESTIMATE_INVALID &&
+         trial_turned_rad(t) <= ESTIMATE_CREEP_ROTATION_RAD && trial_moved_m(t) <= ESTIMATE_CREEP_M;
 }
 
 /* The outcome an edge trial counts as: in a rough search a barely creeping INVALID is a STAYS
@@ -354,13 +358,8 @@ static int stable_confirmed(const estimate_trial_t *t, int closed, int rough) {
   model_stable_config_t sc;
   model_stable_config_default(&sc);
   if (closed) sc.max_rotation_rad = ESTIMATE_CLOSED_ROTATION_RAD;
-  double dx = t->settled.position_m[0] - t->released.position_m[0];
-  double dy = t->settled.position_m[1] - t->released.position_m[1];
-  double dz = t->settled.position_m[2] - t->released.position_m[2];
-  return at_rest(t, rough) &&
-         cl_quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz) <=
-             sc.max_rotation_rad &&
-         sqrt(dx * dx + dy * dy + dz * dz) <= sc.max_displacement_m;
+  return at_rest(t, rough) && trial_turned_rad(t) <= sc.max_rotation_rad &&
+         trial_moved_m(t) <= sc.max_displacement_m;
 }
 
 /* The range of a search along u: the object's extent along u, 1 mm inside at each end (a CoM
@@ -586,20 +585,16 @@ static estimate_status_t handover_start(est_t *est) {
 /* The bound a STAYS trial t of a rough-face search sets along u (unit, link frame). At rest, the
  * CoM lies over the support polygon, and every contact is on B's top or its edge line, so in the
  * settled pose n_s . c <= d_s (trial_plane) exactly, whatever the support looks like. Along u,
- * with g the estimate and r the distance from g to the farthest vertex (the CoM is inside the
- * object): u . c <= d_s + (u - n_s) . g + |u - n_s| r. */
-static double stays_bound(const est_t *est, const estimate_trial_t *t, const double u[3]) {
-  double n_s[3], d_s, du[3], r2 = 0.0;
+ * with g the estimate and r2 the squared distance from g to the farthest vertex (the CoM is inside
+ * the object): u . c <= d_s + (u - n_s) . g + |u - n_s| r. */
+static double stays_bound(const est_t *est, const estimate_trial_t *t, const double u[3],
+                          double r2) {
+  double n_s[3], d_s, du[3];
   trial_plane(est, &t->settled, n_s, &d_s);
   for (int k = 0; k < 3; ++k) du[k] = u[k] - n_s[k];
-  for (size_t i = 0; i < est->mesh->vertex_count; ++i) {
-    double v[3];
-    cl_vec3_sub(est->mesh->vertices_m[i], est->guess_m, v);
-    r2 = fmax(r2, cl_vec3_dot(v, v));
-  }
   double creep = 0.0; /* a creeping INVALID: how far beyond its support the CoM can be */
   if (t->outcome != ESTIMATE_STAYS)
-    creep = 2.0 * cl_quat_angle(t->settled.orientation_wxyz, t->released.orientation_wxyz) * r2 /
+    creep = 2.0 * trial_turned_rad(t) * r2 /
             (9.81 * ESTIMATE_CREEP_HORIZON_S * ESTIMATE_CREEP_HORIZON_S);
   return d_s + cl_vec3_dot(du, est->guess_m) + sqrt(cl_vec3_dot(du, du) * r2) + creep +
          ESTIMATE_STAYS_SLACK_M + ESTIMATE_POSE_Z * est->cfg.pose_noise_sigma_m;
@@ -611,12 +606,17 @@ static double stays_bound(const est_t *est, const estimate_trial_t *t, const dou
 static void rough_plane(est_t *est, int a, int b) {
   estimate_result_t *out = &est->result;
   estimate_search_t *sa = &out->search[a], *sb = &out->search[b];
-  double hi = HUGE_VAL, lo = -HUGE_VAL;
+  double hi = HUGE_VAL, lo = -HUGE_VAL, r2 = 0.0;
+  for (size_t i = 0; i < est->mesh->vertex_count; ++i) { /* the farthest vertex from the estimate */
+    double v[3];
+    cl_vec3_sub(est->mesh->vertices_m[i], est->guess_m, v);
+    r2 = fmax(r2, cl_vec3_dot(v, v));
+  }
   for (size_t i = 0; i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
     if ((t->search != a && t->search != b) || seen_outcome(est, t) != ESTIMATE_STAYS) continue;
-    if (t->search == a) hi = fmin(hi, stays_bound(est, t, sa->dir_link));
-    if (t->search == b) lo = fmax(lo, -stays_bound(est, t, sb->dir_link));
+    if (t->search == a) hi = fmin(hi, stays_bound(est, t, sa->dir_link, r2));
+    if (t->search == b) lo = fmax(lo, -stays_bound(est, t, sb->dir_link, r2));
   }
   snprintf(sb->note, sizeof sb->note, "mirrors search %d: its STAYS bound is in that plane", a);
   if (!isfinite(hi) || !isfinite(lo)) {
@@ -1235,20 +1235,29 @@ static estimate_status_t closed_once(est_t *est, int *listed, size_t *np) {
   return s == ESTIMATE_OK ? closed_plans(est, np) : s;
 }
 
-/* The rough faces of the current phase under the estimate, once the flat faces and closed
- * patches are used up: every hull face that holds the estimate and was not checked yet, listed
- * and planned once (*listed marks it). Noiseless only: a STAYS bound takes the settled pose as
- * observed, and pose noise would move it. */
+/* Rough faces and searches made rough may be used: on, and with a noise model only when told the
+ * pose noise (a STAYS bound takes the settled pose as observed; pose noise moves it). */
 static int rough_usable(const est_t *est) {
   return est->cfg.rough_faces && (!est->noisy || est->cfg.pose_noise_sigma_m > 0.0);
 }
 
+/* The rough faces of the current phase under the estimate, once the flat faces and closed
+ * patches are used up: every hull face that holds the estimate and was not checked yet, listed
+ * and planned once (*listed marks it). */
 static estimate_status_t rough_once(est_t *est, int *listed, size_t *np) {
   *np = 0;
   if (!rough_usable(est) || *listed) return ESTIMATE_OK;
   *listed = 1;
   estimate_status_t s = faces_append(est, 1);
   return s == ESTIMATE_OK ? closed_plans(est, np) : s;
+}
+
+/* When no flat face of the phase is (left): its closed patches, else its rough faces, each listed
+ * once (*closed, *rough mark it); *np plans. */
+static estimate_status_t fallback_once(est_t *est, int *closed, int *rough, size_t *np) {
+  estimate_status_t s = closed_once(est, closed, np);
+  if (s == ESTIMATE_OK && *np == 0) s = rough_once(est, rough, np);
+  return s;
 }
 
 /* What the face choice tried, for its messages. */
@@ -1278,8 +1287,7 @@ static estimate_status_t face_one(est_t *est) {
  * only then: a flat object never needs them). */
 static estimate_status_t face_one_closed(est_t *est) {
   size_t np = 0;
-  estimate_status_t s = closed_once(est, &est->closed1, &np);
-  if (s == ESTIMATE_OK && np == 0) s = rough_once(est, &est->rough1, &np);
+  const estimate_status_t s = fallback_once(est, &est->closed1, &est->rough1, &np);
   if (s != ESTIMATE_OK) return s;
   if (np == 0) {
     if (!est->closed1 && !est->rough1 && est->result.face_count == 0)
@@ -1318,8 +1326,7 @@ static estimate_status_t face_two(est_t *est) {
  * face 1's searches (computed only then: a flat object never needs them). */
 static estimate_status_t face_two_closed(est_t *est) {
   size_t np = 0;
-  estimate_status_t s = closed_once(est, &est->closed2, &np);
-  if (s == ESTIMATE_OK && np == 0) s = rough_once(est, &est->rough2, &np);
+  const estimate_status_t s = fallback_once(est, &est->closed2, &est->rough2, &np);
   if (s != ESTIMATE_OK) return s;
   if (np == 0) {
     snprintf(est->face2_note, sizeof est->face2_note,
@@ -1479,10 +1486,10 @@ static estimate_status_t face_redo(est_t *est, int si, int *started) {
   return confirm_plans(est, np);
 }
 
-/* Search si failed its check at the estimate and no other yaw or patch replaces it: its STAYS
- * trials still bound the CoM exactly (rough faces), so its mirror at yaw + pi is searched and the
- * pair gives a plane as on a rough face (noiseless, estimate_config_t.rough_faces). The patch
- * check then no longer matters. */
+/* Search si failed its check at the estimate (on a closed patch, or with no other yaw left): its
+ * STAYS trials still bound the CoM exactly (rough faces), so its mirror at yaw + pi is searched
+ * and the pair gives a plane as on a rough face (when rough_usable). The check then no longer
+ * matters. */
 static estimate_status_t rough_retest(est_t *est, int si, int *started) {
   estimate_result_t *out = &est->result;
   if (!rough_usable(est) || out->search_count >= ESTIMATE_MAX_SEARCHES) return ESTIMATE_OK;
