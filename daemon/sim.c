@@ -410,10 +410,11 @@ static int32_t command_check(sim_t *s, const comlearn_yumi_command_t *c) {
              c->velocity_scale, SIM_VELOCITY_SCALE_MIN);
     return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
   }
-  if (c->mode == COMLEARN_YUMI_COMMAND_T_MODE_POSITION &&
-      !(motion_time_s(s, c) <= SIM_MOTION_MAX_S)) {
+  const double motion_s =
+      c->mode == COMLEARN_YUMI_COMMAND_T_MODE_POSITION ? motion_time_s(s, c) : 0.0;
+  if (!(motion_s <= SIM_MOTION_MAX_S)) {
     snprintf(d, sizeof d, "seq %lld: the motion would take %g s, over %g s", (long long)c->seq,
-             motion_time_s(s, c), SIM_MOTION_MAX_S);
+             motion_s, SIM_MOTION_MAX_S);
     return refuse(s, ERR(ERR_INVALID), "command refused: %s", d);
   }
   double p[3];
