@@ -202,7 +202,7 @@ static void object_release(sim_t *s) {
   }
   model_pose_t rel;
   pose_to_balance(&block_pose, &rel);
-  balance_noise_t noise = {.seed = s->cfg.seed ^ (0x9E3779B97F4A7C15ull * (s->trial_count + 1)),
+  balance_noise_t noise = {.seed = balance_noise_seed(s->cfg.seed, s->trial_count + 1),
                            .placement_noise_m = s->cfg.placement_noise_m,
                            .pose_noise_m = s->cfg.pose_noise_m};
   s->trial_count++;

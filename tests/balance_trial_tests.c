@@ -1,7 +1,10 @@
 /* balance_trial_tests.c - the world, objects and one trial: outcomes, determinism, noise hooks,
  * and every kind of bad input giving a status instead of an abort. */
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 #include "balance_internal.h"
 #include "balance_phys_util.h"
@@ -195,6 +198,93 @@ START_TEST(noise_hooks) {
   bad.placement_noise_m = -1.0;
   ck_assert_int_eq(balance_trial_run(f.w, f.o, &pose, &bad, &r1), BALANCE_E_ARG);
   fixture_free(&f);
+}
+END_TEST
+
+/* A placement offset that would push the object into B stops where the object meets B: an L
+ * upside down (bp_ell turned about y), its slab on B's top, its leg hanging down against B's +X
+ * side. Every inward offset would put the leg into B (BALANCE_E_POSE before): now the release
+ * moves outward only (to 1e-6 of the offset), sideways as drawn, and the trial runs (the CoM is
+ * 3.3 mm inside the edge: it stays). */
+START_TEST(offset_stopped_by_b) {
+  model_mesh_t m;
+  model_mass_t mass;
+  double com[3];
+  bp_ell(&m, com);
+  ck_assert_int_eq(model_mesh_mass(&m, 1000.0, &mass), MODEL_OK);
+  balance_config_t cfg;
+  balance_config_default(&cfg);
+  balance_world_t *w = NULL;
+  balance_object_t *o = NULL;
+  ck_assert_int_eq(balance_world_create(&cfg, &w), BALANCE_OK);
+  ck_assert_int_eq(balance_object_create(w, &m, &mass, &o), BALANCE_OK);
+  const double hx = 0.5 * cfg.base_size_m[0];
+  const model_pose_t pose = {{hx + 0.02, 0.0, 0.02 - 1e-6}, {0, 0, 1, 0}};
+  int inward = 0;
+  for (uint64_t seed = 1; seed <= 16; ++seed) {
+    balance_noise_t nz = {balance_noise_seed(seed, 1), 1e-3, 0.0};
+    uint64_t st = nz.seed;
+    double g[2];
+    cl_rng_normal2(&st, g); /* the offset drawn (trial_noise_apply's first draw) */
+    balance_trial_result_t r;
+    ck_assert_int_eq(balance_trial_run(w, o, &pose, &nz, &r), BALANCE_OK);
+    ck_assert_int_eq(r.outcome, BALANCE_STAYS);
+    const double dx = r.released.position_m[0] - pose.position_m[0];
+    const double dy = r.released.position_m[1] - pose.position_m[1];
+    if (g[0] < 0.0) {
+      ++inward;
+      ck_assert_double_ge(dx, 1e-6 * g[0] * 1e-3); /* stopped at B's side */
+      ck_assert_double_le(dx, 0.0);
+      ck_assert_double_le(fabs(dy - 1e-3 * g[1] * (dx / (1e-3 * g[0]))), 1e-12);
+    } else {
+      ck_assert_double_eq_tol(dx, 1e-3 * g[0], 1e-12);
+      ck_assert_double_eq_tol(dy, 1e-3 * g[1], 1e-12);
+    }
+  }
+  ck_assert_int_ge(inward, 4);
+  balance_world_destroy(w);
+  model_mesh_free(&m);
+}
+END_TEST
+
+/* Trials of one noisy run draw independent noise: no two of 2000 trials (run seeds 1..8) start
+ * their streams within 64 steps of each other, so none draws what another drew (the old seed,
+ * seed ^ (0x9E3779B97F4A7C15 n), made trial n + 2 of run seed 1 start one step after trial n),
+ * and the first normals of consecutive trials are uncorrelated (|r| < 0.08; sd 0.022 for 2000
+ * independent pairs). */
+static int u64_cmp(const void *a, const void *b) {
+  const uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+  return x < y ? -1 : x > y;
+}
+
+START_TEST(noise_seeds_independent) {
+  enum { N = 2000 };
+  static uint64_t idx[N];
+  static double g[N][2];
+  const uint64_t weyl_inv = 0xF1DE83E19937733Dull; /* the Weyl step's inverse mod 2^64 */
+  ck_assert_uint_eq(0x9E3779B97F4A7C15ull * weyl_inv, 1u);
+  for (uint64_t run = 1; run <= 8; ++run) {
+    for (uint64_t n = 1; n <= N; ++n) {
+      uint64_t st = balance_noise_seed(run, n);
+      idx[n - 1] = st * weyl_inv; /* the stream's position on the Weyl sequence */
+      cl_rng_normal2(&st, g[n - 1]);
+    }
+    qsort(idx, N, sizeof idx[0], u64_cmp);
+    for (size_t i = 1; i < N; ++i)
+      ck_assert_msg(idx[i] - idx[i - 1] > 64, "run seed %llu: two trial streams overlap",
+                    (unsigned long long)run);
+    double sxy = 0.0, sxx = 0.0, syy = 0.0;
+    for (size_t i = 1; i < N; ++i) {
+      sxy += g[i - 1][0] * g[i][0];
+      sxx += g[i - 1][0] * g[i - 1][0];
+      syy += g[i][0] * g[i][0];
+    }
+    const double r = sxy / sqrt(sxx * syy);
+    ck_assert_msg(fabs(r) < 0.08, "run seed %llu: consecutive trials correlate, r = %.3f",
+                  (unsigned long long)run, r);
+  }
+  uint64_t st = 5u ^ 0x9E3779B97F4A7C15ull * 3u; /* one splitmix64 step, as documented */
+  ck_assert_uint_eq(balance_noise_seed(5, 3), cl_rng_next(&st));
 }
 END_TEST
 
@@ -700,6 +790,8 @@ Suite *balance_trial_suite(void) {
   tcase_add_test(tc, release_touches_within_one_micrometre);
   tcase_add_test(tc, deterministic);
   tcase_add_test(tc, noise_hooks);
+  tcase_add_test(tc, noise_seeds_independent);
+  tcase_add_test(tc, offset_stopped_by_b);
   tcase_add_test(tc, two_objects_step);
   tcase_add_test(tc, sphere_beyond_the_edge_rests_on_the_edge_line);
   tcase_add_test(tc, tilted_box_rests_on_the_edge_line);

@@ -463,10 +463,11 @@ END_TEST
 
 /* Rough faces with noise (placement 0.5 mm, pose 0.2 mm; lumpy seed 94, even, which has no closed
  * patch or flat face the estimator can use): told the pose noise, the estimator searches rough
- * faces (a pair fed to the solve) and finds the components inside their 95 % intervals, 6 of 6
- * over seeds 1 and 2 (bench_coverage: rough faces keep the noisy coverage of the objects they add
- * at the level of the rest); not told it (pose_noise_sigma_m 0), it cannot trust the settled
- * poses and refuses the object. */
+ * faces (a pair fed to the solve) and finds at least 10 of the 18 components over seeds 1..6
+ * (12 measured; the others' intervals stay over the 1 mm claim limit), every one inside its 95 %
+ * interval (bench_coverage: rough faces keep the noisy coverage of the objects they add at the
+ * level of the rest); not told it (pose_noise_sigma_m 0), it cannot trust the settled poses and
+ * refuses the object. */
 START_TEST(rough_faces_with_noise) {
   estimate_result_t *r = malloc(sizeof *r);
   ck_assert_ptr_nonnull(r);
@@ -478,17 +479,20 @@ START_TEST(rough_faces_with_noise) {
   model_mass_t truth;
   ck_assert_int_eq(estimate_urdf_status(urdf, &cfg, 1, 5e-4, 2e-4, r, &truth), ESTIMATE_E_NOPOSE);
   cfg.pose_noise_sigma_m = 2e-4;
-  int covered = 0;
-  for (uint64_t seed = 1; seed <= 2; ++seed) {
+  int covered = 0, found = 0;
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
     estimate_urdf_noisy(urdf, &cfg, seed, 5e-4, 2e-4, r, &truth);
     int pair = 0;
     for (size_t i = 0; i < r->search_count; ++i)
       pair |= r->search[i].mirror_of >= 0 && r->search[r->search[i].mirror_of].fed;
     ck_assert(pair);
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < 3; ++k) {
+      found += r->found[k];
       covered += r->found[k] && fabs(r->com_m[k] - truth.com_m[k]) <= r->halfwidth_m[k];
+    }
   }
-  ck_assert_int_eq(covered, 6);
+  ck_assert_int_ge(found, 10);
+  ck_assert_int_eq(covered, found);
   free(r);
 }
 END_TEST

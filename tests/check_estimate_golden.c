@@ -5,7 +5,9 @@
  * trial counts and an FNV-1a digest over every trial (kind, search, x, outcome, flags, released and
  * settled poses). It was written by this program (`check_estimate_golden --write FILE`) before
  * the estimator moved into lib/estimate; the test reruns every line and demands the same bits, so a
- * refactor that changes one trial or one rounding anywhere in the estimator fails here. */
+ * refactor that changes one trial or one rounding anywhere in the estimator fails here. The noisy
+ * lines were written again on 2026-12-02, on purpose: independent per-trial noise seeds
+ * (balance_noise_seed); no noiseless line moved. */
 #include <check.h>
 #include <inttypes.h>
 #include <stdio.h>

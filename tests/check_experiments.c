@@ -126,7 +126,7 @@ START_TEST(noise_seeding_and_held_pose) {
   ck_assert_int_eq(balance_object_create(w, &obj.mesh, &truth, &o), BALANCE_OK);
   size_t offset_seen = 0;
   for (size_t i = 0; i < a->n; ++i) {
-    balance_noise_t nz = {seed ^ (0x9E3779B97F4A7C15ull * (uint64_t)(i + 1)), pn, qn};
+    balance_noise_t nz = {balance_noise_seed(seed, (uint64_t)i + 1), pn, qn};
     balance_trial_result_t r;
     ck_assert_int_eq(balance_trial_run(w, o, &a->req[i].release, &nz, &r), BALANCE_OK);
     ck_assert_msg((int)r.outcome == (int)a->rep[i].outcome, "trial %zu: outcome %d vs %d", i,

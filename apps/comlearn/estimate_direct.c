@@ -19,10 +19,6 @@ struct estimate_direct {
   uint64_t trial_count;  /* trials since open / set_noise: seeds the per-trial draws */
 };
 
-/* comlearn-sim's per-trial seed (daemon/sim.c, object_release): the Weyl increment of splitmix64
- * times the 1-based trial number, xor the run's seed. */
-#define DIRECT_SEED_MUL 0x9E3779B97F4A7C15ull
-
 /* lib/balance's outcome as the estimator's (the same four values). */
 static estimate_outcome_t outcome_of(balance_outcome_t o) {
   switch (o) {
@@ -39,7 +35,7 @@ static int direct_run(void *ctx, const estimate_trial_request_t *req, estimate_t
   estimate_direct_t *d = ctx;
   balance_trial_result_t r;
   balance_noise_t noise = d->noise;
-  noise.seed = d->noise.seed ^ (DIRECT_SEED_MUL * (d->trial_count + 1));
+  noise.seed = balance_noise_seed(d->noise.seed, d->trial_count + 1); /* as comlearn-sim */
   ++d->trial_count;
   balance_status_t s =
       balance_trial_run(d->world, d->obj, &req->release, d->noisy ? &noise : NULL, &r);

@@ -10,7 +10,7 @@
  *
  * Noise (estimate_direct_set_noise): off by default. When set, each trial is perturbed exactly as
  * comlearn-sim perturbs it (daemon/sim.c, docs/sim.md): balance_trial_run with a balance_noise_t
- * seeded seed ^ (0x9E3779B97F4A7C15 * (n + 1)), n the number of trials this backend ran since the
+ * seeded balance_noise_seed(seed, n + 1), n the number of trials this backend ran since the
  * noise was set. As in comlearn-sim, the pose reported as released is the requested one (while an
  * object is held its reported pose is exact: the placement offset is not observable), and the
  * settled pose carries the pose noise. So a noisy direct run makes the same draws as a freshly

@@ -101,6 +101,36 @@ static void trial_result_fill(const balance_config_t *cfg, const balance_object_
   out->steps = steps;
 }
 
+/* The placement offset moved the release from `asked` into B (a part of the object hanging below
+ * B's top beyond the edge, pushed into B's side): the hand is stopped where the object meets B.
+ * *rel is moved back along the offset to the farthest point (bisection, to 1e-6 of the offset)
+ * that is not deeper in B than balance_object_place allows. Unchanged when the offset release
+ * places, or when the asked one does not either (its own error is reported then). */
+static void trial_offset_stopped(const balance_object_t *obj, const model_pose_t *asked,
+                                 model_pose_t *rel) {
+  if (balance_object_penetration_m(obj, rel) <= BALANCE_MAX_START_DEPTH_M ||
+      balance_object_penetration_m(obj, asked) > BALANCE_MAX_START_DEPTH_M)
+    return;
+  double off[2] = {rel->position_m[0] - asked->position_m[0],
+                   rel->position_m[1] - asked->position_m[1]};
+  double lo = 0.0, hi = 1.0;
+  model_pose_t p = *asked;
+  for (int i = 0; i < 20; ++i) {
+    const double t = 0.5 * (lo + hi);
+    for (int k = 0; k < 2; ++k) p.position_m[k] = asked->position_m[k] + t * off[k];
+    if (balance_object_penetration_m(obj, &p) <= BALANCE_MAX_START_DEPTH_M)
+      lo = t;
+    else
+      hi = t;
+  }
+  for (int k = 0; k < 2; ++k) rel->position_m[k] = asked->position_m[k] + lo * off[k];
+}
+
+uint64_t balance_noise_seed(uint64_t run_seed, uint64_t n) {
+  uint64_t state = run_seed ^ (0x9E3779B97F4A7C15ull * n);
+  return cl_rng_next(&state);
+}
+
 balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
                                    const model_pose_t *release, const balance_noise_t *noise,
                                    balance_trial_result_t *out) {
@@ -112,8 +142,10 @@ balance_status_t balance_trial_run(balance_world_t *w, balance_object_t *obj,
   uint64_t rng = 0;
   double pose_noise = 0.0;
   if (noise) {
+    const model_pose_t asked = rel;
     st = trial_noise_apply(noise, &rel, &rng, &pose_noise);
     if (st != BALANCE_OK) return st;
+    trial_offset_stopped(obj, &asked, &rel);
   }
   balance_world_reset(w);
   st = balance_object_place(obj, &rel);

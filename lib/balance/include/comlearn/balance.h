@@ -167,10 +167,19 @@ typedef enum {
 typedef struct {
   uint64_t seed;
   double placement_noise_m; /* std. dev. of a horizontal (x and y) offset of the release
-                             * position; [0, 0.1] */
+                             * position; [0, 0.1]. An offset that would push the object into B
+                             * (a part below B's top beyond the edge, into B's side) stops where
+                             * the object meets B, as a hand would be stopped. */
   double pose_noise_m;      /* std. dev. of the perceived settled position (x, y, z; added to
                              * result.settled only); [0, 0.1] */
 } balance_noise_t;
+
+/* The seed of trial n (1-based) of a noisy run seeded run_seed: one splitmix64 step of
+ * run_seed ^ (0x9E3779B97F4A7C15 * n). The step spreads the trials' streams over the whole
+ * period; without it, run seed 1 or 2 made trial n draw what trial n + 2 (or n + 1) drew again
+ * (the Weyl step is the multiplier), so the noise of nearby trials was not independent.
+ * comlearn-sim and the direct backend seed trials alike with it. */
+uint64_t balance_noise_seed(uint64_t run_seed, uint64_t n);
 
 typedef struct {
   balance_outcome_t outcome;
