@@ -3,7 +3,10 @@
  * Generates N shapes (tools/shapegen.h families in turn, plus tools/rockgen random rocks as one
  * more family), each as an even and an uneven object (2N URDFs in a temporary folder), and
  * estimates every object with every policy: once noiseless, and with placement and pose noise for
- * seeds 1..K (the estimator told the noise model, so its intervals are 95 % intervals). The truth
+ * seeds 1..K (the estimator told the noise model, so its intervals are 95 % intervals). Run s of
+ * object i (0-based, in the order generated) draws its noise from comlearn-sim seed
+ * 1000 (i + 1) + s (noise_seed), so no two objects share a noise stream: with one stream per s,
+ * as before 2026-12-02, the coverage of K seeds measured K noise draws, not thousands. The truth
  * is read after each estimate, for the statistics only. Per policy and mode it prints, over the
  * objects: how many the estimator refused (no component found, or an error), the components it
  * claimed (found) of those asked, coverage (claimed components whose |error| <= the reported half
@@ -46,7 +49,8 @@ typedef struct {
   uint64_t seed;
   qlearn_policy_kind_t pol[MAX_POLICIES];
   double placement_m, pose_m;
-  double stop_m; /* estimate_config_t.noise_stop_width_m of the noisy runs (0: the default) */
+  double stop_m;   /* estimate_config_t.noise_stop_width_m of the noisy runs (0: the default) */
+  double target_m; /* estimate_config_t.noise_target_halfwidth_m (< 0: the default) */
   const char *json, *keep;
 } opts_t;
 
@@ -150,8 +154,13 @@ static int make_objects(const opts_t *o, const char *dir, obj_t *objs) {
 
 /* ---- estimates ------------------------------------------------------------------------------- */
 
-static void run_one(const opts_t *o, const obj_t *ob, int pi, int seed, estimate_result_t *res,
-                    rec_t *r) {
+/* The comlearn-sim / estimate --seed of noisy run s (1..K) of object i: distinct for every run. */
+static uint64_t noise_seed(int object, int s) {
+  return 1000u * (uint64_t)(object + 1) + (uint64_t)s;
+}
+
+static void run_one(const opts_t *o, const obj_t *ob, int object, int pi, int seed,
+                    estimate_result_t *res, rec_t *r) {
   memset(r, 0, sizeof *r);
   r->policy = pi;
   r->seed = seed;
@@ -170,10 +179,11 @@ static void run_one(const opts_t *o, const obj_t *ob, int pi, int seed, estimate
   estimate_config_default(&cfg);
   cfg.policy = o->pol[pi];
   if (seed > 0) {
-    estimate_direct_set_noise(sim, (uint64_t)seed, o->placement_m, o->pose_m);
+    estimate_direct_set_noise(sim, noise_seed(object, seed), o->placement_m, o->pose_m);
     cfg.noise_sigma_m = o->placement_m;
     cfg.pose_noise_sigma_m = o->pose_m; /* rough faces with noise need it */
     cfg.noise_stop_width_m = o->stop_m;
+    if (o->target_m >= 0.0) cfg.noise_target_halfwidth_m = o->target_m;
     cfg.seed = (uint64_t)seed;
   }
   const double cpu0 = cli_time_cpu_s();
@@ -200,7 +210,7 @@ static int worker(const opts_t *o, const obj_t *objs, int nobj, int w, const cha
     for (int p = 0; p < o->npol; ++p) {
       for (int s = 0; s <= o->seeds; ++s) {
         rec_t r;
-        run_one(o, &objs[i], p, s, res, &r);
+        run_one(o, &objs[i], i, p, s, res, &r);
         r.object = i;
         if (fwrite(&r, sizeof r, 1, f) != 1) return 1;
       }
@@ -296,10 +306,11 @@ static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *re
   printf(
       "# bench_coverage\n\n%d objects (%d shapes x even / uneven, families in turn, seeds "
       "%llu..), "
-      "noiseless and with placement %.3g mm / pose %.3g mm noise for seeds 1..%d (searches stop "
-      "at a 95 %% interval %.3g mm wide, 0: the default); direct backend.\n\n",
+      "noiseless and with placement %.3g mm / pose %.3g mm noise for seeds 1..%d (per object: "
+      "1000 (object + 1) + seed; searches first stop at a 95 %% interval %.3g mm wide, 0: the "
+      "default; the target half width is %.3g mm, < 0: the default); direct backend.\n\n",
       nobj, o->objects, (unsigned long long)o->seed, 1e3 * o->placement_m, 1e3 * o->pose_m,
-      o->seeds, 1e3 * o->stop_m);
+      o->seeds, 1e3 * o->stop_m, 1e3 * o->target_m);
   printf(kHeader, "policy");
   for (int p = 0; p < o->npol; ++p)
     for (int noisy = 0; noisy < 2; ++noisy) {
@@ -353,10 +364,11 @@ static void write_json(const opts_t *o, const obj_t *objs, const rec_t *recs, si
     fprintf(f, "%s\n{\"object\": ", i ? "," : "");
     cli_json_string(f, objs[r->object].name, 0);
     fprintf(f,
-            ", \"family\": \"%s\", \"policy\": \"%s\", \"seed\": %d, \"status\": %d, "
-            "\"trials\": %u, \"found\": [%d, %d, %d], \"error_m\": [",
+            ", \"family\": \"%s\", \"policy\": \"%s\", \"seed\": %d, \"noise_seed\": %llu, "
+            "\"status\": %d, \"trials\": %u, \"found\": [%d, %d, %d], \"error_m\": [",
             family_name(objs[r->object].family), estimate_policy_name(o->pol[r->policy]), r->seed,
-            r->status, r->trials, r->found[0], r->found[1], r->found[2]);
+            r->seed ? (unsigned long long)noise_seed(r->object, r->seed) : 0ull, r->status,
+            r->trials, r->found[0], r->found[1], r->found[2]);
     json_triple(f, r->found, r->err_m);
     fprintf(f, "], \"halfwidth_m\": [");
     json_triple(f, r->found, r->hw_m);
@@ -382,8 +394,11 @@ static void usage(FILE *f) {
           "  --seeds K               noisy runs per object and policy, 0..20 (default: 2)\n"
           "  --placement-noise-mm P  noisy runs' placement noise (default: 0.5)\n"
           "  --pose-noise-mm Q       noisy runs' pose noise (default: 0.2)\n"
-          "  --noise-stop-mm W       noisy runs stop a search at a 95 %% interval W mm wide,\n"
-          "                          0..10 (default: 0: max(resolution, placement noise))\n"
+          "  --noise-stop-mm W       noisy runs first stop a search at a 95 %% interval W mm\n"
+          "                          wide, 0..10 (default: 0: the estimator's default)\n"
+          "  --noise-target-mm T     noisy runs refine until every component's 95 %% half\n"
+          "                          width is T mm, 0..10; 0: no refinement (default: the\n"
+          "                          estimator's, 0.5)\n"
           "  --jobs J                worker processes, 1..%d (default: 2)\n"
           "  --json FILE             every run as JSON (default: none)\n"
           "  --keep DIR              write the objects into DIR and keep them (default: a\n"
@@ -421,6 +436,7 @@ static int parse_args(int argc, char **argv, opts_t *o) {
                                        {"placement-noise-mm", required_argument, NULL, 'P'},
                                        {"pose-noise-mm", required_argument, NULL, 'Q'},
                                        {"noise-stop-mm", required_argument, NULL, 'W'},
+                                       {"noise-target-mm", required_argument, NULL, 'T'},
                                        {"jobs", required_argument, NULL, 'j'},
                                        {"json", required_argument, NULL, 'J'},
                                        {"keep", required_argument, NULL, 'K'},
@@ -436,6 +452,7 @@ static int parse_args(int argc, char **argv, opts_t *o) {
       case 'P': bad = mm_arg(optarg, &o->placement_m); break;
       case 'Q': bad = mm_arg(optarg, &o->pose_m); break;
       case 'W': bad = mm_arg(optarg, &o->stop_m) || o->stop_m > 0.01; break;
+      case 'T': bad = mm_arg(optarg, &o->target_m) || o->target_m > 0.01; break;
       case 'j': bad = tool_parse_int(optarg, 1, MAX_JOBS, &o->jobs); break;
       case 'J': o->json = optarg; break;
       case 'K': o->keep = optarg; break;
@@ -455,7 +472,8 @@ int main(int argc, char **argv) {
               .seed = 1,
               .pol = {QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA, QLEARN_POLICY_PAPER_QTABLE},
               .placement_m = 0.5e-3,
-              .pose_m = 0.2e-3};
+              .pose_m = 0.2e-3,
+              .target_m = -1.0};
   if (parse_args(argc, argv, &o) != 0) {
     usage(stderr);
     return 2;

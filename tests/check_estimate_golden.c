@@ -7,7 +7,7 @@
  * the estimator moved into lib/estimate; the test reruns every line and demands the same bits, so a
  * refactor that changes one trial or one rounding anywhere in the estimator fails here. The noisy
  * lines were written again on 2026-12-02, on purpose: independent per-trial noise seeds
- * (balance_noise_seed); no noiseless line moved. */
+ * (balance_noise_seed) and the refinement to noise_target_halfwidth_m; no noiseless line moved. */
 #include <check.h>
 #include <inttypes.h>
 #include <stdio.h>

@@ -48,8 +48,12 @@ static void usage(FILE *out) {
           "                     normal, 0..100 mm; > 0 makes every interval a 95 %% interval\n"
           "                     (default: --placement-noise-mm with --direct, else 0: noiseless,\n"
           "                     intervals are bounds)\n"
-          "  --noise-stop-mm W  with a noise model, a search stops when its 95 %% interval is at\n"
-          "                     most W mm wide, 0..10 (default: 0: max(resolution, noise))\n"
+          "  --noise-target-mm T  with a noise model, the 95 %% half width every component is\n"
+          "                     taken to: searches stop at 2T, then the one that widens a\n"
+          "                     component most goes on; 0..10, 0: no refinement (default: 0.5)\n"
+          "  --noise-stop-mm W  with a noise model, a search first stops when its 95 %% interval\n"
+          "                     is at most W mm wide, 0..10 (default: 0: max(resolution, noise,\n"
+          "                     2 x --noise-target-mm))\n"
           "  --placement-noise-mm S  --direct: std. dev. of the horizontal release offset, as\n"
           "                     comlearn-sim's option, 0..100 mm (default: 0)\n"
           "  --pose-noise-mm S  --direct: std. dev. of the perceived settled position, 0..100 mm;\n"
@@ -153,9 +157,10 @@ static void json_searches(const estimate_result_t *r) {
     printf(", \"verify_need_m\": ");
     cli_json_number(stdout, isnan(s->verified_margin_m) ? NAN : s->verify_need_m);
     printf(
-        ", \"trials\": %u, \"handover_trials\": %u, \"retest_of\": %d, \"mirror_of\": %d, "
-        "\"fed\": %s, \"note\": ",
-        s->trials, s->handover_trials, s->retest_of, s->mirror_of, s->fed ? "true" : "false");
+        ", \"trials\": %u, \"handover_trials\": %u, \"refines\": %u, \"retest_of\": %d, "
+        "\"mirror_of\": %d, \"fed\": %s, \"note\": ",
+        s->trials, s->handover_trials, s->refines, s->retest_of, s->mirror_of,
+        s->fed ? "true" : "false");
     cli_json_string(stdout, s->note, 0);
     printf("}");
   }
@@ -296,6 +301,10 @@ static int parse_option(int c, est_args_t *a) {
     case 'W':
       return parse_mm("noise-stop-mm", optarg, 0.0, 10.0, &a->cfg.noise_stop_width_m) ? EXIT_USAGE
                                                                                       : 0;
+    case 'T':
+      return parse_mm("noise-target-mm", optarg, 0.0, 10.0, &a->cfg.noise_target_halfwidth_m)
+                 ? EXIT_USAGE
+                 : 0;
     case 'P':
       a->sim_noise = 1;
       return parse_mm("placement-noise-mm", optarg, 0.0, 100.0, &a->placement_noise_m) ? EXIT_USAGE
@@ -352,6 +361,7 @@ static int parse_args(int argc, char **argv, est_args_t *a) {
                                        {"start", required_argument, NULL, 'S'},
                                        {"noise-mm", required_argument, NULL, 'n'},
                                        {"noise-stop-mm", required_argument, NULL, 'W'},
+                                       {"noise-target-mm", required_argument, NULL, 'T'},
                                        {"placement-noise-mm", required_argument, NULL, 'P'},
                                        {"pose-noise-mm", required_argument, NULL, 'O'},
                                        {"seed", required_argument, NULL, 'e'},

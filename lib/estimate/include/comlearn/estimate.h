@@ -139,16 +139,17 @@ typedef struct {
    * the regime's bias budget). > 0: every search ends with the posterior of its threshold under
    * the probit model P(TIPS | c) = Phi((c - x) / sigma) from all its clear trials, and reports
    * that posterior's 95 % credible interval; bisect and the paper walks run as published and
-   * then hand over to probabilistic bisection (PBA) until that interval is at most
-   * max(resolution_m, noise_sigma_m) wide or noise_max_trials more trials were run. PBA itself
-   * uses the probit model with this sigma from its first trial. An interval can shrink only as
-   * fast as the outcomes inform it, about 2 * 1.96 * sigma / sqrt(0.64 n) after n trials near the
-   * threshold. */
+   * then hand over to probabilistic bisection (PBA) until that interval is narrow enough
+   * (noise_stop_width_m, noise_target_halfwidth_m) or noise_max_trials more trials were run. PBA
+   * itself uses the probit model with this sigma from its first trial. An interval can shrink only
+   * as fast as the outcomes inform it, about 2 * 1.96 * sigma / sqrt(0.64 n) after n trials near
+   * the threshold. */
   double noise_sigma_m;
-  uint32_t noise_max_trials; /* PBA trials after a noisy walk; default 48, in [1, 200] */
-  /* With a noise model, a search stops when its 95 % interval is at most this wide [m], in
-   * [0, 0.01]. 0 (default): max(resolution_m, noise_sigma_m). Wider stops cost fewer trials and
-   * give wider intervals (docs/results.md, "With noise": 2 sigma, 1 mm at 0.5 mm noise). */
+  uint32_t
+      noise_max_trials; /* PBA trials after a noisy walk, per search; default 48, in [1, 200] */
+  /* With a noise model, a search first stops when its 95 % interval is at most this wide [m], in
+   * [0, 0.01]. 0 (default): max(resolution_m, noise_sigma_m, 2 * noise_target_halfwidth_m).
+   * Wider stops cost fewer trials and give wider intervals (docs/results.md, "With noise"). */
   double noise_stop_width_m;
   /* An interval is only as good as the physics of the trials that set it: an edge test measures
    * the CoM where the real contact on the edge line spans the CoM sideways. After the solve, the
@@ -179,6 +180,13 @@ typedef struct {
    * STAYS bound then allows ESTIMATE_POSE_Z of it (the release's own noise does not enter: the
    * bound is taken in the settled pose). */
   double pose_noise_sigma_m;
+  /* With a noise model, the 95 % half width [m] every determined component is taken to, in
+   * [0, 0.01]; default 5e-4 (a 1 mm wide interval). Searches first stop at twice it (unless
+   * noise_stop_width_m is set); then, while a component is wider, the search that contributes
+   * most to its variance is resumed with a narrower stop, within noise_max_trials after its walk
+   * and three resumptions (docs/estimate.md, "With noise"). 0: no resumption, and the first stop
+   * is max(resolution_m, noise_sigma_m). */
+  double noise_target_halfwidth_m;
 } estimate_config_t;
 
 void estimate_config_default(estimate_config_t *cfg);
@@ -219,6 +227,7 @@ typedef struct {
                                model, the 95 % credible interval of the posterior */
   uint32_t trials;          /* edge tests of this search */
   uint32_t handover_trials; /* of which run by PBA after a noisy walk */
+  uint32_t refines;         /* times resumed to narrow a component (noise_target_halfwidth_m) */
   int fed;                  /* its threshold plane went into the final 3-D solve */
   double plane_n_obj[3];    /* the plane: n_obj . c = plane_d_m (unit n_obj) */
   double plane_d_m;
