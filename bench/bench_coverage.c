@@ -303,14 +303,16 @@ static const char kHeader[] =
     "pooled | CPU s per run |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
 
 static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *recs, size_t n) {
+  char target[48] = "the default";
+  if (o->target_m >= 0.0) snprintf(target, sizeof target, "%.3g mm", 1e3 * o->target_m);
   printf(
       "# bench_coverage\n\n%d objects (%d shapes x even / uneven, families in turn, seeds "
       "%llu..), "
       "noiseless and with placement %.3g mm / pose %.3g mm noise for seeds 1..%d (per object: "
       "1000 (object + 1) + seed; searches first stop at a 95 %% interval %.3g mm wide, 0: the "
-      "default; the target half width is %.3g mm, < 0: the default); direct backend.\n\n",
+      "default; target half width %s); direct backend.\n\n",
       nobj, o->objects, (unsigned long long)o->seed, 1e3 * o->placement_m, 1e3 * o->pose_m,
-      o->seeds, 1e3 * o->stop_m, 1e3 * o->target_m);
+      o->seeds, 1e3 * o->stop_m, target);
   printf(kHeader, "policy");
   for (int p = 0; p < o->npol; ++p)
     for (int noisy = 0; noisy < 2; ++noisy) {

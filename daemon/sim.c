@@ -529,18 +529,6 @@ static int32_t sc_load_refused(sim_t *s, const comlearn_sim_control_t *c, model_
   return sc_done(s, c, SC(SIM_CONTROL_ERR_LOAD));
 }
 
-/* Is path (canonical) inside one of the folders a LOAD may read? Any path when none is set. */
-static int object_dir_allowed(const sim_t *s, const char *path) {
-  if (s->cfg.object_dir_count == 0) return 1;
-  for (size_t i = 0; i < s->cfg.object_dir_count; ++i) {
-    const size_t n = strlen(s->object_dir[i]);
-    if (strncmp(path, s->object_dir[i], n) == 0 &&
-        (path[n] == '/' || (n > 0 && s->object_dir[i][n - 1] == '/')))
-      return 1;
-  }
-  return 0;
-}
-
 /* The URDF of a LOAD, canonical, inside the allowed folders (--object-dir); 0 refused, with a
  * reason in why. */
 static int load_path_allowed(const sim_t *s, const char *urdf, char *canon, size_t canon_size,
@@ -550,7 +538,7 @@ static int load_path_allowed(const sim_t *s, const char *urdf, char *canon, size
     snprintf(why, why_size, "cannot open URDF %.300s: %s", urdf, strerror(errno));
     return 0;
   }
-  if (!object_dir_allowed(s, buf)) {
+  if (!model_path_within(buf, s->cfg.object_dirs, s->cfg.object_dir_count)) {
     snprintf(why, why_size,
              "URDF %.300s is outside the folders this simulator may read (--object-dir)", buf);
     return 0;
@@ -609,16 +597,10 @@ int32_t sim_control(sim_t *s, const comlearn_sim_control_t *c) {
     char urdf[PATH_MAX];
     if (!load_path_allowed(s, c->urdf_path, urdf, sizeof urdf, me.msg, sizeof me.msg))
       return sc_load_refused(s, c, MODEL_E_NOFILE, me.msg);
-    model_status_t ms = model_object_load(urdf, NULL, &mo, &me);
+    /* every mesh it names is checked against the folders before it is opened */
+    model_status_t ms =
+        model_object_load_within(urdf, NULL, s->cfg.object_dirs, s->cfg.object_dir_count, &mo, &me);
     if (ms != MODEL_OK) return sc_load_refused(s, c, ms, me.msg);
-    if (mo.mesh_path[0] != '\0' && !object_dir_allowed(s, mo.mesh_path)) {
-      snprintf(me.msg, sizeof me.msg,
-               "mesh %.250s of URDF %.150s is outside the folders this simulator may read "
-               "(--object-dir)",
-               mo.mesh_path, urdf);
-      model_object_free(&mo);
-      return sc_load_refused(s, c, MODEL_E_NOFILE, me.msg);
-    }
     ms = model_inertial_load(urdf, NULL, &mass, &me);
     if (ms == MODEL_OK && (ms = model_mass_plausible(&mass, &mo.mesh, &me)) != MODEL_OK) {
       char why[sizeof me.msg];

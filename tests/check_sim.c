@@ -1072,6 +1072,30 @@ START_TEST(hostile_load_refused) {
   fclose(fp);
   snprintf(outside_urdf, sizeof outside_urdf, "%s/check_sim_outside_%d.urdf", tmp, pid);
   write_mesh_urdf(outside_urdf, outside_mesh);
+  /* a second mesh outside (the first inside): refused before it is opened, though opening it
+   * would crash the parser (the PLY above, copied beside the outside mesh) */
+  char inside_mesh[512], outside_ply[PATH_MAX], second_urdf[512];
+  snprintf(inside_mesh, sizeof inside_mesh, "%s/check_sim_inside_%d.obj", tmp, pid);
+  snprintf(outside_ply, sizeof outside_ply, "%s/check_sim_segv_%d.ply", other, pid);
+  snprintf(second_urdf, sizeof second_urdf, "%s/check_sim_second_%d.urdf", tmp, pid);
+  fp = fopen(inside_mesh, "w");
+  ck_assert_ptr_nonnull(fp);
+  fprintf(fp, "v 0 0 0\nv 0.02 0 0\nv 0 0.02 0\nv 0 0 0.02\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n");
+  fclose(fp);
+  fp = fopen(outside_ply, "wb");
+  ck_assert_ptr_nonnull(fp);
+  fwrite("ply\nformat binary_\0\0\0", 1, 21, fp);
+  fclose(fp);
+  fp = fopen(second_urdf, "w");
+  ck_assert_ptr_nonnull(fp);
+  fprintf(fp,
+          "<?xml version=\"1.0\"?>\n<robot name=\"m\"><link name=\"m\"><inertial><mass "
+          "value=\"0.2\"/><inertia ixx=\"1e-4\" ixy=\"0\" ixz=\"0\" iyy=\"1e-4\" iyz=\"0\" "
+          "izz=\"1e-4\"/></inertial><collision><geometry><mesh filename=\"%s\"/></geometry>"
+          "</collision><collision><origin xyz=\"0.05 0 0\"/><geometry><mesh filename=\"%s\"/>"
+          "</geometry></collision></link></robot>\n",
+          inside_mesh, outside_ply);
+  fclose(fp);
   int64_t sc_seq = 0, seq = 0;
   ck_assert_int_eq(place_trial(&f, urdf, 1, &sc_seq, &seq, com_x + 0.002), 1);
   const struct {
@@ -1084,6 +1108,7 @@ START_TEST(hostile_load_refused) {
       {fifo, "not a regular file", 5.0},
       {"/dev/zero", "outside the folders", 5.0}, /* --object-dir */
       {outside_urdf, "outside the folders", 5.0},
+      {second_urdf, "outside the folders", 5.0},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
     load_refused(&f, &sc_seq, "hostile", cases[i].path, cases[i].wait_s);
@@ -1097,8 +1122,8 @@ START_TEST(hostile_load_refused) {
   /* the sim still answers, with the same physics */
   ck_assert_int_eq(place_trial(&f, urdf, 0, &sc_seq, &seq, com_x - 0.002), 2);
   ck_assert_int_eq(place_trial(&f, urdf, 1, &sc_seq, &seq, com_x + 0.002), 1);
-  const char *files[] = {urdf, segv, segv_urdf,    loop,        loop_urdf,
-                         deep, fifo, outside_urdf, outside_mesh};
+  const char *files[] = {urdf, segv,         segv_urdf,    loop,        loop_urdf,   deep,
+                         fifo, outside_urdf, outside_mesh, inside_mesh, outside_ply, second_urdf};
   for (size_t i = 0; i < sizeof files / sizeof files[0]; ++i) remove(files[i]);
   rmdir(allowed);
   rmdir(other);

@@ -1,6 +1,8 @@
 /* model_urdf_tests.c - URDF geometry (comlearn_model) and inertial truth (comlearn_model_sim). */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath */
 
+#include <limits.h>
+#include <stdlib.h>
 #include <sys/stat.h>
 
 #include "comlearn/math3d.h"
@@ -425,6 +427,56 @@ END_TEST
  * by the shape check before either parser runs (here with 100 levels and 1 001 joints, over the
  * limits), as are a pipe, /dev/zero and a file over MODEL_URDF_MAX_BYTES; by both loaders (the
  * geometry and the inertial). A '>' inside an attribute value and a comment do not count. */
+/* model_object_load_within: the URDF and every mesh it names inside the folders, each checked
+ * before it is opened (the second mesh here lies in another folder: refused, naming it); a
+ * folder holds a path only at a '/' ("/a/b" does not hold "/a/bc"); no folders, no limit. */
+START_TEST(test_urdf_load_within) {
+  mt_tmpdir_t in, out;
+  mt_tmpdir_make(&in);
+  mt_tmpdir_make(&out);
+  char urdf[512], mesh_in[512], mesh_out[512], geo[1400];
+  mt_join(&in, "tetra.stl", mesh_in, sizeof mesh_in);
+  mt_join(&out, "tetra.stl", mesh_out, sizeof mesh_out);
+  mt_join(&in, "two.urdf", urdf, sizeof urdf);
+  save_tetra(mesh_in);
+  save_tetra(mesh_out);
+  snprintf(geo, sizeof geo,
+           "<collision><geometry><mesh filename=\"%s\"/></geometry></collision><collision>"
+           "<origin xyz=\"1 0 0\"/><geometry><mesh filename=\"%s\"/></geometry></collision>",
+           mesh_in, mesh_out);
+  write_urdf(urdf, "two", geo);
+  char real_in[PATH_MAX], real_out[PATH_MAX];
+  ck_assert_ptr_nonnull(realpath(in.path, real_in));
+  ck_assert_ptr_nonnull(realpath(out.path, real_out));
+  const char *only_in[] = {real_in}, *both[] = {real_in, real_out}, *only_out[] = {real_out};
+  model_object_t obj;
+  model_error_t err;
+  ck_assert_int_eq(model_object_load_within(urdf, NULL, only_in, 1, &obj, &err), MODEL_E_NOFILE);
+  ck_assert_msg(strstr(err.msg, "outside the folders") && strstr(err.msg, "tetra.stl") &&
+                    strstr(err.msg, real_out),
+                "%s", err.msg);
+  ck_assert_int_eq(model_object_load_within(urdf, NULL, only_out, 1, &obj, &err), MODEL_E_NOFILE);
+  ck_assert_msg(strstr(err.msg, "URDF") && strstr(err.msg, "outside the folders"), "%s", err.msg);
+  ck_assert_msg(model_object_load_within(urdf, NULL, both, 2, &obj, &err) == MODEL_OK, "%s",
+                err.msg);
+  ck_assert_uint_eq(obj.mesh.triangle_count, 8);
+  model_object_free(&obj);
+  ck_assert_msg(model_object_load_within(urdf, NULL, NULL, 0, &obj, &err) == MODEL_OK, "%s",
+                err.msg);
+  model_object_free(&obj);
+  ck_assert_int_eq(model_object_load_within(urdf, NULL, NULL, 1, &obj, &err), MODEL_E_ARG);
+  const char *ab[] = {"/a/b"}, *ab_slash[] = {"/a/b/"};
+  ck_assert_int_eq(model_path_within("/a/b/c.stl", ab, 1), 1);
+  ck_assert_int_eq(model_path_within("/a/bc/c.stl", ab, 1), 0);
+  ck_assert_int_eq(model_path_within("/a/b", ab, 1), 0);
+  ck_assert_int_eq(model_path_within("/a/b/c.stl", ab_slash, 1), 1);
+  ck_assert_int_eq(model_path_within("/x.stl", NULL, 0), 1);
+  const char *names[] = {"tetra.stl", "two.urdf"};
+  mt_tmpdir_remove(&in, names, 2);
+  mt_tmpdir_remove(&out, names, 1);
+}
+END_TEST
+
 START_TEST(test_urdf_hostile_files) {
   mt_tmpdir_t d;
   mt_tmpdir_make(&d);
@@ -704,6 +756,7 @@ Suite *model_urdf_suite(void) {
   tcase_add_test(geo, test_urdf_links);
   tcase_add_test(geo, test_urdf_bad_files);
   tcase_add_test(geo, test_urdf_hostile_files);
+  tcase_add_test(geo, test_urdf_load_within);
   suite_add_tcase(s, geo);
   TCase *in = tcase_create("inertial");
   tcase_add_test(in, test_inertial_rotated_origin);

@@ -1,6 +1,7 @@
 /* object.c - one URDF link's collision geometry as one closed mesh in the link frame. */
 #define _XOPEN_SOURCE 700 /* realpath */
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -285,10 +286,29 @@ static int all_finite(const double *v, size_t n) {
   return 1;
 }
 
+int model_path_within(const char *path, const char *const *dirs, size_t dir_count) {
+  if (dir_count == 0) {
+    return 1;
+  }
+  for (size_t i = 0; path != NULL && i < dir_count; ++i) {
+    const size_t n = strlen(dirs[i]);
+    if (n > 0 && strncmp(path, dirs[i], n) == 0 && (path[n] == '/' || dirs[i][n - 1] == '/')) {
+      return 1;
+    }
+  }
+  return 0;
+}
+
+/* The folders a load may read from (model_object_load_within). */
+typedef struct {
+  const char *const *dirs;
+  size_t count;
+} load_dirs_t;
+
 /* One geometry element as a checked mesh in the link frame. */
 static model_status_t load_geom(const char *urdf_path, const model_urdf_link_t *link,
-                                const model_urdf_geom_t *g, size_t index, model_mesh_t *piece,
-                                char *first_mesh_path, model_error_t *err) {
+                                const model_urdf_geom_t *g, size_t index, const load_dirs_t *dirs,
+                                model_mesh_t *piece, char *first_mesh_path, model_error_t *err) {
   const char *ln = link->link_name;
   if (!all_finite(g->xyz_m, 3) || !all_finite(&g->rot[0][0], 9)) {
     return model_fail(err, MODEL_E_NONFINITE,
@@ -302,6 +322,12 @@ static model_status_t load_geom(const char *urdf_path, const model_urdf_link_t *
       st = resolve_mesh_path(urdf_path, ln, g->filename, path, sizeof path, err);
       if (st != MODEL_OK) {
         return st;
+      }
+      if (!model_path_within(path, dirs->dirs, dirs->count)) {
+        return model_fail(err, MODEL_E_NOFILE,
+                          "URDF %s: link '%s': mesh %s is outside the folders this program may "
+                          "read",
+                          urdf_path, ln, path);
       }
       if (!all_finite(g->scale, 3)) {
         return model_fail(err, MODEL_E_NONFINITE, "URDF %s: link '%s': scale of %s is not finite",
@@ -375,12 +401,34 @@ static model_status_t load_geom(const char *urdf_path, const model_urdf_link_t *
 
 model_status_t model_object_load(const char *urdf_path, const char *link_name, model_object_t *out,
                                  model_error_t *err) {
+  return model_object_load_within(urdf_path, link_name, NULL, 0, out, err);
+}
+
+model_status_t model_object_load_within(const char *urdf_path, const char *link_name,
+                                        const char *const *dir_list, size_t dir_count,
+                                        model_object_t *out, model_error_t *err) {
   if (out == NULL) {
     return model_fail(err, MODEL_E_ARG, "model_object_load: NULL output");
   }
   memset(out, 0, sizeof *out);
   if (urdf_path == NULL || urdf_path[0] == '\0') {
     return model_fail(err, MODEL_E_ARG, "URDF path is NULL or empty");
+  }
+  if (dir_count > 0 && dir_list == NULL) {
+    return model_fail(err, MODEL_E_ARG, "model_object_load_within: NULL folder list");
+  }
+  const load_dirs_t dirs = {dir_list, dir_count};
+  if (dir_count > 0) {
+    char *real = realpath(urdf_path, NULL);
+    if (real == NULL) {
+      return model_fail(err, MODEL_E_NOFILE, "cannot open URDF %s: %s", urdf_path, strerror(errno));
+    }
+    const int inside = model_path_within(real, dir_list, dir_count);
+    free(real);
+    if (!inside) {
+      return model_fail(err, MODEL_E_NOFILE, "URDF %s is outside the folders this program may read",
+                        urdf_path);
+    }
   }
   model_urdf_link_t link;
   model_status_t st = model_urdf_link_read(urdf_path, link_name, &link, err);
@@ -400,7 +448,7 @@ model_status_t model_object_load(const char *urdf_path, const char *link_name, m
   }
   size_t nv = 0, nt = 0;
   for (size_t i = 0; i < link.geom_count && st == MODEL_OK; ++i) {
-    st = load_geom(urdf_path, &link, &link.geoms[i], i, &pieces[i], out->mesh_path, err);
+    st = load_geom(urdf_path, &link, &link.geoms[i], i, &dirs, &pieces[i], out->mesh_path, err);
     nv += pieces[i].vertex_count;
     nt += pieces[i].triangle_count;
   }

@@ -280,6 +280,18 @@ typedef struct {
 model_status_t model_object_load(const char *urdf_path, const char *link_name, model_object_t *out,
                                  model_error_t *err);
 
+/* model_object_load for a file named by someone else (comlearn-sim's SIM_CONTROL LOAD): the URDF
+ * and every mesh it names must resolve (realpath) inside one of the dir_count folders dirs
+ * (canonical paths, as realpath gives them), each checked before it is opened; otherwise
+ * MODEL_E_NOFILE, naming the file and "outside the folders". dir_count 0: no restriction. */
+model_status_t model_object_load_within(const char *urdf_path, const char *link_name,
+                                        const char *const *dirs, size_t dir_count,
+                                        model_object_t *out, model_error_t *err);
+
+/* Is path (canonical) inside one of the dir_count folders dirs (canonical)? 1 when dir_count is
+ * 0. A folder holds a path when it is a prefix ending at a '/' of the path. */
+int model_path_within(const char *path, const char *const *dirs, size_t dir_count);
+
 /* Release an object's mesh and zero it. NULL is fine. */
 void model_object_free(model_object_t *obj);
 
