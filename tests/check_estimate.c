@@ -463,11 +463,11 @@ END_TEST
 
 /* Rough faces with noise (placement 0.5 mm, pose 0.2 mm; lumpy seed 94, even, which has no closed
  * patch or flat face the estimator can use): told the pose noise, the estimator searches rough
- * faces (a pair fed to the solve) and finds at least 10 of the 18 components over seeds 1..6
- * (12 measured; the others' intervals stay over the 1 mm claim limit), every one inside its 95 %
- * interval (bench_coverage: rough faces keep the noisy coverage of the objects they add at the
- * level of the rest); not told it (pose_noise_sigma_m 0), it cannot trust the settled poses and
- * refuses the object. */
+ * faces (a pair fed to the solve) and finds at least 16 of the 18 components over seeds 1..6
+ * (18 measured; 12 when every STAYS bound allowed 3 sigma of pose noise, before pose_allowance),
+ * every one inside its 95 % interval (bench_coverage: rough faces keep the noisy coverage of the
+ * objects they add at the level of the rest); not told it (pose_noise_sigma_m 0), it cannot trust
+ * the settled poses and refuses the object. */
 START_TEST(rough_faces_with_noise) {
   estimate_result_t *r = malloc(sizeof *r);
   ck_assert_ptr_nonnull(r);
@@ -491,7 +491,7 @@ START_TEST(rough_faces_with_noise) {
       covered += r->found[k] && fabs(r->com_m[k] - truth.com_m[k]) <= r->halfwidth_m[k];
     }
   }
-  ck_assert_int_ge(found, 10);
+  ck_assert_int_ge(found, 16);
   ck_assert_int_eq(covered, found);
   free(r);
 }

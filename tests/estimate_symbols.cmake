@@ -8,7 +8,7 @@
 cmake_minimum_required(VERSION 3.20)
 include(${CMAKE_CURRENT_LIST_DIR}/nm_lines.cmake)
 nm_lines(lines ${LIB} -u)
-set(libc acos asin atan atan2 ceil cos exp fabs floor fmax fmin hypot log pow sin sqrt tan
+set(libc acos asin atan atan2 ceil cos erfc exp fabs floor fmax fmin hypot log pow sin sqrt tan
     free malloc calloc memcmp memcpy memmove memset qsort snprintf strcmp strlen strncmp)
 set(bad "")
 set(count 0)

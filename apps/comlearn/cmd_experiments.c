@@ -149,7 +149,8 @@ static void usage(FILE *out) {
       "  --pose-noise-mm S        std. dev. of the perceived settled position of noisy runs,\n"
       "                           0..100 (default: 0.2)\n"
       "  --resolution-mm R        search resolution in mm, 0.001..10 (default: 0.1); noisy\n"
-      "                           runs use max(R, placement noise)\n"
+      "                           runs take every component to a 0.5 mm 95 %% half width\n"
+      "                           (estimate --noise-target-mm)\n"
       "  --lcm-url URL            run the noiseless estimates over LCM with YuMi placement\n"
       "                           against a comlearn-sim already running there (default:\n"
       "                           in-process, as `estimate --direct`); noisy runs are\n"
@@ -242,7 +243,10 @@ static void run_config(const exp_opts_t *o, exp_run_t *run, estimate_config_t *c
      * policy gets the noise model, so every interval is a 95 % interval */
     cfg->noise_sigma_m = o->placement_noise_m;
   }
-  run->resolution_m = run->noisy ? fmax(cfg->resolution_m, cfg->noise_sigma_m) : cfg->resolution_m;
+  /* noisy: where a search first stops (estimate.h, noise_stop_width_m) */
+  run->resolution_m = run->noisy ? fmax(fmax(cfg->resolution_m, cfg->noise_sigma_m),
+                                        2.0 * cfg->noise_target_halfwidth_m)
+                                 : cfg->resolution_m;
   run->noise_sigma_m = cfg->noise_sigma_m;
 }
 
@@ -525,17 +529,20 @@ static void table_noisy(FILE *f, const exp_opts_t *o, const exp_rock_t *rocks,
           "coverage: fraction of found components whose |error| is within the reported half "
           "width. Every policy is told the noise model (probit outcomes, sigma = the placement "
           "noise) and reports 95 %% intervals: bisect and the paper walks hand over to PBA "
-          "after their walk; searches stop at resolution max(R, sigma). Started at the "
-          "bounding-box center.\n\n");
+          "after their walk; searches first stop at a 95 %% interval max(R, sigma, 2 T) wide, "
+          "then the one that widens a component most goes on until every component's half "
+          "width is at most T (the target). Started at the bounding-box center.\n\n");
   fprintf(f,
-          "| policy | runs | resolution (mm) | mean \\|err\\| +- sd (mm) | p95 \\|err\\| (mm) | "
+          "| policy | runs | target T (mm) | mean \\|err\\| +- sd (mm) | p95 \\|err\\| (mm) | "
           "worst (mm) | found | mean half width (mm) | coverage | trials per object | "
           "failed runs |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   for (int p = 0; p < o->npolicies; ++p) {
     exp_stats_t st;
     stats_of(runs, nruns, rocks, o->policy[p], RUN_NOISY, 0, scratch, &st);
     if (!st.runs) continue;
-    const double res = fmax(o->resolution_m, o->placement_noise_m);
+    estimate_config_t dc;
+    estimate_config_default(&dc);
+    const double res = dc.noise_target_halfwidth_m;
     fprintf(
         f,
         "| %s | %zu | %.3g | %.3f +- %.3f | %.3f | %.3f | %.0f %% (%zu of %zu) | %.3f | "

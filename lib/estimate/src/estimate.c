@@ -33,9 +33,9 @@ enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw s
  * the CoM up to 0.5 um beyond B's edge in its settled pose (PBA bisecting a pebble's rough face
  * to 1e-7 m, shapegen pebble seed 23 uneven: soft contact and the rest test's residual motion). */
 #define ESTIMATE_STAYS_SLACK_M 2e-6
-/* With pose noise a STAYS bound allows this many standard deviations of the perceived settled
- * position: the tightest of ~10 bounds per side then errs with ~1 % probability (3 sigma each). */
-#define ESTIMATE_POSE_Z 3.0
+/* With pose noise, the probability that a rough pair's side misses the CoM (pose_allowance): a
+ * 95 % interval for the pair's plane, split over its two sides. */
+#define ESTIMATE_POSE_MISS 0.025
 /* With a noise model a closed patch needs only this much at the estimate (noiseless: the 1 mm of
  * verify_margin_m): the tens of um of bias nearer a side (58 um at 0.58 mm, a lumpy rock) are a
  * small part of a 95 % interval (0.27 mm mean half width at 0.5 mm noise), and 1 mm cost 490 of
@@ -203,11 +203,12 @@ struct estimate {
   int redo_face;          /* the face (out->face) that face_redo replaces as face 1, or -1 */
   size_t closed_from;     /* the closed patches planned in this phase: faces[closed_from, ...) */
   uint32_t found_settled; /* faces added from settled poses (at most ESTIMATE_SETTLED_MAX) */
-  face_plan_t plans[FACE_CAP]; /* the candidates of face 1, then of face 2 */
-  model_regime_t regime;       /* scratch (~4 KiB) */
-  model_support_work_t *work;  /* the geometry's scratch memory, after this struct */
-  qlearn_policy_t policy;      /* the current search (~12 KiB for PBA) */
-  qlearn_policy_t handover;    /* PBA after a noisy walk */
+  face_plan_t plans[FACE_CAP];           /* the candidates of face 1, then of face 2 */
+  model_regime_t regime;                 /* scratch (~4 KiB) */
+  double bounds[2][ESTIMATE_MAX_TRIALS]; /* scratch: a rough pair's STAYS bounds (rough_plane) */
+  model_support_work_t *work;            /* the geometry's scratch memory, after this struct */
+  qlearn_policy_t policy;                /* the current search (~12 KiB for PBA) */
+  qlearn_policy_t handover;              /* PBA after a noisy walk */
   qlearn_solve_t solve;
   qlearn_solve_result_t res; /* the latest solve (update_guess) */
   int have_solve;
@@ -606,7 +607,28 @@ static double stays_bound(const est_t *est, const estimate_trial_t *t, const dou
     creep = 2.0 * trial_turned_rad(t) * r2 /
             (9.81 * ESTIMATE_CREEP_HORIZON_S * ESTIMATE_CREEP_HORIZON_S);
   return d_s + cl_vec3_dot(du, est->guess_m) + sqrt(cl_vec3_dot(du, du) * r2) + creep +
-         ESTIMATE_STAYS_SLACK_M + ESTIMATE_POSE_Z * est->cfg.pose_noise_sigma_m;
+         ESTIMATE_STAYS_SLACK_M;
+}
+
+/* What the tightest of one side's STAYS bounds b[0..n) (b[0] the tightest) allows for pose noise
+ * sigma. Each bound is off by the perceived position's error e_i ~ N(0, sigma^2) along the edge
+ * normal, independently; the side misses the CoM only if some bound i, slack s_i = b_i - b_0
+ * above the tightest, erred by more than k sigma + s_i. So k is the smallest with
+ * sum_i Phi(-k - s_i / sigma) <= ESTIMATE_POSE_MISS (bisection; 1.96 for one tight bound, 2.24
+ * for two, 2.8 for ten; the union bound makes it conservative). Returns k sigma. */
+static double pose_allowance(const double *b, size_t n, double sigma) {
+  if (n == 0 || !(sigma > 0.0)) return 0.0;
+  double lo = 0.0, hi = 8.0;
+  for (int it = 0; it < 40; ++it) {
+    const double k = 0.5 * (lo + hi);
+    double miss = 0.0;
+    for (size_t i = 0; i < n; ++i) miss += 0.5 * erfc((k + (b[i] - b[0]) / sigma) / sqrt(2.0));
+    if (miss > ESTIMATE_POSE_MISS)
+      lo = k;
+    else
+      hi = k;
+  }
+  return hi * sigma;
 }
 
 /* The plane of a rough face's pair of searches: search a along u and its mirror b along -u (yaw
@@ -615,18 +637,30 @@ static double stays_bound(const est_t *est, const estimate_trial_t *t, const dou
 static void rough_plane(est_t *est, int a, int b) {
   estimate_result_t *out = &est->result;
   estimate_search_t *sa = &out->search[a], *sb = &out->search[b];
-  double hi = HUGE_VAL, lo = -HUGE_VAL, r2 = 0.0;
+  double r2 = 0.0;
   for (size_t i = 0; i < est->mesh->vertex_count; ++i) { /* the farthest vertex from the estimate */
     double v[3];
     cl_vec3_sub(est->mesh->vertices_m[i], est->guess_m, v);
     r2 = fmax(r2, cl_vec3_dot(v, v));
   }
+  /* Each side's bounds, the tightest first: u . c <= bound_a, -u . c <= bound_b. */
+  double *side[2] = {est->bounds[0], est->bounds[1]};
+  size_t n[2] = {0, 0};
   for (size_t i = 0; i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
     if ((t->search != a && t->search != b) || seen_outcome(est, t) != ESTIMATE_STAYS) continue;
-    if (t->search == a) hi = fmin(hi, stays_bound(est, t, sa->dir_link, r2));
-    if (t->search == b) lo = fmax(lo, -stays_bound(est, t, sb->dir_link, r2));
+    const int k = t->search == b;
+    double *v = side[k];
+    const double x = stays_bound(est, t, out->search[t->search].dir_link, r2);
+    v[n[k]++] = x;
+    if (x < v[0]) { /* keep the tightest first */
+      v[n[k] - 1] = v[0];
+      v[0] = x;
+    }
   }
+  const double sigma = est->cfg.pose_noise_sigma_m;
+  const double hi = n[0] ? side[0][0] + pose_allowance(side[0], n[0], sigma) : HUGE_VAL;
+  const double lo = n[1] ? -(side[1][0] + pose_allowance(side[1], n[1], sigma)) : -HUGE_VAL;
   snprintf(sb->note, sizeof sb->note, "mirrors search %d: its STAYS bound is in that plane", a);
   if (!isfinite(hi) || !isfinite(lo)) {
     snprintf(sa->note, sizeof sa->note, "no placement stayed on %s",

@@ -177,7 +177,8 @@ typedef struct {
   int rough_faces;
   /* Std. dev. of the perceived settled position (each axis) [m], in [0, 0.1]; default 0: not
    * told. With a noise model (noise_sigma_m > 0) and this > 0, rough faces are used too: each
-   * STAYS bound then allows ESTIMATE_POSE_Z of it (the release's own noise does not enter: the
+   * rough pair's side then allows k of it, k for a 2.5 % miss over its bounds (estimate.c,
+   * pose_allowance; the release's own noise does not enter: the
    * bound is taken in the settled pose). */
   double pose_noise_sigma_m;
   /* With a noise model, the 95 % half width [m] every determined component is taken to, in
