@@ -13,6 +13,7 @@
 #include <lcm/lcm.h>
 
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_net.h"
 #include "comlearn/cli_paths.h"
 #include "comlearn/math3d.h"
 #include "comlearn/msg.h"
@@ -385,6 +386,10 @@ int main(int argc, char **argv) {
   char refusals[512];
   sim_refusals_str(&d.sim, refusals, sizeof refusals);
   LOG_I("%s", refusals);
+  uint64_t kernel_drops = 0; /* datagrams that never reached LCM (cli_net.h) */
+  if (cli_udp_drops(&kernel_drops) == 0)
+    LOG_I("%llu datagrams dropped by the kernel before LCM read them (receive buffer full)",
+          (unsigned long long)kernel_drops);
   lcm_unsubscribe(d.lcm, s1);
   lcm_unsubscribe(d.lcm, s2);
   lcm_destroy(d.lcm);

@@ -1,15 +1,22 @@
 #define _POSIX_C_SOURCE 200809L
 /* check_cli_common: comlearn_cli (apps/common), what the programs share: the JSON value writer
  * (escaping, 9 significant digits, non-finite numbers as null) and the logger (prefix, level
- * names, the level filter, clamping), byte for byte against the expected text. */
+ * names, the level filter, clamping), byte for byte against the expected text; the kernel's UDP
+ * drop counter of the process's sockets. */
+#include <arpa/inet.h>
 #include <check.h>
 #include <math.h>
+#include <netinet/in.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_net.h"
 #include "comlearn/cli_time.h"
 
 /* What the writer wrote to a memory stream, as a string (static; valid until the next call). */
@@ -142,6 +149,41 @@ START_TEST(time_is_monotonic) {
 }
 END_TEST
 
+/* cli_udp_drops counts what the kernel dropped on this process's sockets: a UDP socket with a
+ * 4 KiB receive buffer, sent 200 datagrams of 1 KiB and never read, drops at least 150 of them
+ * (the buffer holds a few), and the count grows by exactly those; a closed socket no longer
+ * counts. */
+START_TEST(udp_drops_counted) {
+  uint64_t before = 0, after = 0, closed = 0;
+  ck_assert_int_eq(cli_udp_drops(&before), 0);
+  const int rx = socket(AF_INET, SOCK_DGRAM, 0), tx = socket(AF_INET, SOCK_DGRAM, 0);
+  ck_assert_int_ge(rx, 0);
+  ck_assert_int_ge(tx, 0);
+  const int small = 4096;
+  ck_assert_int_eq(setsockopt(rx, SOL_SOCKET, SO_RCVBUF, &small, sizeof small), 0);
+  struct sockaddr_in a;
+  memset(&a, 0, sizeof a);
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ck_assert_int_eq(bind(rx, (struct sockaddr *)&a, sizeof a), 0);
+  socklen_t len = sizeof a;
+  ck_assert_int_eq(getsockname(rx, (struct sockaddr *)&a, &len), 0);
+  char buf[1024];
+  memset(buf, 'x', sizeof buf);
+  int sent = 0;
+  for (int i = 0; i < 200; ++i)
+    sent += sendto(tx, buf, sizeof buf, 0, (struct sockaddr *)&a, sizeof a) == (ssize_t)sizeof buf;
+  ck_assert_int_eq(sent, 200);
+  ck_assert_int_eq(cli_udp_drops(&after), 0);
+  ck_assert_uint_ge(after - before, 150);
+  ck_assert_uint_le(after - before, 200);
+  close(rx);
+  close(tx);
+  ck_assert_int_eq(cli_udp_drops(&closed), 0);
+  ck_assert_uint_eq(closed, before);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("cli_common");
   TCase *json = tcase_create("json");
@@ -153,6 +195,9 @@ int main(void) {
   tcase_add_test(log, log_level_filter);
   tcase_add_test(log, time_is_monotonic);
   suite_add_tcase(s, log);
+  TCase *net = tcase_create("net");
+  tcase_add_test(net, udp_drops_counted);
+  suite_add_tcase(s, net);
   SRunner *r = srunner_create(s);
   srunner_run_all(r, CK_NORMAL);
   int failed = srunner_ntests_failed(r);

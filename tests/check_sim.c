@@ -774,6 +774,53 @@ START_TEST(garbage_counted) {
 }
 END_TEST
 
+/* A 1.5 MiB buffer on YUMI_COMMAND (24 datagrams of 64 KiB in one burst) is counted either way:
+ * as undecodable when it arrives whole, or, when the burst overflows the sim's receive buffer
+ * and LCM drops the incomplete message, in the kernel's drop count the sim logs when it stops
+ * (cli_udp_drops); the sim goes on obeying. Five are sent. */
+START_TEST(oversized_message_counted) {
+  char log[256];
+  snprintf(log, sizeof log, "%s/check_sim_big_%d.txt",
+           getenv("TMPDIR") && getenv("TMPDIR")[0] ? getenv("TMPDIR") : "/tmp", (int)getpid());
+  spawn_log_path = log;
+  const char *info[] = {"-v", NULL};
+  fx_t f;
+  spawn(&f, info);
+  spawn_log_path = NULL;
+  const size_t big = 1536u * 1024u;
+  unsigned char *buf = malloc(big);
+  ck_assert_ptr_nonnull(buf);
+  uint64_t rng = 11;
+  for (size_t i = 0; i < big; i++) buf[i] = (unsigned char)(cl_rng_next(&rng) & 0xff);
+  for (int i = 0; i < 5; i++) publish_raw(&f, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, buf, big);
+  free(buf);
+  double q[2][7], w[2] = {0, 0};
+  memcpy(q, f.st.q_measured_rad, sizeof q);
+  int64_t n = 0;
+  send_cmd_sync(&f, &n, 1, CMD(MODE_HOLD), (const double(*)[7])q, w, 1.0, f.st.utime + 60000000);
+  ck_assert_int_eq(f.st.last_accepted_seq, 1);
+  const long long undecodable = (long long)f.st.messages_undecodable;
+  finish(&f);
+  size_t len = 0;
+  char *text = test_slurp(log, &len);
+  ck_assert_ptr_nonnull(text);
+  const char *k = strstr(text, "datagrams dropped by the kernel");
+  ck_assert_msg(k != NULL, "log: %s", text);
+  while (k > text && k[-1] != ' ') --k; /* back to the count before the phrase */
+  while (k > text && k[-1] == ' ') --k;
+  while (k > text && k[-1] >= '0' && k[-1] <= '9') --k;
+  const long long dropped = atoll(k);
+  fprintf(stderr, "oversized messages: %lld undecodable, %lld datagrams dropped by the kernel\n",
+          undecodable, dropped);
+  ck_assert_msg(undecodable >= 1 || dropped >= 1,
+                "neither undecodable (%lld) nor dropped by the kernel (%lld): %s", undecodable,
+                dropped, text);
+  ck_assert_int_le(undecodable, 5);
+  free(text);
+  remove(log);
+}
+END_TEST
+
 /* ---- a placement trial end to end ---------------------------------------------------------- */
 
 /* A 40 x 60 x 50 mm box with its CoM at (com_x, 0, 0) and mass mass_kg (the inertia is that of
@@ -1181,6 +1228,7 @@ int main(void) {
   tcase_add_test(tc, place_box_over_edge);
   tcase_add_test(tc, implausible_load_refused);
   tcase_add_test(tc, hostile_load_refused);
+  tcase_add_test(tc, oversized_message_counted);
   tcase_add_test(tc, drop_rate_survives);
   suite_add_tcase(s, tc);
   SRunner *sr = srunner_create(s);

@@ -20,6 +20,7 @@
 #include "comlearn/balance_poses.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_net.h"
 #include "comlearn/cli_paths.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/model.h"
@@ -483,6 +484,10 @@ static void lcm_report(estimate_lcm_t *lcmb, estimate_status_t es, const estimat
     LOG_W("publishing COM_ESTIMATE failed");
   estimate_lcm_stats_t ls;
   estimate_lcm_stats(lcmb, &ls);
+  uint64_t kernel_drops = 0; /* what never reached LCM (receive buffer full) */
+  if (cli_udp_drops(&kernel_drops) == 0 && kernel_drops > 0)
+    LOG_W("lcm: the kernel dropped %llu datagrams before LCM read them (receive buffer full)",
+          (unsigned long long)kernel_drops);
   LOG_D(
       "lcm: %llu trials, %llu commands (%llu resent), %llu sim controls, %llu trial "
       "restarts, %llu statuses, %llu object states, %llu undecodable, %llu refused",
