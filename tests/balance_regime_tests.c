@@ -400,6 +400,33 @@ START_TEST(washer_is_one_ring_region) {
 }
 END_TEST
 
+/* A finely tessellated outline (a 512-sided washer; MODEL_E_CAPACITY before) is reduced to
+ * MODEL_PATCH_MAX_VERTICES vertices inside it: every kept vertex is one of the ring's, the area
+ * is at most the 512-gon's and within 0.01 % of it, and the regime is found as for 64 sides. */
+START_TEST(fine_washer_outline_reduced) {
+  const unsigned n = 512;
+  const double r_in = 0.015, r_out = 0.025;
+  model_mesh_t m = {0};
+  bp_washer(&m, r_in, r_out, 0.004, n);
+  const double mid[3] = {0.0, 0.0, 0.0};
+  model_pose_t pose = over_edge(&m, kIdentity, MODEL_EDGE_PX, mid, 0.0);
+  model_regime_t r;
+  ck_assert_int_eq(model_regime_classify(&m, &pose, kBase, MODEL_EDGE_PX, mid, NULL, &r), MODEL_OK);
+  ck_assert_uint_eq(r.patch.vertex_count, MODEL_PATCH_MAX_VERTICES);
+  const double full = 0.5 * n * sin(2.0 * CL_PI / n) * r_out * r_out;
+  ck_assert_double_le(r.patch.area_m2, full);
+  ck_assert_double_ge(r.patch.area_m2, 0.9999 * full);
+  const double cx = pose.position_m[0], cy = pose.position_m[1]; /* the ring's centre */
+  for (size_t i = 0; i < r.patch.vertex_count; ++i)
+    ck_assert_double_eq_tol(hypot(r.patch.polygon_xy_m[i][0] - cx, r.patch.polygon_xy_m[i][1] - cy),
+                            r_out, 1e-6);
+  ck_assert(r.patch.flat);
+  ck_assert_double_eq_tol(r.chord_margin_m, r_out, 1e-12);
+  ck_assert_int_eq(r.kind, MODEL_REGIME_FLAT_PATCH);
+  model_mesh_free(&m);
+}
+END_TEST
+
 /* ---- closed patches: small convex contact ------------------------------------------------- */
 
 /* A 8 x 6 x 4 mm box: no face is a flat patch (< 1 cm^2, < 10 mm wide), every face is closed
@@ -800,6 +827,7 @@ Suite *balance_regime_suite(void) {
   tcase_add_test(tc, two_feet_chord_is_the_real_contact);
   tcase_add_test(tc, narrow_feet_are_not_flat);
   tcase_add_test(tc, washer_is_one_ring_region);
+  tcase_add_test(tc, fine_washer_outline_reduced);
   tcase_add_test(tc, small_box_is_a_closed_patch);
   tcase_add_test(tc, face_at_refines_the_normal);
   tcase_add_test(tc, feet_and_washer_are_not_closed);

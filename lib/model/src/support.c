@@ -397,6 +397,32 @@ static model_support_work_t *work_new(const model_mesh_t *mesh) {
 /* The patch of the mesh in orientation q (unit) with the link origin at pos, in the work area.
  * When tri_xy is not NULL it receives the in-plane triangles in world x, y (out->face_count of
  * them). */
+/* A patch's outline: the convex polygon hull[0, nh) into out, with at most
+ * MODEL_PATCH_MAX_VERTICES vertices. A longer one (a finely tessellated round foot or ring) is
+ * reduced by dropping, one at a time, the vertex whose triangle with its neighbours is smallest:
+ * what is left is convex and inside the hull, so every margin measured on it is at most the true
+ * one. The area and width are the reduced polygon's. hull is overwritten. */
+static void patch_outline(model_patch_t *out, double (*hull)[2], size_t nh) {
+  while (nh > MODEL_PATCH_MAX_VERTICES) {
+    size_t drop = 0;
+    double least = HUGE_VAL;
+    for (size_t i = 0; i < nh; ++i) {
+      const double *a = hull[(i + nh - 1) % nh], *b = hull[i], *c = hull[(i + 1) % nh];
+      const double area = fabs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+      if (area < least) {
+        least = area;
+        drop = i;
+      }
+    }
+    --nh;
+    if (drop < nh) memmove(hull + drop, hull + drop + 1, (nh - drop) * sizeof *hull);
+  }
+  out->vertex_count = nh;
+  memcpy(out->polygon_xy_m, hull, nh * sizeof *hull);
+  out->area_m2 = model_polygon_area((const double(*)[2])hull, nh);
+  out->width_m = model_polygon_width((const double(*)[2])hull, nh);
+}
+
 static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
                                     const double pos[3], const model_regime_config_t *cfg,
                                     model_patch_t *out, double (*tri_xy)[3][2],
@@ -440,13 +466,7 @@ static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
                       ? model_support_closed(&ct, model_polygon_area((const double(*)[2])hull, nh))
                       : model_support_edges_close(mesh, (const double(*)[2])xy, touch,
                                                   (const double(*)[2])hull, nh);
-    if (out->closed && ct.region_count == 0) { /* the ring is the patch's outline */
-      if (nh > MODEL_PATCH_MAX_VERTICES) return MODEL_E_CAPACITY;
-      out->vertex_count = nh;
-      memcpy(out->polygon_xy_m, hull, nh * sizeof *hull);
-      out->area_m2 = model_polygon_area((const double(*)[2])hull, nh);
-      out->width_m = model_polygon_width((const double(*)[2])hull, nh);
-    }
+    if (out->closed && ct.region_count == 0) patch_outline(out, hull, nh); /* the ring */
   }
   out->face_count = ct.triangle_count;
   out->faces_area_m2 = ct.area_m2;
@@ -466,12 +486,7 @@ static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
         memcpy(pts[np++], xy[tri[k]], sizeof *pts);
       }
     }
-    const size_t nh = model_polygon_hull(pts, np, hull);
-    if (nh > MODEL_PATCH_MAX_VERTICES) return MODEL_E_CAPACITY;
-    out->vertex_count = nh;
-    memcpy(out->polygon_xy_m, hull, nh * sizeof *hull);
-    out->area_m2 = model_polygon_area((const double(*)[2])hull, nh);
-    out->width_m = model_polygon_width((const double(*)[2])hull, nh);
+    patch_outline(out, hull, model_polygon_hull(pts, np, hull));
   }
   out->flat = out->region_area_m2 >= cfg->min_patch_area_m2 &&
               out->region_width_m >= cfg->min_patch_width_m;

@@ -148,15 +148,17 @@ typedef struct {
   double area_m2;        /* area of the convex hull of all their vertices (an outline that spans
                              gaps between regions); 0 when face_count == 0 */
   double width_m;        /* smallest width of that hull (0 when face_count == 0) */
-  size_t vertex_count;   /* the hull, counter-clockwise seen from above, world x, y */
+  size_t vertex_count;   /* the hull, counter-clockwise seen from above, world x, y; one of
+                            more than MODEL_PATCH_MAX_VERTICES vertices is reduced to a convex
+                            polygon inside it (the smallest corners dropped first) */
   double polygon_xy_m[MODEL_PATCH_MAX_VERTICES][2];
 } model_patch_t;
 
 /* The resting patch of mesh_link (link frame) in `pose` (world). The support plane is found (the
  * lowest vertex), not assumed at z = 0. Pure geometry, O(V + T).
  * MODEL_E_ARG (NULL, empty mesh), MODEL_E_DEGENERATE (triangle index out of range),
- * MODEL_E_NONFINITE (vertex or pose), MODEL_E_POSE (quaternion not unit),
- * MODEL_E_CAPACITY (hull above MODEL_PATCH_MAX_VERTICES). Allocates temporary memory. */
+ * MODEL_E_NONFINITE (vertex or pose), MODEL_E_POSE (quaternion not unit). Allocates temporary
+ * memory. */
 model_status_t model_patch_resting(const model_mesh_t *mesh_link, const model_pose_t *pose,
                                    const model_regime_config_t *cfg, model_patch_t *out);
 
