@@ -133,6 +133,22 @@ static int sc_acked(const fx_t *f, const void *arg) {
   return f->n_os > 0 && f->os.sim_control_seq == *(const int64_t *)arg;
 }
 
+/* Publish sc and wait up to wait_s for the acknowledgement of `acked` (sc->seq, or what the sim
+ * keeps naming for a refused seq); sent again, same seq, while none comes (at most 3 times): a
+ * datagram can be lost on a loaded machine. A copy that arrives after its original is refused as
+ * a repeated seq, so the callers check the outcome, not only the result code. Returns the copies
+ * sent. */
+static int sc_send(fx_t *f, const comlearn_sim_control_t *sc, int64_t acked, double wait_s) {
+  for (int copies = 1; copies <= 3; ++copies) {
+    ck_assert_int_eq(comlearn_sim_control_t_publish(f->lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, sc),
+                     0);
+    if (wait_for(f, sc_acked, &acked, wait_s)) return copies;
+  }
+  ck_abort_msg("SIM_CONTROL seq %lld: no acknowledgement of %lld", (long long)sc->seq,
+               (long long)acked);
+  return 0;
+}
+
 static unsigned url_counter;
 
 /* Daemons started by this process: a failed assertion (CK_FORK=no) leaves the test early, so the
@@ -549,14 +565,9 @@ START_TEST(envelope_rules) {
   sc.object_id = (char *)"nothing";
   sc.urdf_path = (char *)"";
   sc.seq = INT64_MAX;
-  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
-  int64_t none = -1; /* nothing processed yet: the acknowledgement keeps naming -1 */
-  ck_assert(wait_for(&f, sc_acked, &none, 5.0));
+  sc_send(&f, &sc, -1, 2.5); /* nothing processed yet: the acknowledgement keeps naming -1 */
   sc.seq = 1;
-  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
-  int64_t one = 1;
-  ck_assert_msg(wait_for(&f, sc_acked, &one, 5.0),
-                "SIM_CONTROL seq 1 not processed after INT64_MAX");
+  sc_send(&f, &sc, 1, 2.5); /* processed after INT64_MAX */
   finish(&f);
 }
 END_TEST
@@ -682,11 +693,10 @@ START_TEST(invalid_commands_refused) {
     sc.action = cases[i].action;
     sc.urdf_path = (char *)cases[i].path;
     sc.link_in_tool_wxyz[0] = cases[i].qw;
-    ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc),
-                     0);
-    ck_assert(wait_for(&f, sc_acked, &sc.seq, 5.0));
-    ck_assert_msg(f.os.sim_control_result == cases[i].want, "case %zu: result %d, want %d", i,
-                  f.os.sim_control_result, cases[i].want);
+    const int copies = sc_send(&f, &sc, sc.seq, 2.5);
+    ck_assert_msg(f.os.sim_control_result == cases[i].want ||
+                      (copies > 1 && f.os.sim_control_result == OS(SIM_CONTROL_ERR_SEQ)),
+                  "case %zu: result %d, want %d", i, f.os.sim_control_result, cases[i].want);
     ck_assert(!f.os.tracked);
   }
   /* a repeated seq: ERR_SEQ; the acknowledgement keeps the last processed seq */
@@ -865,10 +875,9 @@ static int place_trial(fx_t *f, const char *urdf, int first, int64_t *sc_seq, in
   sc.link_in_tool_position_m[2] = 0.010;
   sc.link_in_tool_wxyz[1] = 1.0;
   sc.gripper_width_m = 0.04;
-  ck_assert_int_eq(comlearn_sim_control_t_publish(f->lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc),
-                   0);
-  ck_assert(wait_for(f, sc_acked, sc_seq, 5.0));
-  ck_assert_int_eq(f->os.sim_control_result, OS(SIM_CONTROL_APPLIED));
+  const int sc_copies = sc_send(f, &sc, sc.seq, 2.5);
+  ck_assert(f->os.sim_control_result == OS(SIM_CONTROL_APPLIED) ||
+            (sc_copies > 1 && f->os.sim_control_result == OS(SIM_CONTROL_ERR_SEQ)));
   ck_assert(f->os.tracked);
   ck_assert(!f->os.on_base);
   ck_assert_str_eq(f->os.object_id, "box_test");
@@ -903,10 +912,19 @@ static int place_trial(fx_t *f, const char *urdf, int first, int64_t *sc_seq, in
     w[0] = f->st.gripper_width_measured_m[0];
     w[1] = wp->gripper_width_m;
     ++*seq;
-    send_cmd(f, *seq, CMD(MODE_POSITION), (const double(*)[7])q, w, 1.0,
-             f->st.utime + (int64_t)(wp->duration_s * 4e6) + 2000000);
-    ck_assert_msg(wait_for(f, seq_in_position, seq, 10.0), "waypoint %d not reached", k);
-    ck_assert_int_eq(f->st.error_code, ST(ERR_NONE));
+    /* sent again while not in position, as the estimator resends: a datagram can be lost when
+     * the machine is loaded (the sim's receive buffer overflows); a copy that arrives after the
+     * first is refused as a duplicate seq, which leaves the command running */
+    int reached = 0, copies = 0;
+    for (; copies < 10 && !reached; ++copies) {
+      send_cmd(f, *seq, CMD(MODE_POSITION), (const double(*)[7])q, w, 1.0,
+               f->st.utime + (int64_t)(wp->duration_s * 4e6) + 2000000);
+      reached = wait_for(f, seq_in_position, seq, 1.0 + 4.0 * wp->duration_s);
+    }
+    ck_assert_msg(reached, "waypoint %d not reached", k);
+    ck_assert_msg(
+        f->st.error_code == ST(ERR_NONE) || (copies > 1 && f->st.error_code == ST(ERR_SEQ)),
+        "waypoint %d: error %d", k, (int)f->st.error_code);
     if (wp->kind == PLACEMENT_WAYPOINT_PLACE) {
       /* still held, exactly at the planned pose (world = yumi_body; B at block_in_base) */
       ck_assert(wait_for(f, have_status, NULL, 1.0));
@@ -955,8 +973,7 @@ START_TEST(place_box_over_edge) {
   sc.arm = SCA(ARM_RIGHT);
   sc.link_in_tool_wxyz[0] = 1.0;
   sc.gripper_width_m = 0.02;
-  ck_assert_int_eq(comlearn_sim_control_t_publish(f.lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc), 0);
-  ck_assert(wait_for(&f, sc_acked, &sc_seq, 5.0));
+  sc_send(&f, &sc, sc_seq, 2.5);
   double q[2][7], w[2];
   memcpy(q, f.st.q_measured_rad, sizeof q);
   w[0] = f.st.gripper_width_measured_m[0];
@@ -991,10 +1008,10 @@ static void load_refused(fx_t *f, int64_t *sc_seq, const char *id, const char *u
   sc.link_in_tool_position_m[2] = 0.010;
   sc.link_in_tool_wxyz[1] = 1.0;
   sc.gripper_width_m = 0.04;
-  ck_assert_int_eq(comlearn_sim_control_t_publish(f->lcm, COMLEARN_MSG_CHANNEL_SIM_CONTROL, &sc),
-                   0);
-  ck_assert_msg(wait_for(f, sc_acked, sc_seq, wait_s), "LOAD of %s: no answer", urdf);
-  ck_assert_int_eq(f->os.sim_control_result, OS(SIM_CONTROL_ERR_LOAD));
+  const int copies = sc_send(f, &sc, sc.seq, wait_s);
+  ck_assert_msg(f->os.sim_control_result == OS(SIM_CONTROL_ERR_LOAD) ||
+                    (copies > 1 && f->os.sim_control_result == OS(SIM_CONTROL_ERR_SEQ)),
+                "LOAD of %s: result %d", urdf, f->os.sim_control_result);
 }
 
 /* A LOAD of a URDF whose truth no real object of that shape can have (model_mass_plausible) is
