@@ -196,7 +196,12 @@ struct estimate {
   int mirror_next;               /* the search about to start mirrors this one (-1: none) */
   unsigned char search_rough[ESTIMATE_MAX_SEARCHES]; /* bounded by its STAYS trials (a rough
                                                         face's, or one made so, rough_retest) */
-  double target_scale;    /* of cfg->noise_target_halfwidth_m: 1, ESTIMATE_CLOSED_TARGET_SCALE */
+  double target_scale; /* of cfg->noise_target_halfwidth_m: 1, ESTIMATE_CLOSED_TARGET_SCALE */
+  /* The first closed patch of this phase whose stable check came to rest but rolled off it (not
+   * confirmed as a patch): searched as a rough face when nothing else is left (spare_rough). */
+  face_plan_t spare;
+  int spare_log;
+  int spare_phase;        /* the phase it belongs to, -1: none */
   uint32_t face_redos;    /* faces chosen again after their closed patch failed (face_redo) */
   int face1_redone;       /* face 1 was replaced: its new searches go straight to the check */
   int redo_of;            /* the search that face_redo replaces, or -1 */
@@ -1219,11 +1224,18 @@ static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
 static estimate_status_t confirm_reply(est_t *est, const estimate_trial_reply_t *reply) {
   const estimate_trial_t *t = log_trial(est, reply);
   const int fi = est->plans[est->ci].face;
-  const int conf = stable_confirmed(t, face_is_closed(est, fi), est->rough[fi]);
+  const int closed = face_is_closed(est, fi);
+  const int conf = stable_confirmed(t, closed, est->rough[fi]);
   est->result.face[est->chosen_log].confirmed = conf;
   if (conf) {
     est->chosen = est->plans[est->ci];
     return confirmed(est);
+  }
+  if (closed && !est->rough[fi] && est->spare_phase != (int)est->phase &&
+      stable_confirmed(t, 0, 1)) { /* at rest, within a stable pose's tolerance: a rough face */
+    est->spare = est->plans[est->ci];
+    est->spare_log = est->chosen_log;
+    est->spare_phase = (int)est->phase;
   }
   estimate_status_t s = settled_face(est, t);
   if (s != ESTIMATE_OK) return s;
@@ -1334,10 +1346,28 @@ static estimate_status_t face_one(est_t *est) {
 
 /* Face 1 on a closed patch, when no flat face 1 is (left): the patches under the prior (listed
  * only then: a flat object never needs them). */
+/* Nothing is left to check in this phase: the spare (a closed patch that came to rest off
+ * itself) is searched as a rough face, whose STAYS bounds need no patch; its stable check
+ * already stayed. *used = 0 when there is none (or rough faces are not usable). */
+static estimate_status_t spare_rough(est_t *est, int *used) {
+  *used = est->spare_phase == (int)est->phase && rough_usable(est);
+  if (!*used) return ESTIMATE_OK;
+  est->spare_phase = -1;
+  est->rough[est->spare.face] = 1;
+  estimate_face_t *lf = &est->result.face[est->spare_log];
+  lf->rough = 1;
+  lf->confirmed = 1;
+  est->chosen = est->spare;
+  est->chosen_log = est->spare_log;
+  return confirmed(est);
+}
+
 static estimate_status_t face_one_closed(est_t *est) {
   size_t np = 0;
-  const estimate_status_t s = fallback_once(est, &est->closed1, &est->rough1, &np);
+  estimate_status_t s = fallback_once(est, &est->closed1, &est->rough1, &np);
   if (s != ESTIMATE_OK) return s;
+  int used = 0;
+  if (np == 0 && ((s = spare_rough(est, &used)) != ESTIMATE_OK || used)) return s;
   if (np == 0) {
     if (!est->closed1 && !est->rough1 && est->result.face_count == 0)
       return fail(est, ESTIMATE_E_GEOMETRY, "no flat face with two usable edge directions");
@@ -1375,8 +1405,10 @@ static estimate_status_t face_two(est_t *est) {
  * face 1's searches (computed only then: a flat object never needs them). */
 static estimate_status_t face_two_closed(est_t *est) {
   size_t np = 0;
-  const estimate_status_t s = fallback_once(est, &est->closed2, &est->rough2, &np);
+  estimate_status_t s = fallback_once(est, &est->closed2, &est->rough2, &np);
   if (s != ESTIMATE_OK) return s;
+  int used = 0;
+  if (np == 0 && ((s = spare_rough(est, &used)) != ESTIMATE_OK || used)) return s;
   if (np == 0) {
     snprintf(est->face2_note, sizeof est->face2_note,
              "no second resting %s at >= %.0f deg to the first was confirmed stable",
@@ -1910,6 +1942,7 @@ static estimate_status_t strategy_start(est_t *est) {
   est->face1 = -1;
   est->redo_of = -1;
   est->target_scale = 1.0;
+  est->spare_phase = -1;
   est->redo_face = -1;
   est->mirror_next = -1;
   /* the hull stays in est->work: model_support_work_hull(est->work, est->mesh, ...) reuses it */
