@@ -1188,6 +1188,12 @@ static int face_allowed(const est_t *est, const model_face_t *f) {
   return 1;
 }
 
+/* Rough faces and searches made rough may be used: on, and with a noise model only when told the
+ * pose noise (a STAYS bound takes the settled pose as observed; pose noise moves it). */
+static int rough_usable(const est_t *est) {
+  return est->cfg.rough_faces && (!est->noisy || est->cfg.pose_noise_sigma_m > 0.0);
+}
+
 /* A stable check that did not confirm its face but came to rest on B: the object rolled onto the
  * face it really rests on. That face (under the settled pose's down direction) holds the CoM's
  * projection: when it is a closed patch not planned yet, it is checked next. */
@@ -1201,7 +1207,10 @@ static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
   model_face_t f;
   model_status_t ms = model_face_at(est->mesh, down, est->guess_m, NULL, &f);
   if (ms != MODEL_OK) return ESTIMATE_OK; /* nothing usable under that pose */
-  if (!f.closed || f.flat || !face_allowed(est, &f)) return ESTIMATE_OK;
+  /* a face that is neither flat nor a closed patch (a pebble's point support): a rough face,
+   * when they are usable; it came to rest there, so its own check is likely to stay */
+  const int rough = !f.closed && !f.flat && rough_usable(est);
+  if ((!f.closed && !rough) || f.flat || !face_allowed(est, &f)) return ESTIMATE_OK;
   for (size_t i = est->ci + 1; i < est->np; ++i) {
     if (same_normal(est->faces[est->plans[i].face].normal_link, f.normal_link))
       return ESTIMATE_OK; /* planned already */
@@ -1209,11 +1218,15 @@ static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
   if (face_recorded(est, f.normal_link)) return ESTIMATE_OK; /* checked already */
   const int fi = (int)est->nfaces++;
   est->faces[fi] = f;
-  est->rough[fi] = 0;
+  est->rough[fi] = (unsigned char)rough;
   ++est->found_settled;
   face_plan_t p;
   estimate_status_t s = plan_closed(est, fi, &p);
   if (s != ESTIMATE_OK) return s;
+  if (rough) { /* after the patches still planned: a patch's plane is exact, a rough one a bound */
+    est->plans[est->np++] = p;
+    return ESTIMATE_OK;
+  }
   memmove(&est->plans[est->ci + 2], &est->plans[est->ci + 1],
           (est->np - est->ci - 1) * sizeof est->plans[0]);
   est->plans[est->ci + 1] = p;
@@ -1294,12 +1307,6 @@ static estimate_status_t closed_once(est_t *est, int *listed, size_t *np) {
   *listed = 1;
   estimate_status_t s = closed_append(est);
   return s == ESTIMATE_OK ? closed_plans(est, np) : s;
-}
-
-/* Rough faces and searches made rough may be used: on, and with a noise model only when told the
- * pose noise (a STAYS bound takes the settled pose as observed; pose noise moves it). */
-static int rough_usable(const est_t *est) {
-  return est->cfg.rough_faces && (!est->noisy || est->cfg.pose_noise_sigma_m > 0.0);
 }
 
 /* The rough faces of the current phase under the estimate, once the flat faces and closed
