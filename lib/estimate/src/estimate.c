@@ -371,9 +371,9 @@ static int stable_confirmed(const estimate_trial_t *t, int closed, int rough) {
          trial_moved_m(t) <= sc.max_displacement_m;
 }
 
-/* The range of a search along u: the object's extent along u, 1 mm inside at each end (a CoM
- * cannot lie on the hull surface, and a point at the very extreme over the edge leaves nothing
- * of the object over B to set it down on). */
+/* The range of a search along u: the object's extent along u, min(1 mm, a quarter of it) inside
+ * at each end (a CoM cannot lie on the hull surface, and a point at the very extreme over the
+ * edge leaves nothing of the object over B to set it down on). */
 static void search_range(const est_t *est, const double u[3], double *lo, double *hi) {
   *lo = HUGE_VAL;
   *hi = -HUGE_VAL;
@@ -382,8 +382,7 @@ static void search_range(const est_t *est, const double u[3], double *lo, double
     if (p < *lo) *lo = p;
     if (p > *hi) *hi = p;
   }
-  /* the CoM lies inside: 1 mm off each end, or a quarter of a thin extent (a 2 mm plate's
-   * thickness: 0.05 mm left of it with the full 1 mm) */
+  /* a 2.1 mm plate's thickness: 0.05 mm would be left of it with the full 1 mm */
   const double trim = fmin(1e-3, 0.25 * (*hi - *lo));
   *lo += trim;
   *hi -= trim;
@@ -1199,7 +1198,9 @@ static int rough_usable(const est_t *est) {
 
 /* A stable check that did not confirm its face but came to rest on B: the object rolled onto the
  * face it really rests on. That face (under the settled pose's down direction) holds the CoM's
- * projection: when it is a closed patch not planned yet, it is checked next. */
+ * projection: when it is a closed patch not planned yet, it is checked next; when it is neither
+ * flat nor closed (a pebble's point support) and rough faces are usable, it is checked as a rough
+ * face after the patches still planned (a patch's plane is exact, a rough one a bound). */
 static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
   if (!est->cfg.closed_patches || t->outcome != ESTIMATE_STAYS ||
       est->found_settled >= ESTIMATE_SETTLED_MAX || est->nfaces >= FACE_CAP || est->np >= FACE_CAP)
@@ -1210,10 +1211,8 @@ static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
   model_face_t f;
   model_status_t ms = model_face_at(est->mesh, down, est->guess_m, NULL, &f);
   if (ms != MODEL_OK) return ESTIMATE_OK; /* nothing usable under that pose */
-  /* a face that is neither flat nor a closed patch (a pebble's point support): a rough face,
-   * when they are usable; it came to rest there, so its own check is likely to stay */
-  const int rough = !f.closed && !f.flat && rough_usable(est);
-  if ((!f.closed && !rough) || f.flat || !face_allowed(est, &f)) return ESTIMATE_OK;
+  if (f.flat || (!f.closed && !rough_usable(est)) || !face_allowed(est, &f)) return ESTIMATE_OK;
+  const int rough = !f.closed;
   for (size_t i = est->ci + 1; i < est->np; ++i) {
     if (same_normal(est->faces[est->plans[i].face].normal_link, f.normal_link))
       return ESTIMATE_OK; /* planned already */
@@ -1226,7 +1225,7 @@ static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
   face_plan_t p;
   estimate_status_t s = plan_closed(est, fi, &p);
   if (s != ESTIMATE_OK) return s;
-  if (rough) { /* after the patches still planned: a patch's plane is exact, a rough one a bound */
+  if (rough) {
     est->plans[est->np++] = p;
     return ESTIMATE_OK;
   }
@@ -1354,8 +1353,6 @@ static estimate_status_t face_one(est_t *est) {
   return confirm_plans(est, np);
 }
 
-/* Face 1 on a closed patch, when no flat face 1 is (left): the patches under the prior (listed
- * only then: a flat object never needs them). */
 /* Nothing is left to check in this phase: the spare (a closed patch that came to rest off
  * itself) is searched as a rough face, whose STAYS bounds need no patch; its stable check
  * already stayed. *used = 0 when there is none (or rough faces are not usable). */
@@ -1372,6 +1369,8 @@ static estimate_status_t spare_rough(est_t *est, int *used) {
   return confirmed(est);
 }
 
+/* Face 1 on a closed patch, when no flat face 1 is (left): the patches under the prior (listed
+ * only then: a flat object never needs them), else its rough faces, else the spare. */
 static estimate_status_t face_one_closed(est_t *est) {
   size_t np = 0;
   estimate_status_t s = fallback_once(est, &est->closed1, &est->rough1, &np);
@@ -1714,6 +1713,7 @@ static estimate_status_t refine_next(est_t *est, int *started) {
     const double hw = dir_halfwidth(est, res, e);
     if (!isfinite(hw) || hw <= worst_ratio * target) continue;
     double var = 0.0, bias = 0.0, top = 0.0, fixed = 0.0; /* fixed: what no search can narrow */
+    double p_top = 0.0, sigma_top = 0.0;
     int j_top = -1;
     for (size_t j = 0; j < out->search_count; ++j) {
       const estimate_search_t *sr = &out->search[j];
@@ -1729,17 +1729,17 @@ static estimate_status_t refine_next(est_t *est, int *started) {
       }
       if (!(part > top)) continue;
       top = part;
+      p_top = p;
+      sigma_top = sigma;
       j_top = (int)j;
     }
     const double allowed = (target - bias) / z;
     /* Out of reach: the planes no search can narrow (a rough pair's bound) leave the others
      * under half the variance allowed. */
     if (j_top < 0 || !(allowed > 0.0) || fixed >= 0.5 * allowed * allowed) continue;
-    const estimate_search_t *sr = &out->search[j_top];
-    const double p = plane_coef(est, res, e, sr), sigma = plane_sigma(est, sr);
-    const double rest = var - top, want2 = allowed * allowed - rest;
-    double s_new = want2 > 0.0 ? sqrt(want2) / fabs(p) : 0.0;
-    s_new = fmin(fmax(s_new, 0.5 * sigma), 0.9 * sigma);
+    const double want2 = allowed * allowed - (var - top);
+    double s_new = want2 > 0.0 ? sqrt(want2) / fabs(p_top) : 0.0;
+    s_new = fmin(fmax(s_new, 0.5 * sigma_top), 0.9 * sigma_top);
     worst_ratio = hw / target;
     best = j_top;
     best_sigma = s_new;
