@@ -572,17 +572,24 @@ START_TEST(envelope_rules) {
 }
 END_TEST
 
+/* Spawn a sim logging at info level and up (after the fixture's -q) into TMPDIR/NAME_PID.txt,
+ * whose path goes to log. */
+static void spawn_logged(fx_t *f, const char *name, char *log, size_t log_size) {
+  snprintf(log, log_size, "%s/%s_%d.txt",
+           getenv("TMPDIR") && getenv("TMPDIR")[0] ? getenv("TMPDIR") : "/tmp", name,
+           (int)getpid());
+  spawn_log_path = log;
+  const char *info[] = {"-v", NULL};
+  spawn(f, info);
+  spawn_log_path = NULL;
+}
+
 /* Refusals are counted by reason and logged when the sim stops: 1 duplicate seq, 2 stale and
  * 1 unknown-mode command, 1 SIM_CONTROL with action 0 and 1 with a seq already processed. */
 START_TEST(refusals_counted) {
   char log[256];
-  snprintf(log, sizeof log, "%s/check_sim_log_%d.txt",
-           getenv("TMPDIR") && getenv("TMPDIR")[0] ? getenv("TMPDIR") : "/tmp", (int)getpid());
-  spawn_log_path = log;
-  const char *info[] = {"-v", NULL}; /* after the fixture's -q: the log at info level and up */
   fx_t f;
-  spawn(&f, info);
-  spawn_log_path = NULL;
+  spawn_logged(&f, "check_sim_log", log, sizeof log);
   double q[2][7], w[2] = {0, 0};
   memcpy(q, f.st.q_measured_rad, sizeof q);
   int64_t n = 0;
@@ -790,13 +797,8 @@ END_TEST
  * (cli_udp_drops); the sim goes on obeying. Five are sent. */
 START_TEST(oversized_message_counted) {
   char log[256];
-  snprintf(log, sizeof log, "%s/check_sim_big_%d.txt",
-           getenv("TMPDIR") && getenv("TMPDIR")[0] ? getenv("TMPDIR") : "/tmp", (int)getpid());
-  spawn_log_path = log;
-  const char *info[] = {"-v", NULL};
   fx_t f;
-  spawn(&f, info);
-  spawn_log_path = NULL;
+  spawn_logged(&f, "check_sim_big", log, sizeof log);
   const size_t big = 1536u * 1024u;
   unsigned char *buf = malloc(big);
   ck_assert_ptr_nonnull(buf);
