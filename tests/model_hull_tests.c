@@ -4,6 +4,7 @@
 #include "comlearn/math3d.h"
 #include "comlearn/model_support.h"
 #include "mesh_subdivide.h"
+#include "model_internal.h" /* lib/model/src: model_hull_verify_faces */
 #include "model_suites.h"
 #include "model_test_util.h"
 #include "orient.h" /* lib/model/src: the exact predicate under the hull */
@@ -530,6 +531,84 @@ START_TEST(test_orient3d_exact) {
 }
 END_TEST
 
+/* A bipyramid over k ring points (radius 1, apexes at +-h) visited in steps of `step` k-ths of a
+ * turn, plus `extra` free points after them; its faces, outward, into tris (2k of them). */
+static void bipyramid(model_mesh_t *pts, uint32_t (*tris)[3], unsigned k, unsigned step, double h,
+                      size_t extra) {
+  points_alloc(pts, 2 + k + extra);
+  const double apex[2][3] = {{0.0, 0.0, h}, {0.0, 0.0, -h}};
+  memcpy(pts->vertices_m[0], apex[0], sizeof apex[0]);
+  memcpy(pts->vertices_m[1], apex[1], sizeof apex[1]);
+  for (unsigned i = 0; i < k; ++i) {
+    const double a = 2.0 * CL_PI * (double)(i * step % k) / k;
+    pts->vertices_m[2 + i][0] = cos(a);
+    pts->vertices_m[2 + i][1] = sin(a);
+    pts->vertices_m[2 + i][2] = 0.0;
+    const uint32_t b = 2 + i, c = 2 + (i + 1) % k;
+    memcpy(tris[2 * i], (uint32_t[3]){0, b, c}, sizeof tris[0]);
+    memcpy(tris[2 * i + 1], (uint32_t[3]){1, c, b}, sizeof tris[0]);
+  }
+}
+
+static void assert_verify(const model_mesh_t *pts, const uint32_t (*tris)[3], size_t nt,
+                          const char *why) {
+  model_error_t err;
+  err.msg[0] = '\0';
+  const model_status_t st = model_hull_verify_faces(pts, tris, nt, &err);
+  if (why == NULL) {
+    ck_assert_msg(st == MODEL_OK, "%s", err.msg);
+  } else {
+    ck_assert_int_eq(st, MODEL_E_HULL);
+    ck_assert_msg(strstr(err.msg, why) != NULL, "'%s' does not say '%s'", err.msg, why);
+  }
+}
+
+/* The checks on model_mesh_hull's result: the hull's own vertices are covered by the convexity of
+ * the surface, so each way a surface can fail to be convex must be caught by one of them. */
+START_TEST(test_hull_verify_catches) {
+  model_mesh_t pts;
+  uint32_t tris[16][3];
+  bipyramid(&pts, tris, 4, 1, 1.0, 0); /* an octahedron */
+  assert_verify(&pts, (const uint32_t(*)[3])tris, 8, NULL);
+  /* the same faces wound inward */
+  uint32_t inward[8][3];
+  for (int t = 0; t < 8; ++t) {
+    memcpy(inward[t], (uint32_t[3]){tris[t][0], tris[t][2], tris[t][1]}, sizeof inward[0]);
+  }
+  assert_verify(&pts, (const uint32_t(*)[3])inward, 8, "non-positive volume");
+  /* an apex pushed through the ring: a dent */
+  pts.vertices_m[0][2] = -0.2;
+  assert_verify(&pts, (const uint32_t(*)[3])tris, 8, "a reflex edge");
+  model_mesh_free(&pts);
+  /* a point that is no vertex, inside and then outside (x + y + z = 1.2 > 1) */
+  bipyramid(&pts, tris, 4, 1, 1.0, 1);
+  for (int c = 0; c < 3; ++c) pts.vertices_m[6][c] = 0.1;
+  assert_verify(&pts, (const uint32_t(*)[3])tris, 8, NULL);
+  for (int c = 0; c < 3; ++c) pts.vertices_m[6][c] = 0.4;
+  assert_verify(&pts, (const uint32_t(*)[3])tris, 8, "a point above a hull face");
+  model_mesh_free(&pts);
+  /* over a pentagram: every edge convex, but the surface goes twice around the axis */
+  bipyramid(&pts, tris, 5, 2, 3.0, 0);
+  assert_verify(&pts, (const uint32_t(*)[3])tris, 10, "do not go once around");
+  model_mesh_free(&pts);
+  /* two separate octahedra: every edge twinned and convex, positive volume, not one sphere */
+  model_mesh_t two;
+  bipyramid(&pts, tris, 4, 1, 1.0, 0);
+  points_alloc(&two, 12);
+  for (int i = 0; i < 12; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      two.vertices_m[i][c] = pts.vertices_m[i % 6][c] + (i >= 6 && c == 0 ? 5.0 : 0.0);
+    }
+  }
+  for (int t = 0; t < 8; ++t) {
+    for (int c = 0; c < 3; ++c) tris[8 + t][c] = tris[t][c] + 6;
+  }
+  assert_verify(&two, (const uint32_t(*)[3])tris, 16, "one sphere");
+  model_mesh_free(&two);
+  model_mesh_free(&pts);
+}
+END_TEST
+
 /* model_faces_find, _hull (the caller's hull) and _in (the hull kept in a work area) give the same
  * faces bit for bit; the work area builds its hull once per mesh. */
 START_TEST(test_faces_find_variants) {
@@ -713,6 +792,7 @@ Suite *model_hull_suite(void) {
   tcase_add_test(tc, test_aabb_and_center);
   tcase_add_test(tc, test_hull_faces_box);
   tcase_add_test(tc, test_orient3d_exact);
+  tcase_add_test(tc, test_hull_verify_catches);
   tcase_add_test(tc, test_faces_find_variants);
   suite_add_tcase(s, tc);
   TCase *scale = tcase_create("hull_scale"); /* 8 000 - 128 000 triangles, 60 002 points */

@@ -36,6 +36,12 @@ void model_error_prefix(model_error_t *err, const char *fmt, ...) MODEL_PRINTF(2
 size_t model_polygon_hull_tol(double (*points)[2], size_t count, double (*hull)[2], double sin_tol);
 
 /* Allocate a mesh's arrays (uninitialised contents). out must not own arrays. */
+/* The checks model_mesh_hull runs on its result, on a surface given as triangles over the
+ * points' vertices (counter-clockwise seen from outside): MODEL_E_HULL, "convex hull: numerical
+ * failure (why)", when it is not the convex hull of the points. For tests; O(nt^2). */
+model_status_t model_hull_verify_faces(const model_mesh_t *points, const uint32_t (*tris)[3],
+                                       size_t nt, model_error_t *err);
+
 model_status_t model_mesh_alloc(model_mesh_t *out, size_t vertex_count, size_t triangle_count);
 
 /* ---- file_guard.c: before a third-party parser sees a file ---------------------------------- */
