@@ -11,7 +11,9 @@
  * objects: how many the estimator refused (no component found, or an error), the components it
  * claimed (found) of those asked, coverage (claimed components whose |error| <= the reported half
  * width), the worst |error| in units of the reported half width, the mean half width and trials;
- * then the same per family for the first policy. Optionally everything as JSON.
+ * then the same per family for the first policy, and, for the first policy noiseless, the
+ * components found on the objects that have two resting poses 30-150 deg apart in the world
+ * (world_poses_find, from the truth). Optionally everything as JSON.
  *
  * Goals (issue 11): noiseless coverage 100 %, noisy coverage >= 95 % at the stated 95 % level.
  *
@@ -30,9 +32,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "comlearn/balance_poses.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_time.h"
+#include "comlearn/math3d.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "estimate_backend.h"
@@ -63,7 +67,9 @@ typedef struct {
   int found[3];
   double err_m[3], hw_m[3];
   unsigned trials;
-  double cpu_s; /* CPU time of estimate_run (estimator and in-process simulation) */
+  double cpu_s;     /* CPU time of estimate_run (estimator and in-process simulation) */
+  int world_poses;  /* first policy, noiseless run: resting directions confirmed with the truth */
+  int determinable; /* ... two of them 30-150 deg apart (world_poses_find); -1 not asked */
 } rec_t;
 
 typedef struct {
@@ -154,6 +160,59 @@ static int make_objects(const opts_t *o, const char *dir, obj_t *objs) {
 
 /* ---- estimates ------------------------------------------------------------------------------- */
 
+/* The world's resting poses of an object, from the truth (the bench may read it; the estimator
+ * never does): every hull face its true CoM can rest on (model_faces_stable, largest margin
+ * first), set down over B's middle in lib/balance with the true mass properties, skipping faces
+ * within 10 deg of one confirmed before and trying at most 48. *poses: the directions confirmed;
+ * *determinable: two of them 30-150 deg apart, what the estimator needs for all three components
+ * (two non-parallel resting poses). Errors leave both at -1. */
+static void world_poses_find(const obj_t *ob, int *poses, int *determinable) {
+  enum { FACES = 512, TRIES = 48, KEPT = 48 };
+  *poses = *determinable = -1;
+  model_object_t mo = {0};
+  model_error_t err = {{0}};
+  model_mass_t truth;
+  balance_config_t bc;
+  balance_config_default(&bc);
+  balance_world_t *w = NULL;
+  balance_object_t *obj = NULL;
+  model_face_t *faces = malloc(FACES * sizeof *faces);
+  size_t count = 0;
+  if (faces == NULL || model_object_load(ob->urdf, NULL, &mo, &err) != MODEL_OK ||
+      model_inertial_load(ob->urdf, NULL, &truth, &err) != MODEL_OK ||
+      balance_world_create(&bc, &w) != BALANCE_OK ||
+      balance_object_create(w, &mo.mesh, &truth, &obj) != BALANCE_OK ||
+      model_faces_stable(&mo.mesh, truth.com_m, NULL, faces, FACES, &count) != MODEL_OK) {
+    goto done;
+  }
+  double kept[KEPT][3];
+  int nk = 0, tries = 0;
+  for (size_t i = 0; i < count && i < FACES && tries < TRIES && nk < KEPT; ++i) {
+    const double *n = faces[i].normal_link;
+    int near = 0;
+    for (int j = 0; j < nk && !near; ++j)
+      near = n[0] * kept[j][0] + n[1] * kept[j][1] + n[2] * kept[j][2] > cos(10.0 * CL_PI / 180.0);
+    if (near) continue;
+    int ok = 0;
+    ++tries;
+    if (balance_stable_confirm(w, obj, faces[i].orientation_wxyz, truth.com_m, NULL, NULL, &ok) !=
+        BALANCE_OK)
+      goto done;
+    if (ok) memcpy(kept[nk++], n, sizeof kept[0]);
+  }
+  *poses = nk;
+  *determinable = 0;
+  for (int i = 0; i < nk; ++i)
+    for (int j = i + 1; j < nk; ++j) {
+      const double c = kept[i][0] * kept[j][0] + kept[i][1] * kept[j][1] + kept[i][2] * kept[j][2];
+      if (fabs(c) <= cos(30.0 * CL_PI / 180.0)) *determinable = 1;
+    }
+done:
+  balance_world_destroy(w); /* and obj */
+  model_object_free(&mo);
+  free(faces);
+}
+
 /* The comlearn-sim / estimate --seed of noisy run s (1..K) of object i: distinct for every run. */
 static uint64_t noise_seed(int object, int s) {
   return 1000u * (uint64_t)(object + 1) + (uint64_t)s;
@@ -212,6 +271,8 @@ static int worker(const opts_t *o, const obj_t *objs, int nobj, int w, const cha
         rec_t r;
         run_one(o, &objs[i], i, p, s, res, &r);
         r.object = i;
+        r.world_poses = r.determinable = -1;
+        if (p == 0 && s == 0) world_poses_find(&objs[i], &r.world_poses, &r.determinable);
         if (fwrite(&r, sizeof r, 1, f) != 1) return 1;
       }
     }
@@ -334,6 +395,38 @@ static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *re
           add(&s, &recs[i]);
       if (s.runs) row(stdout, family_name(fam), noisy ? "noisy" : "noiseless", &s);
     }
+  /* The target of issue 13: every component on every object with two non-parallel resting poses
+   * (the world's, from the truth: world_poses_find). */
+  int det[FAMILIES] = {0}, all[FAMILIES] = {0}, got[FAMILIES] = {0}, ndet = 0, ngot = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const rec_t *r = &recs[i];
+    if (r->policy != 0 || r->seed != 0 || r->determinable < 0) continue;
+    const int fam = objs[r->object].family;
+    ++all[fam];
+    if (r->determinable) {
+      ++det[fam];
+      ++ndet;
+      for (int k = 0; k < 3; ++k) got[fam] += r->found[k], ngot += r->found[k];
+    }
+  }
+  printf(
+      "\nObjects with two resting poses 30-150 deg apart in the world (from the truth, "
+      "lib/balance), "
+      "and the components %s found on them noiseless: %d of %d objects, %d of %d components.\n\n"
+      "| family | objects | with two such poses | their components found |\n|---|---:|---:|---:|\n",
+      estimate_policy_name(o->pol[0]), ndet, nobj, ngot, 3 * ndet);
+  for (int fam = 0; fam < FAMILIES; ++fam)
+    if (all[fam])
+      printf("| %s | %d | %d | %d of %d |\n", family_name(fam), all[fam], det[fam], got[fam],
+             3 * det[fam]);
+  for (size_t i = 0; i < n; ++i) {
+    const rec_t *r = &recs[i];
+    if (r->policy == 0 && r->seed == 0 && r->determinable > 0 &&
+        !(r->found[0] && r->found[1] && r->found[2]))
+      printf("- missed on %s (%d resting directions): %s%s%s\n", objs[r->object].name,
+             r->world_poses, r->found[0] ? "" : "x ", r->found[1] ? "" : "y ",
+             r->found[2] ? "" : "z");
+  }
   int shown = 0;
   for (size_t i = 0; i < n; ++i)
     for (int k = 0; k < 3; ++k)
