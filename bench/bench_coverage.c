@@ -467,7 +467,11 @@ static void write_json(const opts_t *o, const obj_t *objs, const rec_t *recs, si
     json_triple(f, r->found, r->err_m);
     fprintf(f, "], \"halfwidth_m\": [");
     json_triple(f, r->found, r->hw_m);
-    fprintf(f, "]}");
+    fprintf(f, "]");
+    if (r->world_poses >= 0) /* first policy, noiseless */
+      fprintf(f, ", \"world_poses\": %d, \"determinable\": %s", r->world_poses,
+              r->determinable ? "true" : "false");
+    fprintf(f, "}");
   }
   fprintf(f, "\n]}\n");
   fclose(f);
