@@ -146,7 +146,8 @@ END_TEST
 
 /* Hostile input first (docs/security.md): SIM_CONTROL LOADs of a URDF whose mesh crashes assimp,
  * of one nested 100 deep, of /dev/zero and of a pipe, and YUMI_COMMANDs with seq INT64_MAX,
- * expire_utime INT64_MAX and velocity_scale 1e-300, each refused. Then the sim still answers a
+ * expire_utime INT64_MAX and velocity_scale 1e-300, each refused, and three 1.5 MiB buffers on
+ * YUMI_COMMAND (counted as undecodable or dropped, check_sim). Then the sim still answers a
  * whole estimate of the two-material box, equal to --direct trial by trial (run_both). */
 /* The latest OBJECT_STATE's sim_control_seq, and how many states came. */
 typedef struct {
@@ -226,6 +227,14 @@ static void hostile_input(const char *url) {
   }
   for (int k = 0; k < 200 && acks.acked < 4; ++k) lcm_handle_timeout(lcm, 50);
   ck_assert_int_eq(acks.acked, 4); /* every LOAD was answered (refused): the sim is alive */
+  /* three 1.5 MiB buffers in one burst: undecodable, or lost to the full receive buffer */
+  const size_t big = 1536u * 1024u;
+  unsigned char *buf = malloc(big);
+  ck_assert_ptr_nonnull(buf);
+  for (size_t i = 0; i < big; i++) buf[i] = (unsigned char)((i * 2654435761u) >> 13);
+  for (int i = 0; i < 3; ++i)
+    ck_assert_int_eq(lcm_publish(lcm, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, buf, (unsigned)big), 0);
+  free(buf);
   lcm_unsubscribe(lcm, sub);
   lcm_destroy(lcm);
 }
