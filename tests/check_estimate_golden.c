@@ -7,7 +7,10 @@
  * the estimator moved into lib/estimate; the test reruns every line and demands the same bits, so a
  * refactor that changes one trial or one rounding anywhere in the estimator fails here. The noisy
  * lines were written again on 2026-12-02, on purpose: independent per-trial noise seeds
- * (balance_noise_seed) and the refinement to noise_target_halfwidth_m; no noiseless line moved. */
+ * (balance_noise_seed) and the refinement to noise_target_halfwidth_m; no noiseless line moved.
+ * Two noiseless lines were written again later that day, on purpose: PBA at 1 mm on rock_1 (even
+ * and uneven), where face 2 now also tries the faces along face 1's normal (line_once); the same
+ * components found, inside their bounds. */
 #include <check.h>
 #include <inttypes.h>
 #include <stdio.h>

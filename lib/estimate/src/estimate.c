@@ -192,6 +192,7 @@ struct estimate {
                                     rest closed patches (model_faces_stable's, settled poses') */
   int closed1, closed2;          /* face 1's / face 2's closed patches were listed */
   int rough1, rough2;            /* face 1's / face 2's rough faces were listed */
+  int line2;                     /* face 2's faces along face 1's normal were listed (line_once) */
   unsigned char rough[FACE_CAP]; /* faces[i] is searched as a rough face: by its stays bounds */
   int mirror_next;               /* the search about to start mirrors this one (-1: none) */
   unsigned char search_rough[ESTIMATE_MAX_SEARCHES]; /* bounded by its STAYS trials (a rough
@@ -1330,6 +1331,73 @@ static estimate_status_t fallback_once(est_t *est, int *closed, int *rough, size
   return s;
 }
 
+/* Face 2's last list, when nothing under the estimate was confirmed: face 1's searches bound the
+ * CoM across face 1's normal n1, but along n1 the estimate is still the prior's, which on an
+ * uneven object can be millimetres off, so the faces the object really rests on may not hold the
+ * estimate's projection. The faces that hold the projection of some of LINE_SAMPLES points of
+ * the line g + t n1 across the object and were not checked are listed, those that hold it over
+ * more of the line first (the CoM is as likely anywhere along it), at most LINE_FACES: closed
+ * patches as such, the others as rough faces when those are usable. Once (est->line2); *np
+ * plans. */
+static estimate_status_t line_once(est_t *est, size_t *np) {
+  enum { LINE_SAMPLES = 33, LINE_FACES = 2 };
+  static const double LINE_SPREAD = 0.25; /* of the extent: how far the prior may be off */
+  *np = 0;
+  if (est->phase != PHASE_FACE2 || est->line2 || !est->cfg.closed_patches) return ESTIMATE_OK;
+  est->line2 = 1;
+  const double *n1 = est->faces[est->face1].normal_link;
+  double lo = 0.0, hi = 0.0;
+  search_range(est, n1, &lo, &hi);
+  const double g = cl_vec3_dot(est->guess_m, n1);
+  est->closed_from = est->nfaces;
+  double held[FACE_CAP] = {0}; /* held[j]: weight of the samples faces[closed_from + j] holds at */
+  size_t u = 0;                /* faces[closed_from, closed_from + u): the distinct ones so far */
+  for (int k = 0; k < LINE_SAMPLES; ++k) {
+    const size_t room = FACE_CAP - est->closed_from - u;
+    const double t = lo + (hi - lo) * k / (LINE_SAMPLES - 1) - g; /* from the estimate */
+    const double sd = LINE_SPREAD * (hi - lo), w = exp(-0.5 * t * t / (sd * sd));
+    double point[3];
+    for (int c = 0; c < 3; ++c) point[c] = est->guess_m[c] + t * n1[c];
+    model_face_t *listed = est->faces + est->closed_from + u;
+    size_t n = 0;
+    const model_status_t ms =
+        room == 0 ? MODEL_OK
+                  : model_faces_stable_in(est->mesh, point, NULL, est->work, listed, room, &n);
+    if (ms != MODEL_OK) {
+      snprintf(est->result.msg, sizeof est->result.msg, "stable faces: %s", model_status_str(ms));
+      return ms == MODEL_E_NOMEM ? ESTIMATE_E_NOMEM : ESTIMATE_E_GEOMETRY;
+    }
+    if (n > room) n = room;
+    for (size_t i = 0; i < n; ++i) {
+      const model_face_t f = listed[i];
+      if (face_recorded(est, f.normal_link) || !face_allowed(est, &f) ||
+          (!f.closed && !rough_usable(est)))
+        continue;
+      size_t j = 0;
+      while (j < u && !same_normal(est->faces[est->closed_from + j].normal_link, f.normal_link))
+        ++j;
+      if (j == u) est->faces[est->closed_from + u++] = f; /* listed[i] or before: no overlap */
+      held[j] += w;
+    }
+  }
+  for (size_t a = 1; a < u; ++a) { /* insertion sort, most held first, stable */
+    const model_face_t f = est->faces[est->closed_from + a];
+    const double h = held[a];
+    size_t b = a;
+    for (; b > 0 && held[b - 1] < h; --b) {
+      est->faces[est->closed_from + b] = est->faces[est->closed_from + b - 1];
+      held[b] = held[b - 1];
+    }
+    est->faces[est->closed_from + b] = f;
+    held[b] = h;
+  }
+  if (u > LINE_FACES) u = LINE_FACES;
+  for (size_t j = 0; j < u; ++j)
+    est->rough[est->closed_from + j] = !est->faces[est->closed_from + j].closed;
+  est->nfaces = est->closed_from + u;
+  return closed_plans(est, np);
+}
+
 /* What the face choice tried, for its messages. */
 static const char *faces_tried(const est_t *est) {
   return est->rough1 || est->rough2 ? "flat face, closed patch or rough face"
@@ -1415,6 +1483,7 @@ static estimate_status_t face_two(est_t *est) {
 static estimate_status_t face_two_closed(est_t *est) {
   size_t np = 0;
   estimate_status_t s = fallback_once(est, &est->closed2, &est->rough2, &np);
+  if (s == ESTIMATE_OK && np == 0) s = line_once(est, &np);
   if (s != ESTIMATE_OK) return s;
   int used = 0;
   if (np == 0 && ((s = spare_rough(est, &used)) != ESTIMATE_OK || used)) return s;
