@@ -569,12 +569,13 @@ END_TEST
  * the prior along face 1's normal, and a torus standing on its outer edge. Every face under the
  * estimate after face 1 tipped or rolled (the rock; 16 checks and nothing found before), or none
  * held it (the torus: no z before); a face that holds a point of the line g + t n1 farther along
- * is confirmed, and every component comes out inside its bound, within 0.1 mm of the truth. */
+ * is confirmed. And after the checks (wide_more): a lumpy rock whose face 2, a rough face, left z
+ * at +-12.5 mm. Every component comes out inside its bound, within 0.1 mm of the truth. */
 START_TEST(line_faces_found) {
   static const struct {
     shapegen_family_t family;
     uint64_t seed;
-  } objs[] = {{SHAPEGEN_LUMPY, 1066}, {SHAPEGEN_RING, 1104}};
+  } objs[] = {{SHAPEGEN_LUMPY, 1066}, {SHAPEGEN_RING, 1104}, {SHAPEGEN_LUMPY, 1108}};
   estimate_result_t *r = malloc(sizeof *r);
   ck_assert_ptr_nonnull(r);
   for (size_t i = 0; i < sizeof objs / sizeof objs[0]; ++i) {

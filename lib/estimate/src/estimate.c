@@ -188,11 +188,12 @@ struct estimate {
   int face_src[ESTIMATE_MAX_FACES];    /* out->face[i] is faces[face_src[i]] */
   model_face_t faces[FACE_CAP];
   size_t nfaces;
-  size_t nflat_list;             /* faces[0, nflat_list) are model_faces_find's flat candidates; the
-                                    rest closed patches (model_faces_stable's, settled poses') */
-  int closed1, closed2;          /* face 1's / face 2's closed patches were listed */
-  int rough1, rough2;            /* face 1's / face 2's rough faces were listed */
-  int line2;                     /* face 2's faces along face 1's normal were listed (line_once) */
+  size_t nflat_list;    /* faces[0, nflat_list) are model_faces_find's flat candidates; the
+                           rest closed patches (model_faces_stable's, settled poses') */
+  int closed1, closed2; /* face 1's / face 2's closed patches were listed */
+  int rough1, rough2;   /* face 1's / face 2's rough faces were listed */
+  int line2;            /* face 2's faces along face 1's normal were listed (line_once) */
+  int line_late;        /* ... only after the checks, for a component too wide (wide_more) */
   unsigned char rough[FACE_CAP]; /* faces[i] is searched as a rough face: by its stays bounds */
   int mirror_next;               /* the search about to start mirrors this one (-1: none) */
   unsigned char search_rough[ESTIMATE_MAX_SEARCHES]; /* bounded by its STAYS trials (a rough
@@ -1488,9 +1489,10 @@ static estimate_status_t face_two_closed(est_t *est) {
   int used = 0;
   if (np == 0 && ((s = spare_rough(est, &used)) != ESTIMATE_OK || used)) return s;
   if (np == 0) {
-    snprintf(est->face2_note, sizeof est->face2_note,
-             "no second resting %s at >= %.0f deg to the first was confirmed stable",
-             faces_tried(est), est->cfg.min_face_angle_rad * 180.0 / CL_PI);
+    if (!est->line_late) /* a face 2 was searched before */
+      snprintf(est->face2_note, sizeof est->face2_note,
+               "no second resting %s at >= %.0f deg to the first was confirmed stable",
+               faces_tried(est), est->cfg.min_face_angle_rad * 180.0 / CL_PI);
     return verify_begin(est);
   }
   return confirm_plans(est, np);
@@ -1830,6 +1832,24 @@ static estimate_status_t refine_next(est_t *est, int *started) {
  * left the flat-patch regime, while the retest budget lasts. Bounded: every pass stops, resumes a
  * search within its budget, unfeeds a search or spends a retest. Resumed (from est->pass) when a
  * retest's or a refinement's search is over. */
+/* Every check passed, but a component is still not found (too wide: a rough face 2 whose two
+ * sides' tip-over distances lie far apart, or not determined): the faces along face 1's normal
+ * (line_once) that were not listed yet are tried as face 2 candidates once, and a face confirmed
+ * among them adds its searches to the solve. *started = 1 when that began. */
+static estimate_status_t wide_more(est_t *est, int *started) {
+  *started = 0;
+  int wide = 0;
+  for (int k = 0; k < 3; ++k) wide |= !(est->halfwidth_m[k] <= est->cfg.max_halfwidth_m);
+  if (!wide || est->line2 || est->face1 < 0) return ESTIMATE_OK;
+  est->phase = PHASE_FACE2;
+  size_t np = 0;
+  estimate_status_t s = line_once(est, &np);
+  if (s != ESTIMATE_OK || np == 0) return s;
+  *started = 1;
+  est->line_late = 1;
+  return confirm_plans(est, np);
+}
+
 static estimate_status_t verify_loop(est_t *est) {
   estimate_result_t *out = &est->result;
   qlearn_solve_result_t *res = &est->res;
@@ -1841,7 +1861,10 @@ static estimate_status_t verify_loop(est_t *est) {
     if (s != ESTIMATE_OK || started) return s;
     int unverified = 0;
     const int w = worst_search(est, res, &unverified);
-    if (w < 0) return finish(est);
+    if (w < 0) {
+      s = wide_more(est, &started);
+      return s != ESTIMATE_OK || started ? s : finish(est);
+    }
     estimate_search_t *sw = &out->search[w];
     const double closed_gain = (1.0 - ESTIMATE_CLOSED_TARGET_SCALE) * sqrt(2.0) *
                                est->cfg.noise_target_halfwidth_m; /* what the narrower box adds */
