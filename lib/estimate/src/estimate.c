@@ -1336,10 +1336,10 @@ static estimate_status_t fallback_once(est_t *est, int *closed, int *rough, size
  * CoM across face 1's normal n1, but along n1 the estimate is still the prior's, which on an
  * uneven object can be millimetres off, so the faces the object really rests on may not hold the
  * estimate's projection. The faces that hold the projection of some of LINE_SAMPLES points of
- * the line g + t n1 across the object and were not checked are listed, those that hold it over
- * more of the line first (the CoM is as likely anywhere along it), at most LINE_FACES: closed
- * patches as such, the others as rough faces when those are usable. Once (est->line2); *np
- * plans. */
+ * the line g + t n1 across the object and were not checked are listed, most weight first (each
+ * point weighs exp(-t^2 / (2 s^2)), s = LINE_SPREAD of the extent: the prior is likelier near
+ * than far off), at most LINE_FACES: closed patches as such, the others as rough faces when those
+ * are usable. Once (est->line2); *np plans. */
 static estimate_status_t line_once(est_t *est, size_t *np) {
   enum { LINE_SAMPLES = 33, LINE_FACES = 2 };
   static const double LINE_SPREAD = 0.25; /* of the extent: how far the prior may be off */
@@ -1349,14 +1349,14 @@ static estimate_status_t line_once(est_t *est, size_t *np) {
   const double *n1 = est->faces[est->face1].normal_link;
   double lo = 0.0, hi = 0.0;
   search_range(est, n1, &lo, &hi);
-  const double g = cl_vec3_dot(est->guess_m, n1);
+  const double g = cl_vec3_dot(est->guess_m, n1), sd = LINE_SPREAD * (hi - lo);
   est->closed_from = est->nfaces;
   double held[FACE_CAP] = {0}; /* held[j]: weight of the samples faces[closed_from + j] holds at */
   size_t u = 0;                /* faces[closed_from, closed_from + u): the distinct ones so far */
   for (int k = 0; k < LINE_SAMPLES; ++k) {
     const size_t room = FACE_CAP - est->closed_from - u;
     const double t = lo + (hi - lo) * k / (LINE_SAMPLES - 1) - g; /* from the estimate */
-    const double sd = LINE_SPREAD * (hi - lo), w = exp(-0.5 * t * t / (sd * sd));
+    const double w = exp(-0.5 * t * t / (sd * sd));
     double point[3];
     for (int c = 0; c < 3; ++c) point[c] = est->guess_m[c] + t * n1[c];
     model_face_t *listed = est->faces + est->closed_from + u;
@@ -1825,13 +1825,6 @@ static estimate_status_t refine_next(est_t *est, int *started) {
   return refine_start(est, best, fmax(1.8 * (z * best_sigma - half_bin), 4.0 * half_bin));
 }
 
-/* Solve; with a noise model, first resume a search while a component is wider than the target
- * (refine_next: the checks below use the interval box). Then check every fed search's physics at
- * the estimate, and drop the one that fails worst (one bad plane moves the estimate, so the
- * others are judged again without it); search again in its place, or where a search's own trials
- * left the flat-patch regime, while the retest budget lasts. Bounded: every pass stops, resumes a
- * search within its budget, unfeeds a search or spends a retest. Resumed (from est->pass) when a
- * retest's or a refinement's search is over. */
 /* Every check passed, but a component is still not found (too wide: a rough face 2 whose two
  * sides' tip-over distances lie far apart, or not determined): the faces along face 1's normal
  * (line_once) that were not listed yet are tried as face 2 candidates once, and a face confirmed
@@ -1850,6 +1843,13 @@ static estimate_status_t wide_more(est_t *est, int *started) {
   return confirm_plans(est, np);
 }
 
+/* Solve; with a noise model, first resume a search while a component is wider than the target
+ * (refine_next: the checks below use the interval box). Then check every fed search's physics at
+ * the estimate, and drop the one that fails worst (one bad plane moves the estimate, so the
+ * others are judged again without it); search again in its place, or where a search's own trials
+ * left the flat-patch regime, while the retest budget lasts. Bounded: every pass stops, resumes a
+ * search within its budget, unfeeds a search or spends a retest. Resumed (from est->pass) when a
+ * retest's or a refinement's search is over. */
 static estimate_status_t verify_loop(est_t *est) {
   estimate_result_t *out = &est->result;
   qlearn_solve_result_t *res = &est->res;
