@@ -510,6 +510,41 @@ START_TEST(test_urdf_hostile_files) {
   ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), MODEL_E_PARSE);
   ck_assert_msg(strstr(err.msg, "links or joints") != NULL, "%s", err.msg);
 
+  /* joints that close a loop, or a link with two parents: refused before urdfdom, which would
+   * leak the loop of shared pointers (the fuzzer's find) */
+  const char *const bad_trees[][2] = {
+      {"<joint name=\"j1\" type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint>"
+       "<joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child link=\"a\"/></joint>",
+       "loop through link"},
+      {"<link name=\"r\"/><joint name=\"j0\" type=\"fixed\"><parent link=\"r\"/><child "
+       "link=\"a\"/></joint><joint name=\"j1\" type=\"fixed\"><parent link=\"a\"/><child "
+       "link=\"b\"/></joint><joint name=\"j2\" type=\"fixed\"><parent link=\"b\"/><child "
+       "link=\"a\"/></joint>",
+       "child of two joints"},
+      {"<joint name=\"j1\" type=\"fixed\"><parent link=\"b\"/><child link=\"b\"/></joint>",
+       "loop through link 'b'"},
+  };
+  for (size_t i = 0; i < sizeof bad_trees / sizeof bad_trees[0]; ++i) {
+    snprintf(text, cap,
+             "<robot name=\"r\"><link name=\"a\"><collision><geometry><box size=\"1 1 1\"/>"
+             "</geometry></collision></link><link name=\"b\"/>%s</robot>",
+             bad_trees[i][0]);
+    mt_write_text(urdf, text);
+    ck_assert_int_eq(model_object_load(urdf, "a", &obj, &err), MODEL_E_PARSE);
+    ck_assert_msg(strstr(err.msg, bad_trees[i][1]) && strstr(err.msg, urdf), "%zu: %s", i,
+                  err.msg);
+    ck_assert_int_eq(model_inertial_load(urdf, "a", &mass, &err), MODEL_E_PARSE);
+    ck_assert_msg(strstr(err.msg, bad_trees[i][1]) != NULL, "%zu: %s", i, err.msg);
+  }
+  /* the same links as a tree: loads */
+  snprintf(text, cap,
+           "<robot name=\"r\"><link name=\"a\"><collision><geometry><box size=\"1 1 1\"/>"
+           "</geometry></collision></link><link name=\"b\"/><joint name=\"j1\" "
+           "type=\"fixed\"><parent link=\"a\"/><child link=\"b\"/></joint></robot>");
+  mt_write_text(urdf, text);
+  ck_assert_msg(model_object_load(urdf, "a", &obj, &err) == MODEL_OK, "%s", err.msg);
+  model_object_free(&obj);
+
   /* within the limits, with '>' in a value and a comment: loads */
   write_urdf(urdf, "rock",
              "<!-- a <comment> --><collision name=\"a>b\"><geometry><box size=\"1 1 1\"/>"

@@ -22,11 +22,13 @@
 #include <cstring>
 
 #include <unistd.h>
+#include <map>
 #include <mutex>
 #include <new>
 #include <string>
 
 #include <console_bridge/console.h>
+#include <tinyxml.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include "model_internal.h"
@@ -103,6 +105,52 @@ model_status_t read_text(const char *path, std::string &text, model_error_t *err
   return model_xml_check(text.data(), text.size(), path, err);
 }
 
+// urdfdom links each joint's child to its parent with shared pointers both ways down the tree
+// (Link::child_links, Link::parent_joint), so joints that close a loop (a -> b -> a) make a
+// cycle of shared pointers that is never freed, whether urdfdom then refuses the file ("no root
+// link") or not. The file is read here first with the same XML parser urdfdom uses (behind the
+// shape check, so tinyxml's recursion is bounded), and joints must form a forest: each link the
+// child of at most one joint, no loop. Anything else urdfdom checks itself.
+model_status_t joint_tree_check(const std::string &text, const char *path, model_error_t *err) {
+  TiXmlDocument doc;
+  doc.Parse(text.c_str());
+  const TiXmlElement *robot = doc.Error() ? nullptr : doc.FirstChildElement("robot");
+  if (robot == nullptr) {
+    return MODEL_OK; // urdfdom refuses it with its own message
+  }
+  std::map<std::string, std::string> parent_of;
+  for (const TiXmlElement *j = robot->FirstChildElement("joint"); j != nullptr;
+       j = j->NextSiblingElement("joint")) {
+    const TiXmlElement *parent = j->FirstChildElement("parent");
+    const TiXmlElement *child = j->FirstChildElement("child");
+    const char *p = parent != nullptr ? parent->Attribute("link") : nullptr;
+    const char *c = child != nullptr ? child->Attribute("link") : nullptr;
+    if (p == nullptr || c == nullptr) {
+      continue; // urdfdom refuses a joint without both
+    }
+    if (!parent_of.emplace(c, p).second) {
+      return model_fail(err, MODEL_E_PARSE, "URDF %s: link '%s' is the child of two joints: refused",
+                        path, c);
+    }
+  }
+  // Walk up from each link; a walk longer than the number of joints has gone round a loop.
+  for (const auto &start : parent_of) {
+    const std::string *at = &start.first;
+    for (size_t steps = 0; steps <= parent_of.size(); ++steps) {
+      const auto up = parent_of.find(*at);
+      if (up == parent_of.end()) {
+        break;
+      }
+      if (steps == parent_of.size()) {
+        return model_fail(err, MODEL_E_PARSE, "URDF %s: the joints make a loop through link '%s': refused",
+                          path, start.first.c_str());
+      }
+      at = &up->second;
+    }
+  }
+  return MODEL_OK;
+}
+
 } // namespace
 
 namespace model_urdf {
@@ -113,6 +161,10 @@ model_status_t parse(const char *path, urdf::ModelInterfaceSharedPtr &model, mod
   }
   std::string text;
   model_status_t st = read_text(path, text, err);
+  if (st != MODEL_OK) {
+    return st;
+  }
+  st = joint_tree_check(text, path, err);
   if (st != MODEL_OK) {
     return st;
   }
