@@ -531,8 +531,7 @@ START_TEST(test_urdf_hostile_files) {
              bad_trees[i][0]);
     mt_write_text(urdf, text);
     ck_assert_int_eq(model_object_load(urdf, "a", &obj, &err), MODEL_E_PARSE);
-    ck_assert_msg(strstr(err.msg, bad_trees[i][1]) && strstr(err.msg, urdf), "%zu: %s", i,
-                  err.msg);
+    ck_assert_msg(strstr(err.msg, bad_trees[i][1]) && strstr(err.msg, urdf), "%zu: %s", i, err.msg);
     ck_assert_int_eq(model_inertial_load(urdf, "a", &mass, &err), MODEL_E_PARSE);
     ck_assert_msg(strstr(err.msg, bad_trees[i][1]) != NULL, "%zu: %s", i, err.msg);
   }

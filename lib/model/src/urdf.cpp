@@ -129,8 +129,8 @@ model_status_t joint_tree_check(const std::string &text, const char *path, model
       continue; // urdfdom refuses a joint without both
     }
     if (!parent_of.emplace(c, p).second) {
-      return model_fail(err, MODEL_E_PARSE, "URDF %s: link '%s' is the child of two joints: refused",
-                        path, c);
+      return model_fail(err, MODEL_E_PARSE,
+                        "URDF %s: link '%s' is the child of two joints: refused", path, c);
     }
   }
   // Walk up from each link; a walk longer than the number of joints has gone round a loop.
@@ -142,8 +142,9 @@ model_status_t joint_tree_check(const std::string &text, const char *path, model
         break;
       }
       if (steps == parent_of.size()) {
-        return model_fail(err, MODEL_E_PARSE, "URDF %s: the joints make a loop through link '%s': refused",
-                          path, start.first.c_str());
+        return model_fail(err, MODEL_E_PARSE,
+                          "URDF %s: the joints make a loop through link '%s': refused", path,
+                          start.first.c_str());
       }
       at = &up->second;
     }
