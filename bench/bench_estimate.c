@@ -1,8 +1,9 @@
 /* bench_estimate: wall time of a whole `comlearn estimate` per bundled rock, with the direct
  * backend (lib/balance in-process) and with the LCM backend against a spawned comlearn-sim
  * (YuMi placements planned with lib/placement, commands and states over a udpm URL of its own),
- * and the LCM messages per trial (YUMI_COMMAND and SIM_CONTROL sent, YUMI_STATUS and
- * OBJECT_STATE received; estimate_lcm_stats).
+ * the LCM messages per trial (YUMI_COMMAND and SIM_CONTROL sent, YUMI_STATUS and OBJECT_STATE
+ * received; estimate_lcm_stats), and the datagrams the kernel dropped per estimate on the
+ * client's and the sim's sockets (cli_net.h; receive buffer full).
  *
  * Per rock and repetition: the direct estimate (open + run), then comlearn-sim spawned, the LCM
  * backend opened (waits for the first status), the estimate run, the daemon stopped. "lcm s" is
@@ -12,7 +13,7 @@
  *
  * Target (docs/design.md): a full 3-component estimate over LCM with YuMi placement <= 1 s wall.
  *
- * Usage: bench_estimate [--reps N] [--rock NAME] [--help]
+ * Usage: bench_estimate [--reps N] [--rock NAME] [--recv-buf BYTES] [--help]
  * Needs a multicast route for udpm (`ip route add 224.0.0.0/4 dev lo`, scripts/setup.sh). */
 #define _GNU_SOURCE
 
@@ -26,6 +27,7 @@
 #include <unistd.h>
 
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_net.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "estimate_backend.h"
@@ -48,11 +50,20 @@ static double median(double *v, size_t n) {
 }
 
 static unsigned url_counter;
+static long recv_buf; /* --recv-buf: > 0 names it in the URL; 0 leaves comlearn's default */
 
 static void unique_url(char *url, size_t n) {
   const unsigned port = 8700u + ((unsigned)getpid() * 7u + url_counter++) % 1000u;
-  snprintf(url, n, "udpm://239.255.76.67:%u?ttl=0", port);
+  if (recv_buf > 0)
+    snprintf(url, n, "udpm://239.255.76.67:%u?ttl=0&recv_buf_size=%ld", port, recv_buf);
+  else
+    snprintf(url, n, "udpm://239.255.76.67:%u?ttl=0", port);
 }
+
+/* Datagrams the kernel dropped on the sockets of one estimate: the client's, the sim's. */
+typedef struct {
+  uint64_t client, sim;
+} drops_t;
 
 /* One direct estimate; returns the wall time of open + run, or -1. */
 static double run_direct(const char *urdf, const model_mesh_t *mesh, estimate_result_t *r) {
@@ -76,10 +87,11 @@ static double run_direct(const char *urdf, const model_mesh_t *mesh, estimate_re
   return dt;
 }
 
-/* One LCM estimate against a fresh comlearn-sim; fills *open_s and *st; returns the wall time
- * of estimate_run, or -1. */
+/* One LCM estimate against a fresh comlearn-sim; fills *open_s, *st and *drops (the kernel's
+ * counters of both processes' sockets: this one has no other UDP socket open); returns the wall
+ * time of estimate_run, or -1. */
 static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_result_t *r,
-                      double *open_s, estimate_lcm_stats_t *st) {
+                      double *open_s, estimate_lcm_stats_t *st, drops_t *drops) {
   char url[128], msg[512] = "";
   unique_url(url, sizeof url);
   const double t0 = cli_time_now_s();
@@ -110,6 +122,8 @@ static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_resul
   const estimate_status_t s = estimate_run(mesh, &b, &cfg, r);
   const double dt = cli_time_now_s() - t1;
   estimate_lcm_stats(l, st);
+  if (cli_udp_drops(&drops->client) != 0 || cli_udp_drops_of(pid, &drops->sim) != 0)
+    LOG_W("the kernel's UDP drop counters cannot be read (/proc)");
   estimate_lcm_close(l);
   const int ws = estimate_lcm_sim_stop(pid, 2.0);
   if (s != ESTIMATE_OK) {
@@ -121,14 +135,19 @@ static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_resul
 }
 
 static void usage(FILE *f) {
-  fprintf(f, "usage: bench_estimate [--reps N (1-%d, default 3)] [--rock NAME] [--help]\n",
-          MAX_REPS);
+  fprintf(f,
+          "usage: bench_estimate [--reps N (1-%d, default 3)] [--rock NAME] [--recv-buf BYTES]\n"
+          "                      [--help]\n"
+          "  --recv-buf BYTES  recv_buf_size on the LCM URL of both processes, 4096..67108864\n"
+          "                    (default: none named, so each takes comlearn's %d)\n",
+          MAX_REPS, CLI_LCM_RECV_BUF_BYTES);
 }
 
 /* Options: --reps into *reps, --rock into *only. Returns -1 to go on, else the exit status. */
 static int parse_args(int argc, char **argv, int *reps, const char **only) {
   static const struct option opts[] = {{"reps", required_argument, NULL, 'r'},
                                        {"rock", required_argument, NULL, 'k'},
+                                       {"recv-buf", required_argument, NULL, 'b'},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
   int c;
@@ -142,6 +161,15 @@ static int parse_args(int argc, char **argv, int *reps, const char **only) {
         }
         break;
       case 'k': *only = optarg; break;
+      case 'b': {
+        char *end = NULL;
+        recv_buf = strtol(optarg, &end, 10);
+        if (end == optarg || *end != '\0' || recv_buf < 4096 || recv_buf > 67108864) {
+          usage(stderr);
+          return 2;
+        }
+        break;
+      }
       case 'h': usage(stdout); return 0;
       default: usage(stderr); return 2;
     }
@@ -157,6 +185,7 @@ static int parse_args(int argc, char **argv, int *reps, const char **only) {
 typedef struct {
   double td[MAX_REPS], tl[MAX_REPS], to[MAX_REPS];
   double cmd, ctl, sta, obs;
+  double drops_client, drops_sim; /* per estimate, summed over repetitions */
   int agree; /* both backends found every component, at the same place, in as many trials */
   size_t trials;
 } rock_reps_t;
@@ -164,13 +193,14 @@ typedef struct {
 /* reps direct + LCM estimate pairs of one rock. Returns 0, or -1 when an estimate failed. */
 static int rock_reps(const char *urdf, const model_mesh_t *mesh, int reps, estimate_result_t *rd,
                      estimate_result_t *rl, rock_reps_t *rr) {
-  rr->cmd = rr->ctl = rr->sta = rr->obs = 0;
+  rr->cmd = rr->ctl = rr->sta = rr->obs = rr->drops_client = rr->drops_sim = 0;
   rr->agree = 1;
   rr->trials = 0;
   for (int k = 0; k < reps; ++k) {
     estimate_lcm_stats_t st;
+    drops_t drops = {0, 0};
     rr->td[k] = run_direct(urdf, mesh, rd);
-    rr->tl[k] = rr->td[k] < 0 ? -1.0 : run_lcm(urdf, mesh, rl, &rr->to[k], &st);
+    rr->tl[k] = rr->td[k] < 0 ? -1.0 : run_lcm(urdf, mesh, rl, &rr->to[k], &st, &drops);
     if (rr->td[k] < 0 || rr->tl[k] < 0) return -1;
     rr->trials = rl->trial_count;
     const double n = st.trials ? (double)st.trials : 1.0;
@@ -178,6 +208,8 @@ static int rock_reps(const char *urdf, const model_mesh_t *mesh, int reps, estim
     rr->ctl += (double)st.controls_sent / n;
     rr->sta += (double)st.statuses / n;
     rr->obs += (double)st.object_states / n;
+    rr->drops_client += (double)drops.client;
+    rr->drops_sim += (double)drops.sim;
     if (rl->trial_count != rd->trial_count) rr->agree = 0;
     for (int j = 0; j < 3; ++j)
       if (rl->found[j] != rd->found[j] || !rl->found[j] ||
@@ -204,15 +236,15 @@ static int rock_row(const char *rock, int reps, estimate_result_t *rd, estimate_
   const int ok = rock_reps(urdf, &obj.mesh, reps, rd, rl, &rr) == 0;
   model_object_free(&obj);
   if (!ok) {
-    printf("| %s | failed | | | | | | | | | |\n", rock);
+    printf("| %s | failed | | | | | | | | | | | |\n", rock);
     return 1;
   }
   const double mtl = median(rr.tl, (size_t)reps);
   *lcm_s = mtl;
-  printf("| %s | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f | %.1f | %s | %s |\n", rock,
-         rr.trials, median(rr.td, (size_t)reps), mtl, median(rr.to, (size_t)reps), rr.cmd / reps,
-         rr.ctl / reps, rr.sta / reps, rr.obs / reps, mtl <= 1.0 ? "yes" : "no",
-         rr.agree ? "yes" : "NO");
+  printf("| %s | %zu | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f | %.1f | %.0f | %.0f | %s | %s |\n",
+         rock, rr.trials, median(rr.td, (size_t)reps), mtl, median(rr.to, (size_t)reps),
+         rr.cmd / reps, rr.ctl / reps, rr.sta / reps, rr.obs / reps, rr.drops_client / reps,
+         rr.drops_sim / reps, mtl <= 1.0 ? "yes" : "no", rr.agree ? "yes" : "NO");
   fflush(stdout);
   return rr.agree ? 0 : 1;
 }
@@ -231,12 +263,13 @@ int main(int argc, char **argv) {
   }
   printf(
       "Full estimate (bisect, 0.1 mm, noiseless), median of %d; LCM against a spawned "
-      "comlearn-sim.\n\n",
-      reps);
+      "comlearn-sim; receive buffer %s.\n\n",
+      reps, recv_buf > 0 ? "as --recv-buf" : "comlearn's default");
   printf(
       "| rock | trials | direct s | lcm s | lcm open s | commands / trial | SIM_CONTROL / "
-      "trial | statuses / trial | object states / trial | lcm <= 1 s | agree |\n");
-  printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "trial | statuses / trial | object states / trial | kernel drops, client | kernel drops, "
+      "sim | lcm <= 1 s | agree |\n");
+  printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   int failed = 0, rows = 0, met = 0;
   double worst = 0.0;
   for (size_t i = 0; i < N_ROCKS; ++i) {

@@ -354,7 +354,10 @@ int main(int argc, char **argv) {
     LOG_E("%s", err);
     return 1;
   }
-  d.lcm = lcm_create(o.lcm_url);
+  char url[1024]; /* with comlearn's receive buffer (cli_net.h) */
+  if (cli_lcm_url_buffered(o.lcm_url, url, sizeof url) != 0)
+    snprintf(url, sizeof url, "%s", o.lcm_url);
+  d.lcm = lcm_create(url);
   if (d.lcm == NULL) {
     LOG_E(
         "cannot open LCM at '%s' (udpm needs a multicast route: "
@@ -371,9 +374,10 @@ int main(int argc, char **argv) {
     sim_fini(&d.sim);
     return 1;
   }
+  cli_lcm_buffer_check(url); /* LCM opens its receive socket on the first subscription */
   /* Latest command only: a backlog of old commands is worth nothing. */
   lcm_subscription_set_queue_capacity(s1, 100);
-  LOG_I("running on %s (%s), channels %s %s -> %s %s", o.lcm_url,
+  LOG_I("running on %s (%s), channels %s %s -> %s %s", url,
         o.realtime ? "realtime" : "as fast as possible", d.ch_command, d.ch_control, d.ch_status,
         d.ch_object);
   int rc = run(&d, o.realtime);

@@ -22,7 +22,8 @@ comlearn=$bin/apps/comlearn/comlearn
 sim=$bin/daemon/comlearn-sim
 out=${OUT:-out}
 seeds=${SEEDS:-5}
-url="udpm://239.255.76.67:$((7700 + $$ % 1000))?ttl=0"
+# recv_buf_size for lcm-logger too: comlearn's programs add it when a URL has none (cli_net.h)
+url="udpm://239.255.76.67:$((7700 + $$ % 1000))?ttl=0&recv_buf_size=4194304"
 stack_rocks=(assets/rocks/rock_1_uneven.urdf assets/rocks/rock_2_uneven.urdf
              assets/rocks/rock_3_uneven.urdf)
 

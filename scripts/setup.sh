@@ -44,6 +44,20 @@ else
   echo "setup: no multicast route to $mcast; as root run: ip route add 224.0.0.0/4 dev lo" >&2
 fi
 
+# comlearn's programs ask LCM for a 4 MiB receive buffer (apps/common cli_net.h); Linux caps it
+# at net.core.rmem_max (208 KiB by default), and with that a trial's statuses overflow it. Raised,
+# never lowered, and only as root; the programs warn when they get less.
+want_rmem=4194304
+rmem=$(cat /proc/sys/net/core/rmem_max 2>/dev/null || echo 0)
+if [ "$rmem" -ge "$want_rmem" ]; then
+  echo "setup: net.core.rmem_max is $rmem" >&2
+elif [ "$(id -u)" -eq 0 ] && echo $want_rmem 2>/dev/null >/proc/sys/net/core/rmem_max; then
+  echo "setup: raised net.core.rmem_max from $rmem to $want_rmem" >&2
+else
+  echo "setup: net.core.rmem_max is $rmem; as root run:" \
+    "echo $want_rmem > /proc/sys/net/core/rmem_max" >&2
+fi
+
 cd "$here"
 cmake --preset "$preset" >&2
 cmake --build --preset "$preset" -j "$(nproc)" >&2

@@ -2,7 +2,8 @@
 /* check_cli_common: comlearn_cli (apps/common), what the programs share: the JSON value writer
  * (escaping, 9 significant digits, non-finite numbers as null) and the logger (prefix, level
  * names, the level filter, clamping), byte for byte against the expected text; the kernel's UDP
- * drop counter of the process's sockets. */
+ * drop counter and receive buffers of the process's sockets, and the LCM receive buffer the
+ * programs ask for. */
 #include <arpa/inet.h>
 #include <check.h>
 #include <math.h>
@@ -184,6 +185,80 @@ START_TEST(udp_drops_counted) {
 }
 END_TEST
 
+/* cli_lcm_url_buffered adds comlearn's receive buffer to udpm URLs that name none, and leaves
+ * every other URL as it is. */
+START_TEST(lcm_url_buffered) {
+  char out[128];
+  ck_assert_int_eq(cli_lcm_url_buffered("udpm://239.255.76.67:7667?ttl=0", out, sizeof out), 0);
+  ck_assert_str_eq(out, "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304");
+  ck_assert_int_eq(cli_lcm_url_buffered("udpm://239.255.76.67:7667", out, sizeof out), 0);
+  ck_assert_str_eq(out, "udpm://239.255.76.67:7667?recv_buf_size=4194304");
+  ck_assert_int_eq(cli_lcm_url_buffered("udpm://h:1?recv_buf_size=65536&ttl=1", out, sizeof out),
+                   0);
+  ck_assert_str_eq(out, "udpm://h:1?recv_buf_size=65536&ttl=1");
+  ck_assert_int_eq(cli_lcm_url_buffered("memq://", out, sizeof out), 0);
+  ck_assert_str_eq(out, "memq://");
+  ck_assert_int_eq(cli_lcm_url_buffered("file:///tmp/x.lcmlog?mode=r", out, sizeof out), 0);
+  ck_assert_str_eq(out, "file:///tmp/x.lcmlog?mode=r");
+  /* too small for the result: refused, not cut */
+  ck_assert_int_eq(cli_lcm_url_buffered("udpm://239.255.76.67:7667?ttl=0", out, 40), -1);
+  ck_assert_int_eq(cli_lcm_url_buffered(NULL, out, sizeof out), -1);
+}
+END_TEST
+
+/* cli_udp_rcvbuf_max reports the largest SO_RCVBUF among the process's UDP sockets (none: -1),
+ * cli_udp_drops_of(own pid) is cli_udp_drops, and cli_lcm_buffer_check warns exactly when the
+ * buffer asked for in a URL is larger than the one the process has. 64 KiB is below any
+ * net.core.rmem_max Linux ships, so the socket gets what it asks. */
+START_TEST(udp_rcvbuf_checked) {
+  int bytes = -7;
+  ck_assert_int_eq(cli_udp_rcvbuf_max(&bytes), -1); /* Check forks each test: no socket yet */
+  ck_assert_int_eq(bytes, 0);
+  const int a = socket(AF_INET, SOCK_DGRAM, 0), b = socket(AF_INET, SOCK_DGRAM, 0);
+  ck_assert_int_ge(a, 0);
+  ck_assert_int_ge(b, 0);
+  const int small = 16384, large = 65536;
+  ck_assert_int_eq(setsockopt(a, SOL_SOCKET, SO_RCVBUF, &small, sizeof small), 0);
+  ck_assert_int_eq(setsockopt(b, SOL_SOCKET, SO_RCVBUF, &large, sizeof large), 0);
+  struct sockaddr_in lo;
+  memset(&lo, 0, sizeof lo);
+  lo.sin_family = AF_INET;
+  lo.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ck_assert_int_eq(cli_udp_rcvbuf_max(&bytes), -1); /* /proc/net/udp lists bound sockets only */
+  ck_assert_int_eq(bind(a, (struct sockaddr *)&lo, sizeof lo), 0);
+  ck_assert_int_eq(bind(b, (struct sockaddr *)&lo, sizeof lo), 0);
+  int want = 0;
+  socklen_t len = sizeof want;
+  ck_assert_int_eq(getsockopt(b, SOL_SOCKET, SO_RCVBUF, &want, &len), 0);
+  ck_assert_int_eq(want, 2 * large); /* Linux doubles what is set */
+  ck_assert_int_eq(cli_udp_rcvbuf_max(&bytes), 0);
+  ck_assert_int_eq(bytes, want);
+  uint64_t self = 1, own = 2;
+  ck_assert_int_eq(cli_udp_drops(&self), 0);
+  ck_assert_int_eq(cli_udp_drops_of(getpid(), &own), 0);
+  ck_assert_uint_eq(self, own);
+
+  capture_t c;
+  capture_open(&c);
+  cli_log_set_stream(c.f);
+  cli_log_init("t");
+  cli_lcm_buffer_check("udpm://239.255.76.67:7667?ttl=0&recv_buf_size=65536"); /* has it */
+  cli_lcm_buffer_check("memq://");
+  cli_lcm_buffer_check("udpm://239.255.76.67:7667?ttl=0"); /* asks for nothing */
+  ck_assert_int_eq(fflush(c.f), 0);
+  ck_assert_uint_eq(c.len, 0);
+  cli_lcm_buffer_check("udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304");
+  cli_log_set_stream(NULL);
+  const char *text = capture_close(&c);
+  ck_assert_msg(
+      strstr(text, "t: warning: LCM's receive buffer is 64 KiB, not the 4096 KiB asked") &&
+          strstr(text, "net.core.rmem_max"),
+      "%s", text);
+  close(a);
+  close(b);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("cli_common");
   TCase *json = tcase_create("json");
@@ -197,6 +272,8 @@ int main(void) {
   suite_add_tcase(s, log);
   TCase *net = tcase_create("net");
   tcase_add_test(net, udp_drops_counted);
+  tcase_add_test(net, lcm_url_buffered);
+  tcase_add_test(net, udp_rcvbuf_checked);
   suite_add_tcase(s, net);
   SRunner *r = srunner_create(s);
   srunner_run_all(r, CK_NORMAL);

@@ -18,6 +18,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "comlearn/cli_net.h"
 #include "comlearn/comlearn_object_state_t.h"
 #include "comlearn/comlearn_sim_control_t.h"
 #include "comlearn/comlearn_yumi_command_t.h"
@@ -92,6 +93,17 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
                 "scripts/setup.sh)",
                 msg);
   ck_assert_str_eq(b.name, "lcm");
+  /* the URL had no recv_buf_size: the backend asked for comlearn's, which the kernel grants up to
+   * net.core.rmem_max (and reports doubled) */
+  FILE *f = fopen("/proc/sys/net/core/rmem_max", "r");
+  long rmem_max = 0;
+  ck_assert_ptr_nonnull(f);
+  ck_assert_int_eq(fscanf(f, "%ld", &rmem_max), 1);
+  fclose(f);
+  int rcvbuf = 0;
+  ck_assert_int_eq(cli_udp_rcvbuf_max(&rcvbuf), 0);
+  const long granted = rmem_max < CLI_LCM_RECV_BUF_BYTES ? rmem_max : CLI_LCM_RECV_BUF_BYTES;
+  ck_assert_msg(rcvbuf >= 2 * granted, "receive buffer %d, rmem_max %ld", rcvbuf, rmem_max);
   estimate_config_t cfg;
   estimate_config_default(&cfg);
   estimate_status_t s = estimate_run(mesh, &b, &cfg, r);

@@ -21,6 +21,7 @@
 
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
+#include "comlearn/cli_net.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/comlearn_com_estimate_t.h"
 #include "comlearn/comlearn_com_trial_t.h"
@@ -370,6 +371,8 @@ int cmd_watch(int argc, char **argv) {
   const int prc = parse_args(argc, argv, &url, &timeout_s, &w);
   if (prc >= 0) return prc;
 
+  char buffered[1024]; /* with comlearn's receive buffer (cli_net.h) */
+  if (cli_lcm_url_buffered(url, buffered, sizeof buffered) == 0) url = buffered;
   lcm_t *lcm = lcm_create(url);
   if (!lcm) {
     LOG_E(
@@ -384,6 +387,7 @@ int cmd_watch(int argc, char **argv) {
     lcm_destroy(lcm);
     return EXIT_FAILURE;
   }
+  cli_lcm_buffer_check(url); /* LCM opens its receive socket on the first subscription */
   const int rc = watch_loop(lcm, url, timeout_s, &w);
   LOG_I("%" PRIu64 " trials, %" PRIu64 " estimates, %" PRIu64 " undecodable buffers", w.trials,
         w.estimates, comlearn_msg_stats_rejected(&stats));

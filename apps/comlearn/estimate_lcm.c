@@ -21,6 +21,7 @@
 
 #include <lcm/lcm.h>
 
+#include "comlearn/cli_net.h"
 #include "comlearn/comlearn_com_estimate_t.h"
 #include "comlearn/comlearn_com_trial_t.h"
 #include "comlearn/comlearn_object_state_t.h"
@@ -583,7 +584,10 @@ void estimate_lcm_config_default(estimate_lcm_config_t *cfg) {
  * and the placement plan settings. */
 static void lcm_identity(estimate_lcm_t *l, const estimate_lcm_config_t *cfg) {
   l->cfg = *cfg;
-  snprintf(l->url, sizeof l->url, "%s", cfg->lcm_url ? cfg->lcm_url : COMLEARN_MSG_LCM_URL_DEFAULT);
+  /* with comlearn's receive buffer (cli_net.h); a URL too long for it is kept as it is */
+  const char *url = cfg->lcm_url ? cfg->lcm_url : COMLEARN_MSG_LCM_URL_DEFAULT;
+  if (cli_lcm_url_buffered(url, l->url, sizeof l->url) != 0)
+    snprintf(l->url, sizeof l->url, "%s", url);
   char *abs = realpath(cfg->urdf_path, NULL);
   snprintf(l->urdf, sizeof l->urdf, "%s", abs ? abs : cfg->urdf_path);
   free(abs);
@@ -634,6 +638,7 @@ static int lcm_connect(estimate_lcm_t *l, char *err, size_t err_size) {
     estimate_lcm_close(l);
     return -1;
   }
+  cli_lcm_buffer_check(l->url); /* LCM opens its receive socket on the first subscription */
   if (wait_for(l, have_both, NULL, l->cfg.startup_timeout_s) != 1) {
     snprintf(err, err_size,
              "no YUMI_STATUS / OBJECT_STATE on %s within %.1f s: is comlearn-sim "
