@@ -13,7 +13,11 @@
  *
  * Target (docs/design.md): a full 3-component estimate over LCM with YuMi placement <= 1 s wall.
  *
- * Usage: bench_estimate [--reps N] [--rock NAME] [--recv-buf BYTES] [--help]
+ * --concurrent: rounds of 1, 2 and 4 worker processes at once, each with its own comlearn-sim
+ * (channel prefix R<w>_) on one shared URL, each running every rock once; the throughput and
+ * whether every answer equals the serial --direct one.
+ *
+ * Usage: bench_estimate [--reps N] [--rock NAME] [--recv-buf BYTES] [--concurrent] [--help]
  * Needs a multicast route for udpm (`ip route add 224.0.0.0/4 dev lo`, scripts/setup.sh). */
 #define _GNU_SOURCE
 
@@ -87,32 +91,26 @@ static double run_direct(const char *urdf, const model_mesh_t *mesh, estimate_re
   return dt;
 }
 
-/* One LCM estimate against a fresh comlearn-sim; fills *open_s, *st and *drops (the kernel's
- * counters of both processes' sockets: this one has no other UDP socket open); returns the wall
- * time of estimate_run, or -1. */
-static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_result_t *r,
-                      double *open_s, estimate_lcm_stats_t *st, drops_t *drops) {
-  char url[128], msg[512] = "";
-  unique_url(url, sizeof url);
-  const double t0 = cli_time_now_s();
-  const pid_t pid =
-      estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, NULL, msg, sizeof msg); /* the rocks: assets */
-  if (pid <= 0) {
-    LOG_E("%s", msg);
-    return -1.0;
-  }
+/* One LCM estimate on url against the robot with channel_prefix (NULL: none): open, run, the
+ * counters into *st, and the kernel's drops of this process (NULL: not read) before it closes
+ * LCM. Returns the wall time of estimate_run (*open_s: of estimate_lcm_open), or -1. */
+static double lcm_estimate(const char *url, const char *channel_prefix, const char *urdf,
+                           const model_mesh_t *mesh, estimate_result_t *r, double *open_s,
+                           estimate_lcm_stats_t *st, uint64_t *client_drops) {
+  char msg[512] = "";
   estimate_lcm_config_t lc;
   estimate_lcm_config_default(&lc);
   lc.lcm_url = url;
+  lc.channel_prefix = channel_prefix;
   lc.urdf_path = urdf;
   lc.mesh_link = mesh;
   lc.yumi_urdf = COMLEARN_ASSETS_DIR "/yumi/yumi.urdf";
   lc.policy = "bisect";
   estimate_lcm_t *l = NULL;
   estimate_backend_t b;
+  const double t0 = cli_time_now_s();
   if (estimate_lcm_open(&lc, &l, &b, msg, sizeof msg) != 0) {
     LOG_E("%s (udpm needs a multicast route, scripts/setup.sh)", msg);
-    estimate_lcm_sim_stop(pid, 2.0);
     return -1.0;
   }
   const double t1 = cli_time_now_s();
@@ -122,34 +120,154 @@ static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_resul
   const estimate_status_t s = estimate_run(mesh, &b, &cfg, r);
   const double dt = cli_time_now_s() - t1;
   estimate_lcm_stats(l, st);
-  if (cli_udp_drops(&drops->client) != 0 || cli_udp_drops_of(pid, &drops->sim) != 0)
+  if (client_drops && cli_udp_drops(client_drops) != 0)
     LOG_W("the kernel's UDP drop counters cannot be read (/proc)");
   estimate_lcm_close(l);
-  const int ws = estimate_lcm_sim_stop(pid, 2.0);
   if (s != ESTIMATE_OK) {
     LOG_E("lcm %s: %s: %s", urdf, estimate_status_str(s), r->msg);
     return -1.0;
   }
-  if (ws == -1 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0) LOG_E("comlearn-sim exit status %d", ws);
   return dt;
+}
+
+/* One LCM estimate against a fresh comlearn-sim; fills *open_s (the spawn and the open), *st and
+ * *drops (the kernel's counters of both processes' sockets: this one has no other UDP socket
+ * open); returns the wall time of estimate_run, or -1. */
+static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_result_t *r,
+                      double *open_s, estimate_lcm_stats_t *st, drops_t *drops) {
+  char url[128], msg[512] = "";
+  unique_url(url, sizeof url);
+  const double t0 = cli_time_now_s();
+  const pid_t pid = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, NULL, NULL, msg,
+                                           sizeof msg); /* the rocks: assets */
+  if (pid <= 0) {
+    LOG_E("%s", msg);
+    return -1.0;
+  }
+  double open_only = 0.0;
+  const double spawned = cli_time_now_s() - t0;
+  const double dt = lcm_estimate(url, NULL, urdf, mesh, r, &open_only, st, &drops->client);
+  *open_s = spawned + open_only;
+  if (cli_udp_drops_of(pid, &drops->sim) != 0)
+    LOG_W("the kernel's UDP drop counters cannot be read (/proc)");
+  const int ws = estimate_lcm_sim_stop(pid, 2.0);
+  if (dt >= 0 && (ws == -1 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0))
+    LOG_E("comlearn-sim exit status %d", ws);
+  return dt;
+}
+
+/* The same answer: every component found by both, within 1e-12 m, in as many trials. */
+static int same_answer(const estimate_result_t *a, const estimate_result_t *b) {
+  if (a->trial_count != b->trial_count) return 0;
+  for (int j = 0; j < 3; ++j)
+    if (a->found[j] != b->found[j] || !a->found[j] || fabs(a->com_m[j] - b->com_m[j]) > 1e-12)
+      return 0;
+  return 1;
+}
+
+/* --concurrent, one worker (a forked process): its own comlearn-sim with channel prefix R<w>_ on
+ * the shared url, then every rock once, each answer compared with the serial direct one. Exits 0
+ * when all are the same, 1 otherwise. */
+static void concurrent_worker(int w, const char *url, size_t n, const model_mesh_t *meshes,
+                              const estimate_result_t *want) {
+  char prefix[16], msg[512] = "", urdf[512];
+  snprintf(prefix, sizeof prefix, "R%d_", w);
+  const pid_t sim = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, prefix, NULL, msg, sizeof msg);
+  if (sim <= 0) {
+    LOG_E("%s", msg);
+    _exit(1);
+  }
+  estimate_result_t *r = malloc(sizeof *r);
+  int ok = r != NULL;
+  for (size_t i = 0; i < n && ok; ++i) {
+    snprintf(urdf, sizeof urdf, "%s/rocks/%s.urdf", COMLEARN_ASSETS_DIR, all_rocks[i]);
+    estimate_lcm_stats_t st;
+    double open_s;
+    ok = lcm_estimate(url, prefix, urdf, &meshes[i], r, &open_s, &st, NULL) >= 0 &&
+         same_answer(r, &want[i]);
+    if (!ok) LOG_E("robot %s, %s: not the serial direct answer", prefix, all_rocks[i]);
+  }
+  estimate_lcm_sim_stop(sim, 2.0);
+  free(r);
+  _exit(ok ? 0 : 1);
+}
+
+/* --concurrent: rounds of 1, 2 and 4 workers on one URL, each worker every rock once. Prints the
+ * throughput table. Returns 0, or 1 when a worker failed or gave another answer. */
+static int concurrent_table(void) {
+  model_object_t obj[N_ROCKS];
+  model_mesh_t meshes[N_ROCKS];
+  estimate_result_t *want = calloc(N_ROCKS, sizeof *want);
+  if (!want) return 1;
+  for (size_t i = 0; i < N_ROCKS; ++i) {
+    char urdf[512];
+    model_error_t err = {{0}};
+    snprintf(urdf, sizeof urdf, "%s/rocks/%s.urdf", COMLEARN_ASSETS_DIR, all_rocks[i]);
+    if (model_object_load(urdf, NULL, &obj[i], &err) != MODEL_OK) {
+      LOG_E("%s: %s", urdf, err.msg);
+      return 1;
+    }
+    meshes[i] = obj[i].mesh;
+    if (run_direct(urdf, &meshes[i], &want[i]) < 0) return 1;
+  }
+  printf(
+      "Concurrent estimates (bisect, 0.1 mm, noiseless): N workers at once on one LCM URL, "
+      "each with a comlearn-sim of its own (channel prefix R<w>_), each running the %zu rocks "
+      "once.\n\n",
+      N_ROCKS);
+  printf(
+      "| workers (= sims) | estimates | wall s | estimates / s | throughput vs 1 | all equal to "
+      "serial --direct |\n|---|---|---|---|---|---|\n");
+  int failed = 0;
+  double base = 0.0;
+  const int rounds[] = {1, 2, 4};
+  for (size_t k = 0; k < sizeof rounds / sizeof rounds[0]; ++k) {
+    const int n = rounds[k];
+    char url[128];
+    unique_url(url, sizeof url);
+    fflush(stdout);
+    const double t0 = cli_time_now_s();
+    pid_t pids[4];
+    for (int w = 0; w < n; ++w) {
+      pids[w] = fork();
+      if (pids[w] == 0) concurrent_worker(w, url, N_ROCKS, meshes, want);
+    }
+    int all_ok = 1;
+    for (int w = 0; w < n; ++w) {
+      int ws = 0;
+      all_ok &= pids[w] > 0 && waitpid(pids[w], &ws, 0) == pids[w] && WIFEXITED(ws) &&
+                WEXITSTATUS(ws) == 0;
+    }
+    const double wall = cli_time_now_s() - t0;
+    const double rate = (double)(n * (int)N_ROCKS) / wall;
+    if (n == 1) base = rate;
+    printf("| %d | %d | %.2f | %.2f | %.2f | %s |\n", n, n * (int)N_ROCKS, wall, rate,
+           base > 0 ? rate / base : 0.0, all_ok ? "yes" : "NO");
+    failed |= !all_ok;
+  }
+  for (size_t i = 0; i < N_ROCKS; ++i) model_object_free(&obj[i]);
+  free(want);
+  return failed;
 }
 
 static void usage(FILE *f) {
   fprintf(f,
           "usage: bench_estimate [--reps N (1-%d, default 3)] [--rock NAME] [--recv-buf BYTES]\n"
-          "                      [--help]\n"
+          "                      [--concurrent] [--help]\n"
+          "  --concurrent      instead: the throughput of 1, 2 and 4 estimates at once, each\n"
+          "                    against a comlearn-sim of its own, all on one URL\n"
           "  --recv-buf BYTES  recv_buf_size on the LCM URL of both processes, 4096..67108864\n"
           "                    (default: none named, so each takes comlearn's %d)\n",
           MAX_REPS, CLI_LCM_RECV_BUF_BYTES);
 }
 
-/* Options: --reps into *reps, --rock into *only. Returns -1 to go on, else the exit status. */
-static int parse_args(int argc, char **argv, int *reps, const char **only) {
-  static const struct option opts[] = {{"reps", required_argument, NULL, 'r'},
-                                       {"rock", required_argument, NULL, 'k'},
-                                       {"recv-buf", required_argument, NULL, 'b'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
+/* Options: --reps into *reps, --rock into *only, --concurrent into *concurrent. Returns -1 to go
+ * on, else the exit status. */
+static int parse_args(int argc, char **argv, int *reps, const char **only, int *concurrent) {
+  static const struct option opts[] = {
+      {"reps", required_argument, NULL, 'r'},     {"rock", required_argument, NULL, 'k'},
+      {"recv-buf", required_argument, NULL, 'b'}, {"concurrent", no_argument, NULL, 'c'},
+      {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
   int c;
   while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
     switch (c) {
@@ -161,6 +279,7 @@ static int parse_args(int argc, char **argv, int *reps, const char **only) {
         }
         break;
       case 'k': *only = optarg; break;
+      case 'c': *concurrent = 1; break;
       case 'b': {
         char *end = NULL;
         recv_buf = strtol(optarg, &end, 10);
@@ -210,11 +329,7 @@ static int rock_reps(const char *urdf, const model_mesh_t *mesh, int reps, estim
     rr->obs += (double)st.object_states / n;
     rr->drops_client += (double)drops.client;
     rr->drops_sim += (double)drops.sim;
-    if (rl->trial_count != rd->trial_count) rr->agree = 0;
-    for (int j = 0; j < 3; ++j)
-      if (rl->found[j] != rd->found[j] || !rl->found[j] ||
-          fabs(rl->com_m[j] - rd->com_m[j]) > 1e-12)
-        rr->agree = 0;
+    if (!same_answer(rl, rd)) rr->agree = 0;
   }
   return 0;
 }
@@ -253,8 +368,10 @@ int main(int argc, char **argv) {
   cli_log_init("bench_estimate");
   int reps = 3;
   const char *only = NULL;
-  const int prc = parse_args(argc, argv, &reps, &only);
+  int concurrent = 0;
+  const int prc = parse_args(argc, argv, &reps, &only, &concurrent);
   if (prc >= 0) return prc;
+  if (concurrent) return concurrent_table();
 
   estimate_result_t *rd = malloc(sizeof *rd), *rl = malloc(sizeof *rl);
   if (!rd || !rl) {

@@ -58,7 +58,9 @@ static void usage(FILE *f) {
       "                            (default: 0)\n"
       "  --drop-rate P             fraction of incoming and outgoing messages dropped, 0..1\n"
       "                            (default: 0)\n"
-      "  --channel-prefix P        prefix of every channel name, e.g. TEST_ (default: none)\n"
+      "  --channel-prefix P        prefix of every channel name, e.g. R2_ for R2_YUMI_COMMAND:\n"
+      "                            one robot among many on a URL; at most 32 of A-Z a-z 0-9 _\n"
+      "                            (default: none)\n"
       "  --yumi-urdf PATH          YuMi model (default: %s)\n"
       "  --object-dir DIR          a folder SIM_CONTROL LOAD may read URDFs and meshes from,\n"
       "                            with everything below it; repeat for more, at most %d\n"
@@ -131,7 +133,14 @@ static int parse_options(int argc, char **argv, options_t *o) {
           return 2;
         }
         break;
-      case 'c': o->prefix = optarg; break;
+      case 'c':
+        if (!comlearn_msg_channel_prefix_ok(optarg)) {
+          LOG_E("--channel-prefix: need at most %d of A-Z a-z 0-9 _, got '%s'",
+                COMLEARN_MSG_CHANNEL_PREFIX_MAX, optarg);
+          return 2;
+        }
+        o->prefix = optarg;
+        break;
       case 'y': o->yumi_urdf = optarg; break;
       case 'w':
         if (parse_double(optarg, 0.0, 10000.0, &o->workspace_margin_mm)) {
@@ -333,10 +342,15 @@ int main(int argc, char **argv) {
   static daemon_t d;
   d.drop_rate = o.drop_rate;
   d.drop_rng = o.seed ^ 0xD5A61266F0C9392Cull;
-  snprintf(d.ch_command, sizeof d.ch_command, "%s%s", o.prefix, COMLEARN_MSG_CHANNEL_YUMI_COMMAND);
-  snprintf(d.ch_control, sizeof d.ch_control, "%s%s", o.prefix, COMLEARN_MSG_CHANNEL_SIM_CONTROL);
-  snprintf(d.ch_status, sizeof d.ch_status, "%s%s", o.prefix, COMLEARN_MSG_CHANNEL_YUMI_STATUS);
-  snprintf(d.ch_object, sizeof d.ch_object, "%s%s", o.prefix, COMLEARN_MSG_CHANNEL_OBJECT_STATE);
+  /* the prefix was checked (--channel-prefix), so every name fits */
+  (void)comlearn_msg_channel(o.prefix, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, d.ch_command,
+                             sizeof d.ch_command);
+  (void)comlearn_msg_channel(o.prefix, COMLEARN_MSG_CHANNEL_SIM_CONTROL, d.ch_control,
+                             sizeof d.ch_control);
+  (void)comlearn_msg_channel(o.prefix, COMLEARN_MSG_CHANNEL_YUMI_STATUS, d.ch_status,
+                             sizeof d.ch_status);
+  (void)comlearn_msg_channel(o.prefix, COMLEARN_MSG_CHANNEL_OBJECT_STATE, d.ch_object,
+                             sizeof d.ch_object);
 
   sim_config_t cfg = {.yumi_urdf = o.yumi_urdf,
                       .seed = o.seed,

@@ -36,7 +36,7 @@ static char tmpdir[256];
 typedef void (*inject_fn)(const char *url);
 static inject_fn before_estimate;
 static unsigned url_counter;
-static pid_t sim_pid = -1;
+static pid_t sim_pid = -1, sim_pid2 = -1; /* the second robot of two_robots_one_url */
 
 static void setup(void) {
   before_estimate = NULL; /* CK_FORK=no: a failed test must not leave it set */
@@ -48,6 +48,10 @@ static void teardown(void) {
   if (sim_pid > 0) { /* a failed assertion left early (CK_FORK=no) */
     estimate_lcm_sim_stop(sim_pid, 1.0);
     sim_pid = -1;
+  }
+  if (sim_pid2 > 0) {
+    estimate_lcm_sim_stop(sim_pid2, 1.0);
+    sim_pid2 = -1;
   }
   char cmd[512];
   snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
@@ -76,7 +80,7 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
   char url[128], msg[512] = "";
   unique_url(url, sizeof url);
   const char *dirs[] = {tmpdir, COMLEARN_ASSETS_DIR, NULL};
-  sim_pid = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, dirs, msg, sizeof msg);
+  sim_pid = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, NULL, dirs, msg, sizeof msg);
   ck_assert_msg(sim_pid > 0, "%s", msg);
   if (before_estimate) before_estimate(url);
   estimate_lcm_config_t lc;
@@ -338,6 +342,69 @@ START_TEST(cli_spawn_sim_equals_direct) {
 }
 END_TEST
 
+/* The "trials": N of a JSON answer. */
+static long trials_of(const char *json) {
+  const char *a = strstr(json, "\"trials\": ");
+  ck_assert_ptr_nonnull(a);
+  return strtol(a + strlen("\"trials\": "), NULL, 10);
+}
+
+/* Two robots on one URL: comlearn-sim R1_ and R2_ on the same udpm URL and two `comlearn estimate
+ * --channel-prefix` runs at once, one per robot, each with another rock. Each equals its --direct
+ * run, to the digit and in its trial count. An estimate without a prefix finds no controller
+ * there: nobody answers on the bare channel names. */
+START_TEST(two_robots_one_url) {
+  static char out_d[2][1 << 16], out_l[2][1 << 16];
+  const char *robot_rocks[2] = {COMLEARN_ASSETS_DIR "/rocks/rock_1_uneven.urdf",
+                                COMLEARN_ASSETS_DIR "/rocks/rock_3_even.urdf"};
+  const char *prefix[2] = {"R1_", "R2_"};
+  char cmd[1024], url[128], msg[512] = "", com_d[256], com_l[256];
+  unique_url(url, sizeof url);
+  sim_pid = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, prefix[0], NULL, msg, sizeof msg);
+  ck_assert_msg(sim_pid > 0, "%s", msg);
+  sim_pid2 = estimate_lcm_sim_spawn(COMLEARN_SIM_EXE, url, prefix[1], NULL, msg, sizeof msg);
+  ck_assert_msg(sim_pid2 > 0, "%s", msg);
+  FILE *p[2];
+  for (int i = 0; i < 2; ++i) {
+    snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --lcm-url '%s' --channel-prefix %s --json -q",
+             COMLEARN_BIN, robot_rocks[i], url, prefix[i]);
+    p[i] = popen(cmd, "r");
+    ck_assert_ptr_nonnull(p[i]);
+  }
+  for (int i = 0; i < 2; ++i) {
+    const size_t got = fread(out_l[i], 1, sizeof out_l[i] - 1, p[i]);
+    out_l[i][got] = '\0';
+    const int ws = pclose(p[i]);
+    ck_assert_msg(WIFEXITED(ws) && WEXITSTATUS(ws) == 0, "robot %s: exit %d", prefix[i], ws);
+  }
+  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --lcm-url '%s' -q 2>&1", COMLEARN_BIN,
+           robot_rocks[0], url);
+  ck_assert_int_eq(run_capture(cmd, msg, sizeof msg), 1);
+  ck_assert_msg(strstr(msg, "no YUMI_STATUS") != NULL, "%s", msg);
+  estimate_lcm_sim_stop(sim_pid2, 2.0);
+  sim_pid2 = -1;
+  estimate_lcm_sim_stop(sim_pid, 2.0);
+  sim_pid = -1;
+  for (int i = 0; i < 2; ++i) {
+    snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --direct --json -q", COMLEARN_BIN,
+             robot_rocks[i]);
+    ck_assert_int_eq(run_capture(cmd, out_d[i], sizeof out_d[i]), 0);
+    ck_assert_ptr_nonnull(strstr(out_l[i], "\"backend\": \"lcm\""));
+    com_of(out_d[i], com_d, sizeof com_d);
+    com_of(out_l[i], com_l, sizeof com_l);
+    ck_assert_str_eq(com_l, com_d);
+    ck_assert_int_eq(trials_of(out_l[i]), trials_of(out_d[i]));
+  }
+  /* a prefix that would match other channels as a regex: refused at once, by both programs */
+  snprintf(cmd, sizeof cmd, "'%s' estimate '%s' --channel-prefix 'R.*' -q 2>&1", COMLEARN_BIN,
+           robot_rocks[0]);
+  ck_assert_int_eq(run_capture(cmd, msg, sizeof msg), 2);
+  ck_assert_msg(strstr(msg, "--channel-prefix") != NULL, "%s", msg);
+  snprintf(cmd, sizeof cmd, "'%s' --channel-prefix R1.2 -q 2>&1", COMLEARN_SIM_EXE);
+  ck_assert_int_eq(run_capture(cmd, msg, sizeof msg), 2);
+}
+END_TEST
+
 START_TEST(cli_no_controller) {
   /* nobody on the URL: exit 1 after the startup wait, with a message, never hanging */
   char cmd[1024], url[128], out[4096];
@@ -363,6 +430,7 @@ int main(void) {
   tcase_add_loop_test(tc, shaped_over_lcm, 0, (int)(sizeof shaped / sizeof shaped[0]));
   tcase_add_test(tc, cli_spawn_sim_equals_direct);
   tcase_add_test(tc, cli_no_controller);
+  tcase_add_test(tc, two_robots_one_url);
   suite_add_tcase(s, tc);
   SRunner *sr = srunner_create(s);
   srunner_run_all(sr, CK_NORMAL);

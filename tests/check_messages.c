@@ -844,6 +844,37 @@ START_TEST(test_every_type_has_a_fixture) {
 }
 END_TEST
 
+/* Channel prefixes (many robots on one URL): letters, digits and _ only, at most 32, so that no
+ * regex metacharacter reaches a subscription and the longest name fits LCM's 63. */
+START_TEST(test_channel_prefix) {
+  ck_assert_int_eq(comlearn_msg_channel_prefix_ok(NULL), 1);
+  ck_assert_int_eq(comlearn_msg_channel_prefix_ok(""), 1);
+  ck_assert_int_eq(comlearn_msg_channel_prefix_ok("R2_"), 1);
+  ck_assert_int_eq(comlearn_msg_channel_prefix_ok("yumi_3_"), 1);
+  ck_assert_int_eq(comlearn_msg_channel_prefix_ok("R.*"), 0);
+  ck_assert_int_eq(comlearn_msg_channel_prefix_ok("R-2"), 0);
+  ck_assert_int_eq(comlearn_msg_channel_prefix_ok("R 2"), 0);
+  ck_assert_int_eq(comlearn_msg_channel_prefix_ok("ABCDEFGHIJKLMNOPQRSTUVWXYZ012345"), 1); /* 32 */
+  ck_assert_int_eq(comlearn_msg_channel_prefix_ok("ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456"), 0);
+  char ch[64];
+  ck_assert_int_eq(comlearn_msg_channel("R2_", COMLEARN_MSG_CHANNEL_YUMI_COMMAND, ch, sizeof ch),
+                   COMLEARN_MSG_OK);
+  ck_assert_str_eq(ch, "R2_YUMI_COMMAND");
+  ck_assert_int_eq(comlearn_msg_channel(NULL, COMLEARN_MSG_CHANNEL_COM_ESTIMATE, ch, sizeof ch),
+                   COMLEARN_MSG_OK);
+  ck_assert_str_eq(ch, "COM_ESTIMATE");
+  ck_assert_int_eq(
+      comlearn_msg_channel("ABCDEFGHIJKLMNOPQRSTUVWXYZ012345", "COM_ESTIMATE", ch, sizeof ch),
+      COMLEARN_MSG_OK);
+  ck_assert_uint_le(strlen(ch), 63);
+  ck_assert_int_eq(comlearn_msg_channel("R|S", "YUMI_STATUS", ch, sizeof ch), COMLEARN_MSG_E_ARG);
+  ck_assert_str_eq(ch, "");
+  ck_assert_int_eq(comlearn_msg_channel("R2_", "YUMI_STATUS", ch, 8), COMLEARN_MSG_E_ARG);
+  ck_assert_str_eq(ch, "");
+  ck_assert_int_eq(comlearn_msg_channel("R2_", NULL, ch, sizeof ch), COMLEARN_MSG_E_ARG);
+}
+END_TEST
+
 /* The contract of docs/messages.md that code relies on. */
 START_TEST(test_constants) {
   ck_assert_str_eq(COMLEARN_MSG_LCM_URL_DEFAULT, "udpm://239.255.76.67:7667?ttl=0");
@@ -1119,6 +1150,7 @@ static Suite *messages_suite(void) {
   tcase_add_loop_test(tc, test_compare_sees_every_field, 0, NCASES);
   tcase_add_test(tc, test_nonfinite_transported);
   tcase_add_test(tc, test_constants);
+  tcase_add_test(tc, test_channel_prefix);
   tcase_add_test(tc, test_every_type_has_a_fixture);
   suite_add_tcase(s, tc);
 

@@ -25,6 +25,7 @@
 #include "comlearn/cli_time.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
+#include "comlearn/msg.h"
 #include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
@@ -67,6 +68,9 @@ static void usage(FILE *out) {
           "                     udpm://239.255.76.67:<7700 + pid %% 1000>?ttl=0)\n"
           "  --spawn-sim        start a comlearn-sim on the URL for the call and stop it at the\n"
           "                     end (default: off: one must already run there)\n"
+          "  --channel-prefix P the robot's channels on a shared URL: P before every channel\n"
+          "                     name, as comlearn-sim --channel-prefix (e.g. R2_ for\n"
+          "                     R2_YUMI_COMMAND); at most 32 of A-Z a-z 0-9 _ (default: none)\n"
           "  --link NAME        URDF link to read (default: the root link)\n"
           "  --json             print one JSON object on stdout (default: a table)\n"
           "  --truth            after the estimate, read the URDF <inertial> and report the\n"
@@ -271,7 +275,7 @@ static int parse_mm(const char *opt, const char *text, double min_mm, double max
 /* What the command line asks for. */
 typedef struct {
   estimate_config_t cfg;
-  const char *urdf, *link, *lcm_url;
+  const char *urdf, *link, *lcm_url, *channel_prefix;
   int direct, spawn, json, truth, quiet, noise_given, sim_noise;
   double placement_noise_m, pose_noise_m;
   uint64_t seed;
@@ -334,6 +338,14 @@ static int parse_option(int c, est_args_t *a) {
       LOG_E("--lcm-url: empty URL");
       return EXIT_USAGE;
     case 's': a->spawn = 1; return 0;
+    case 'c':
+      if (comlearn_msg_channel_prefix_ok(optarg)) {
+        a->channel_prefix = optarg;
+        return 0;
+      }
+      LOG_E("--channel-prefix: need at most %d of A-Z a-z 0-9 _, got '%s'",
+            COMLEARN_MSG_CHANNEL_PREFIX_MAX, optarg);
+      return EXIT_USAGE;
     case 'l': a->link = optarg; return 0;
     case 'j': a->json = 1; return 0;
     case 't': a->truth = 1; return 0;
@@ -354,6 +366,7 @@ static int parse_args(int argc, char **argv, est_args_t *a) {
                                        {"direct", no_argument, NULL, 'd'},
                                        {"lcm-url", required_argument, NULL, 'u'},
                                        {"spawn-sim", no_argument, NULL, 's'},
+                                       {"channel-prefix", required_argument, NULL, 'c'},
                                        {"link", required_argument, NULL, 'l'},
                                        {"json", no_argument, NULL, 'j'},
                                        {"truth", no_argument, NULL, 't'},
@@ -383,8 +396,8 @@ static int parse_args(int argc, char **argv, est_args_t *a) {
     return EXIT_USAGE;
   }
   a->urdf = argv[optind];
-  if (a->direct && (a->spawn || a->lcm_url)) {
-    LOG_E("--direct runs in-process: it takes neither --spawn-sim nor --lcm-url");
+  if (a->direct && (a->spawn || a->lcm_url || a->channel_prefix)) {
+    LOG_E("--direct runs in-process: it takes neither --spawn-sim, --lcm-url nor --channel-prefix");
     return EXIT_USAGE;
   }
   if (a->sim_noise && !a->direct) {
@@ -454,7 +467,7 @@ static int backend_open(const est_args_t *a, const model_object_t *obj, est_back
     }
     *strrchr(dir, '/') = '\0';
     const char *dirs[] = {dir[0] ? dir : "/", cli_paths_assets_dir(), NULL};
-    b->child = estimate_lcm_sim_spawn(exe, url, dirs, err, sizeof err);
+    b->child = estimate_lcm_sim_spawn(exe, url, a->channel_prefix, dirs, err, sizeof err);
     if (b->child < 0) {
       LOG_E("--spawn-sim: %s", err);
       return EXIT_FAILURE;
@@ -464,6 +477,7 @@ static int backend_open(const est_args_t *a, const model_object_t *obj, est_back
   estimate_lcm_config_t lc;
   estimate_lcm_config_default(&lc);
   lc.lcm_url = url;
+  lc.channel_prefix = a->channel_prefix;
   lc.urdf_path = a->urdf;
   lc.mesh_link = &obj->mesh;
   lc.yumi_urdf = cli_paths_yumi_urdf();

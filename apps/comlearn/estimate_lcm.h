@@ -41,6 +41,7 @@ typedef struct estimate_lcm estimate_lcm_t;
 
 typedef struct {
   const char *lcm_url;           /* NULL: COMLEARN_MSG_LCM_URL_DEFAULT */
+  const char *channel_prefix;    /* the robot's channels, e.g. "R2_" (comlearn/msg.h); NULL: none */
   const char *urdf_path;         /* sent in ACTION_LOAD (made absolute when it exists here) */
   const char *object_id;         /* NULL: the URDF file name without ".urdf" */
   const model_mesh_t *mesh_link; /* the object's geometry, link frame (borrowed), for planning */
@@ -91,12 +92,13 @@ void estimate_lcm_stats(const estimate_lcm_t *l, estimate_lcm_stats_t *out);
 /* Unsubscribe, destroy the lcm_t, free. NULL is fine. */
 void estimate_lcm_close(estimate_lcm_t *l);
 
-/* --spawn-sim: start exe (comlearn-sim) as a child on url with -q, and --object-dir for each of
- * object_dirs (NULL-terminated, at most 16; NULL: the simulator's defaults, the bundled assets and
- * its current folder); the child gets SIGKILL if this process dies (PR_SET_PDEATHSIG). Returns
- * the pid, or -1 with err filled. */
-pid_t estimate_lcm_sim_spawn(const char *exe, const char *url, const char *const *object_dirs,
-                             char *err, size_t err_size);
+/* --spawn-sim: start exe (comlearn-sim) as a child on url with -q, --channel-prefix
+ * channel_prefix unless it is NULL or "", and --object-dir for each of object_dirs
+ * (NULL-terminated, at most 16; NULL: the simulator's defaults, the bundled assets and its current
+ * folder); the child gets SIGKILL if this process dies (PR_SET_PDEATHSIG). Returns the pid, or -1
+ * with err filled (also for a channel prefix that is not valid, comlearn/msg.h). */
+pid_t estimate_lcm_sim_spawn(const char *exe, const char *url, const char *channel_prefix,
+                             const char *const *object_dirs, char *err, size_t err_size);
 
 /* SIGTERM the child and wait for it (SIGKILL after timeout_s). Returns its wait status, or -1. */
 int estimate_lcm_sim_stop(pid_t pid, double timeout_s);

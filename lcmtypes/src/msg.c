@@ -2,6 +2,7 @@
 #include "comlearn/msg.h"
 
 #include <limits.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,6 +30,31 @@ static const union {
   long long align_ll;
   unsigned char bytes[SCHEMA_SCRATCH_BYTES];
 } schema_scratch;
+
+int comlearn_msg_channel_prefix_ok(const char *prefix) {
+  if (prefix == NULL) return 1;
+  size_t n = 0;
+  for (; prefix[n] != '\0'; ++n) {
+    const char c = prefix[n];
+    if (n >= COMLEARN_MSG_CHANNEL_PREFIX_MAX ||
+        !((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'))
+      return 0;
+  }
+  return 1;
+}
+
+comlearn_msg_status_t comlearn_msg_channel(const char *prefix, const char *base, char *out,
+                                           size_t size) {
+  if (out == NULL || size == 0) return COMLEARN_MSG_E_ARG;
+  out[0] = '\0';
+  if (base == NULL || !comlearn_msg_channel_prefix_ok(prefix)) return COMLEARN_MSG_E_ARG;
+  const int k = snprintf(out, size, "%s%s", prefix ? prefix : "", base);
+  if (k < 0 || (size_t)k >= size) {
+    out[0] = '\0';
+    return COMLEARN_MSG_E_ARG;
+  }
+  return COMLEARN_MSG_OK;
+}
 
 const char *comlearn_msg_status_str(comlearn_msg_status_t status) {
   switch (status) {

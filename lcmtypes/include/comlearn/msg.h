@@ -70,6 +70,21 @@ typedef enum {
   COMLEARN_MSG_E_UNSUPPORTED = -7 /* the type has a nested type or a variable-length array */
 } comlearn_msg_status_t;
 
+/* Many robots on one URL: each comlearn-sim (and each estimator addressing it) puts a prefix
+ * before every channel name above, e.g. "R2_" gives R2_YUMI_COMMAND ... R2_COM_ESTIMATE. A prefix
+ * is 0..COMLEARN_MSG_CHANNEL_PREFIX_MAX characters from A-Z a-z 0-9 _ (channels are subscribed as
+ * regular expressions, so no metacharacter may slip in; the longest name stays within LCM's 63). */
+#define COMLEARN_MSG_CHANNEL_PREFIX_MAX 32
+
+/* 1 when prefix is a valid channel prefix (NULL and "" are: no prefix), else 0. */
+int comlearn_msg_channel_prefix_ok(const char *prefix);
+
+/* out = prefix + base (NULL prefix: none), e.g. ("R2_", COMLEARN_MSG_CHANNEL_YUMI_STATUS).
+ * COMLEARN_MSG_OK, or COMLEARN_MSG_E_ARG (base or out NULL, a prefix that is not valid, a name
+ * that does not fit in size bytes; out is then ""). */
+comlearn_msg_status_t comlearn_msg_channel(const char *prefix, const char *base, char *out,
+                                           size_t size);
+
 /* A static English description of a status; never NULL (unknown values give "unknown status"). */
 const char *comlearn_msg_status_str(comlearn_msg_status_t status);
 
