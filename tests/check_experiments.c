@@ -390,6 +390,53 @@ START_TEST(cli_experiments_outputs) {
 }
 END_TEST
 
+/* --sims 2: two comlearn-sims (channel prefixes R0_, R1_) on one URL, one worker process each,
+ * the objects spread over them. Every noiseless run goes over LCM and gives what the serial
+ * in-process run gives: the same trials, components found, and CoM (to the 9 printed digits,
+ * within 2e-12 m: the LCM path rounds the release pose at ~1e-18 m), in the serial order. */
+START_TEST(cli_experiments_sims) {
+  static char out_s[1 << 18], out_d[1 << 18];
+  char cmd[2048], r1[512], r2[512], r3[512];
+  rock_path("rock_1_uneven", r1, sizeof r1);
+  rock_path("rock_2_even", r2, sizeof r2);
+  rock_path("rock_3_uneven", r3, sizeof r3);
+  snprintf(cmd, sizeof cmd,
+           "'%s' experiments '%s' '%s' '%s' --seeds 0 --policies bisect --sims 2 --json -q",
+           COMLEARN_BIN, r1, r2, r3);
+  ck_assert_int_eq(run(cmd, out_s, sizeof out_s), 0);
+  snprintf(cmd, sizeof cmd, "'%s' experiments '%s' '%s' '%s' --seeds 0 --policies bisect --json -q",
+           COMLEARN_BIN, r1, r2, r3);
+  ck_assert_int_eq(run(cmd, out_d, sizeof out_d), 0);
+  ck_assert_uint_eq(count_of(out_s, "{\"object\": "), 6);
+  ck_assert_uint_eq(count_of(out_s, "\"backend\": \"lcm\""), 6);
+  ck_assert_uint_eq(count_of(out_d, "\"backend\": \"direct\""), 6);
+  const char *names[3] = {"rock_1_uneven", "rock_2_even", "rock_3_uneven"};
+  const char *starts[2] = {"uniform", "bbox"};
+  const char *prev_s = out_s;
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 2; ++k) {
+      char pat[256];
+      snprintf(pat, sizeof pat,
+               "{\"object\": \"%s\", \"policy\": \"bisect\", \"noisy\": false, \"start\": "
+               "\"%s\"",
+               names[i], starts[k]);
+      const char *ps = strstr(out_s, pat), *pd = strstr(out_d, pat);
+      ck_assert_msg(ps && pd, "no run %s %s", names[i], starts[k]);
+      ck_assert_msg(ps >= prev_s, "%s %s out of the serial order", names[i], starts[k]);
+      prev_s = ps;
+      double cs[3], cd[3];
+      json_vec(ps, "com_m", cs);
+      json_vec(pd, "com_m", cd);
+      for (int c = 0; c < 3; ++c)
+        ck_assert_msg(fabs(cs[c] - cd[c]) <= 2e-12, "%s %s %c: %.12g vs %.12g", names[i], starts[k],
+                      "xyz"[c], cs[c], cd[c]);
+      ck_assert_double_eq(json_num(ps, "trials"), json_num(pd, "trials"));
+      ck_assert_ptr_nonnull(strstr(ps, "\"found\": [true, true, true]"));
+      ck_assert_ptr_nonnull(strstr(pd, "\"found\": [true, true, true]"));
+    }
+}
+END_TEST
+
 START_TEST(cli_bad_input) {
   char cmd[2048], out[8192], urdf[512];
   rock_path("rock_1_even", urdf, sizeof urdf);
@@ -404,6 +451,8 @@ START_TEST(cli_bad_input) {
       {"--pose-noise-mm inf", "--pose-noise-mm: 'inf' is not a number"},
       {"--placement-noise-mm -0.5", "--placement-noise-mm: '-0.5'"},
       {"--resolution-mm 0", "--resolution-mm: '0'"},
+      {"--sims 0", "--sims: '0' is not an integer in [1, 16]"},
+      {"--sims 17", "--sims: '17'"},
       {"--bogus", "unrecognized option"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
@@ -438,6 +487,7 @@ static Suite *suite(void) {
   tcase_add_checked_fixture(tc, setup, teardown);
   tcase_set_timeout(tc, 300);
   tcase_add_test(tc, cli_experiments_outputs);
+  tcase_add_test(tc, cli_experiments_sims);
   tcase_add_test(tc, cli_bad_input);
   suite_add_tcase(s, tc);
   return s;

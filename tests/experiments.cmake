@@ -5,4 +5,4 @@ comlearn_add_check(check_experiments SOURCES check_experiments.c
   LIBS comlearn_estimate_direct comlearn_estimate comlearn_balance comlearn_model_sim
   TIMEOUT 900)
 target_compile_definitions(check_experiments PRIVATE COMLEARN_BIN="$<TARGET_FILE:comlearn>")
-add_dependencies(check_experiments comlearn)
+add_dependencies(check_experiments comlearn comlearn-sim)

@@ -13,12 +13,14 @@
 
 #include <errno.h>
 #include <getopt.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "comlearn/cli_json.h"
@@ -32,7 +34,7 @@
 #include "estimate_lcm.h"
 #include "experiments_svg.h"
 
-enum { EXIT_USAGE = 2, MAX_POLICIES = 4, MAX_SEEDS = 1000 };
+enum { EXIT_USAGE = 2, MAX_POLICIES = 4, MAX_SEEDS = 1000, MAX_SIMS = 16 };
 
 /* The paper's result as docs/design.md states it in "What is being reproduced" (McGovern, Mao &
  * Xiao, IROS 2019, Table I: three even rocks, Gazebo + ODE + YuMi). Only the summary is given
@@ -128,6 +130,8 @@ typedef struct {
   double placement_noise_m, pose_noise_m, resolution_m;
   const char *lcm_url, *out_dir;
   int json, quiet;
+  int sims;                   /* --sims: worker processes, each with a comlearn-sim; 0: none */
+  const char *channel_prefix; /* a worker's robot (R<w>_); NULL: none */
 } exp_opts_t;
 
 static void usage(FILE *out) {
@@ -155,6 +159,12 @@ static void usage(FILE *out) {
       "                           against a comlearn-sim already running there (default:\n"
       "                           in-process, as `estimate --direct`); noisy runs are\n"
       "                           always in-process\n"
+      "  --sims N                 start N comlearn-sims (channel prefixes R0_ .. R<N-1>_) on\n"
+      "                           --lcm-url, or on udpm://239.255.76.67:<7700 + pid %% 1000>\n"
+      "                           ?ttl=0, and spread the objects over N worker processes, one\n"
+      "                           per sim: the noiseless runs over LCM, the noisy ones\n"
+      "                           in-process; the same results as one sim, 1..16 (default:\n"
+      "                           none: --lcm-url's running sim, or in-process)\n"
       "  --out DIR                write DIR/table.md, DIR/experiments.json and\n"
       "                           DIR/fig2_<object>.svg (default: no files)\n"
       "  --json                   print the JSON on stdout instead of the table (default: off)\n"
@@ -262,6 +272,7 @@ static int run_backend_open(const exp_opts_t *o, const exp_rock_t *rock, const m
     estimate_lcm_config_t lc;
     estimate_lcm_config_default(&lc);
     lc.lcm_url = o->lcm_url;
+    lc.channel_prefix = o->channel_prefix;
     lc.urdf_path = rock->path;
     lc.mesh_link = &obj->mesh;
     lc.yumi_urdf = cli_paths_yumi_urdf();
@@ -879,6 +890,7 @@ static int parse_args(int argc, char **argv, exp_opts_t *o) {
                                        {"pose-noise-mm", required_argument, NULL, 'N'},
                                        {"resolution-mm", required_argument, NULL, 'r'},
                                        {"lcm-url", required_argument, NULL, 'u'},
+                                       {"sims", required_argument, NULL, 's'},
                                        {"out", required_argument, NULL, 'o'},
                                        {"json", no_argument, NULL, 'j'},
                                        {"verbose", no_argument, NULL, 'v'},
@@ -922,6 +934,16 @@ static int parse_args(int argc, char **argv, exp_opts_t *o) {
         }
         o->lcm_url = optarg;
         break;
+      case 's': {
+        char *end = NULL;
+        const long n = strtol(optarg, &end, 10);
+        if (end == optarg || *end != '\0' || n < 1 || n > MAX_SIMS) {
+          LOG_E("--sims: '%s' is not an integer in [1, %d]", optarg, MAX_SIMS);
+          return EXIT_USAGE;
+        }
+        o->sims = (int)n;
+        break;
+      }
       case 'o':
         if (!optarg[0]) {
           LOG_E("--out: empty directory name");
@@ -1052,6 +1074,182 @@ static int report_write(const exp_opts_t *o, const exp_rock_t *rocks, size_t nro
   return rc;
 }
 
+/* ---- --sims: worker processes, one comlearn-sim each ------------------------------------------
+ */
+
+/* What a worker sends back for one object, in its scratch file: the index, the object's record,
+ * the number of runs, then each run followed by its steps. The pointers inside (the URDF path,
+ * the backend name) point into argv and the program's constants, the same in parent and child. */
+static int record_write(FILE *f, size_t ri, const exp_rock_t *rk, const exp_run_t *runs, size_t n) {
+  int ok = fwrite(&ri, sizeof ri, 1, f) == 1 && fwrite(rk, sizeof *rk, 1, f) == 1 &&
+           fwrite(&n, sizeof n, 1, f) == 1;
+  for (size_t i = 0; i < n && ok; ++i)
+    ok = fwrite(&runs[i], sizeof runs[i], 1, f) == 1 &&
+         fwrite(runs[i].steps, sizeof *runs[i].steps, runs[i].nsteps, f) == runs[i].nsteps;
+  return ok ? 0 : -1;
+}
+
+/* One object's record into rocks[ri] and by_rock[ri] (n_rock[ri] runs, steps on the heap).
+ * Returns 1 read, 0 at the end of the file, -1 on a short or impossible record. */
+static int record_read(FILE *f, size_t nrocks, exp_rock_t *rocks, exp_run_t **by_rock,
+                       size_t *n_rock, size_t max_runs) {
+  size_t ri = 0, n = 0;
+  if (fread(&ri, sizeof ri, 1, f) != 1) return 0;
+  exp_rock_t rk;
+  if (ri >= nrocks || by_rock[ri] || fread(&rk, sizeof rk, 1, f) != 1 ||
+      fread(&n, sizeof n, 1, f) != 1 || n > max_runs)
+    return -1;
+  exp_run_t *runs = calloc(n ? n : 1, sizeof *runs);
+  if (!runs) return -1;
+  by_rock[ri] = runs;
+  for (size_t i = 0; i < n; ++i) {
+    if (fread(&runs[i], sizeof runs[i], 1, f) != 1 || runs[i].nsteps > ESTIMATE_MAX_TRIALS) {
+      runs[i].steps = NULL;
+      n_rock[ri] = i;
+      return -1;
+    }
+    runs[i].steps = malloc((runs[i].nsteps ? runs[i].nsteps : 1) * sizeof *runs[i].steps);
+    if (!runs[i].steps ||
+        fread(runs[i].steps, sizeof *runs[i].steps, runs[i].nsteps, f) != runs[i].nsteps) {
+      n_rock[ri] = i + 1;
+      return -1;
+    }
+  }
+  n_rock[ri] = n;
+  rk.path = rocks[ri].path;
+  rocks[ri] = rk;
+  return 1;
+}
+
+/* The folders a worker's sim may read: each object's folder and the bundled assets (as
+ * `estimate --spawn-sim`). dirs gets at most cap - 1 of them and a NULL. Returns 0, or -1 when
+ * an object cannot be resolved or there are too many folders. */
+static int worker_dirs(char *const *paths, size_t nrocks, int w, int nw, char (*store)[4096],
+                       const char **dirs, size_t cap) {
+  size_t n = 0;
+  for (size_t ri = (size_t)w; ri < nrocks; ri += (size_t)nw) {
+    char dir[4096];
+    if (realpath(paths[ri], dir) == NULL) return -1;
+    *strrchr(dir, '/') = '\0';
+    if (!dir[0]) snprintf(dir, sizeof dir, "/");
+    int seen = 0;
+    for (size_t k = 0; k < n && !seen; ++k) seen = strcmp(store[k], dir) == 0;
+    if (seen) continue;
+    if (n + 2 >= cap) return -1;
+    snprintf(store[n], sizeof store[n], "%s", dir);
+    dirs[n] = store[n];
+    ++n;
+  }
+  dirs[n++] = cli_paths_assets_dir();
+  dirs[n] = NULL;
+  return 0;
+}
+
+/* Worker w of nw (a forked child): a comlearn-sim with prefix R<w>_ on url, then every object
+ * ri with ri % nw == w as the serial loop runs it, each record into out. Exits with the status
+ * the serial loop would have returned. */
+static void sims_worker(int w, int nw, exp_opts_t o, char *const *paths, size_t nrocks,
+                        const char *url, FILE *out) {
+  char prefix[16], err[512] = "";
+  snprintf(prefix, sizeof prefix, "R%d_", w);
+  enum { DIRS_CAP = 16 };
+  static char store[DIRS_CAP][4096];
+  const char *dirs[DIRS_CAP];
+  if (worker_dirs(paths, nrocks, w, nw, store, dirs, DIRS_CAP) != 0) {
+    LOG_E("--sims: the objects of worker %d lie in more than %d folders", w, DIRS_CAP - 2);
+    _exit(EXIT_USAGE);
+  }
+  const char *exe = getenv("COMLEARN_SIM");
+  if (!exe || !exe[0]) exe = cli_paths_sim_exe();
+  const pid_t sim = estimate_lcm_sim_spawn(exe, url, prefix, dirs, err, sizeof err);
+  if (sim < 0) {
+    LOG_E("--sims: %s", err);
+    _exit(EXIT_FAILURE);
+  }
+  o.lcm_url = url;
+  o.channel_prefix = prefix;
+  const size_t per_rock = (size_t)o.npolicies * (2 + (size_t)o.seeds);
+  exp_run_t *runs = calloc(per_rock, sizeof *runs);
+  recorder_t *rec = malloc(sizeof *rec);
+  estimate_result_t *res = malloc(sizeof *res);
+  int rc = runs && rec && res ? EXIT_SUCCESS : EXIT_FAILURE;
+  for (size_t ri = (size_t)w; ri < nrocks && rc == EXIT_SUCCESS; ri += (size_t)nw) {
+    exp_rock_t rk = {.path = paths[ri]};
+    size_t n = 0;
+    rc = rock_runs(&o, &rk, ri, rec, res, runs, &n);
+    if (rc == EXIT_SUCCESS && record_write(out, ri, &rk, runs, n) != 0) rc = EXIT_FAILURE;
+    for (size_t i = 0; i < n; ++i) free(runs[i].steps);
+  }
+  if (fflush(out) != 0) rc = EXIT_FAILURE;
+  estimate_lcm_sim_stop(sim, 2.0);
+  free(runs);
+  free(rec);
+  free(res);
+  _exit(rc);
+}
+
+/* --sims: fork the workers on url, wait for them, and gather their objects and runs into rocks and
+ * runs in the serial order (object by object). Returns an exit status (the first worker's that
+ * failed). */
+static int sims_run(const exp_opts_t *o, const char *url, char *const *paths, size_t nrocks,
+                    exp_rock_t *rocks, exp_run_t *runs, size_t *nruns) {
+  const int nw = o->sims < (int)nrocks ? o->sims : (int)nrocks;
+  LOG_I("%d comlearn-sims on %s (channel prefixes R0_ ..), one worker each", nw, url);
+  FILE *out[MAX_SIMS] = {NULL};
+  pid_t pid[MAX_SIMS];
+  int rc = EXIT_SUCCESS;
+  fflush(stdout);
+  fflush(stderr);
+  for (int w = 0; w < nw && rc == EXIT_SUCCESS; ++w) {
+    out[w] = tmpfile();
+    pid[w] = out[w] ? fork() : -1;
+    if (pid[w] == 0) sims_worker(w, nw, *o, paths, nrocks, url, out[w]);
+    if (pid[w] < 0) {
+      LOG_E("--sims: %s", strerror(errno));
+      rc = EXIT_FAILURE;
+    }
+  }
+  for (int w = 0; w < nw; ++w) {
+    int ws = 0;
+    if (out[w] && pid[w] > 0 && waitpid(pid[w], &ws, 0) == pid[w]) {
+      const int st = WIFEXITED(ws) ? WEXITSTATUS(ws) : EXIT_FAILURE;
+      if (rc == EXIT_SUCCESS) rc = st;
+    }
+  }
+  exp_run_t **by_rock = calloc(nrocks, sizeof *by_rock);
+  size_t *n_rock = calloc(nrocks, sizeof *n_rock);
+  if (!by_rock || !n_rock) rc = EXIT_FAILURE;
+  const size_t per_rock = (size_t)o->npolicies * (2 + (size_t)o->seeds);
+  for (int w = 0; w < nw; ++w) {
+    if (!out[w]) continue;
+    rewind(out[w]);
+    int r;
+    while (rc == EXIT_SUCCESS &&
+           (r = record_read(out[w], nrocks, rocks, by_rock, n_rock, per_rock)) != 0)
+      if (r < 0) {
+        LOG_E("--sims: worker %d's results are unreadable", w);
+        rc = EXIT_FAILURE;
+      }
+    fclose(out[w]);
+  }
+  for (size_t ri = 0; ri < nrocks && by_rock && n_rock; ++ri) {
+    if (rc == EXIT_SUCCESS && !by_rock[ri]) {
+      LOG_E("--sims: no results for %s", paths[ri]);
+      rc = EXIT_FAILURE;
+    }
+    for (size_t i = 0; i < n_rock[ri]; ++i) {
+      if (rc == EXIT_SUCCESS)
+        runs[(*nruns)++] = by_rock[ri][i];
+      else
+        free(by_rock[ri][i].steps);
+    }
+    free(by_rock[ri]);
+  }
+  free(by_rock);
+  free(n_rock);
+  return rc;
+}
+
 int cmd_experiments(int argc, char **argv) {
   exp_opts_t o;
   const int prc = parse_args(argc, argv, &o);
@@ -1078,10 +1276,17 @@ int cmd_experiments(int argc, char **argv) {
     LOG_E("out of memory");
     rc = EXIT_FAILURE;
   }
-  for (size_t ri = 0; ri < nrocks && rc == EXIT_SUCCESS; ++ri) {
-    rocks[ri].path = paths[ri];
-    rc = rock_runs(&o, &rocks[ri], ri, rec, res, runs, &nruns);
+  for (size_t ri = 0; ri < nrocks; ++ri) rocks[ri].path = paths[ri];
+  char sims_url[128]; /* --sims without --lcm-url: a port of this process's own */
+  if (o.sims > 0 && !o.lcm_url) {
+    snprintf(sims_url, sizeof sims_url, "udpm://239.255.76.67:%u?ttl=0",
+             7700u + (unsigned)getpid() % 1000u);
+    o.lcm_url = sims_url; /* the noiseless runs go over LCM, and the report says where */
   }
+  if (rc == EXIT_SUCCESS && o.sims > 0)
+    rc = sims_run(&o, o.lcm_url, paths, nrocks, rocks, runs, &nruns);
+  for (size_t ri = 0; ri < nrocks && rc == EXIT_SUCCESS && o.sims == 0; ++ri)
+    rc = rock_runs(&o, &rocks[ri], ri, rec, res, runs, &nruns);
   const double wall = cli_time_now_s() - t_all;
   if (rc == EXIT_SUCCESS) {
     rc = report_write(&o, rocks, nrocks, runs, nruns, scratch, wall);
