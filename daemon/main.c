@@ -185,6 +185,7 @@ typedef struct {
   comlearn_msg_stats_t stats;
   char ch_command[256], ch_control[256], ch_status[256], ch_object[256];
   int publish_now;
+  int64_t last_publish_wall_us; /* when the last status went out (monotonic wall clock) */
   uint64_t dropped_in, dropped_out;
 } daemon_t;
 
@@ -236,7 +237,10 @@ static void on_control_raw(const lcm_recv_buf_t *rbuf, const char *channel, void
   d->publish_now = 1;
 }
 
+static int64_t wall_us(void);
+
 static void publish(daemon_t *d) {
+  d->last_publish_wall_us = wall_us();
   comlearn_yumi_status_t st;
   sim_status_fill(&d->sim, &st);
   if (drop(d))
@@ -309,8 +313,13 @@ static int run(daemon_t *d, int realtime) {
       const int now_paced = realtime || !sim_busy(&d->sim);
       if (now_paced && d->sim.utime + SIM_DT_US > anchor_sim + (wall_us() - anchor_wall)) break;
       if (!now_paced && ticks >= 1) break;
-      sim_step(&d->sim);
-      if (d->sim.utime % SIM_STATUS_PERIOD_US == 0) publish(d);
+      const int event = sim_step(&d->sim);
+      /* Paced, the period is of wall time too. Fast, a status at most every period of wall time
+       * (a motion is a burst of ticks), and at once when a step changed what a client waits
+       * for. */
+      if (event || (d->sim.utime % SIM_STATUS_PERIOD_US == 0 &&
+                    (now_paced || wall_us() - d->last_publish_wall_us >= SIM_STATUS_PERIOD_US)))
+        publish(d);
       if (++ticks >= 100) {
         anchor_wall = wall_us();
         anchor_sim = d->sim.utime;

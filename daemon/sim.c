@@ -235,10 +235,13 @@ static void hold_here(sim_t *s) {
   s->in_position = 1;
 }
 
-void sim_step(sim_t *s) {
+int sim_step(sim_t *s) {
+  int event = s->phase == SIM_OBJ_TRIAL && s->utime < s->trial_t1; /* kept if it ends now */
   s->utime += SIM_DT_US;
+  event = event && s->utime >= s->trial_t1;
   /* Expiry of the executing command: stop and hold (docs/messages.md). */
   if (s->state == ERR(STATE_POSITION) && s->utime >= s->active_expire_utime) {
+    event = 1;
     hold_here(s);
     s->state = ERR(STATE_HOLD);
     s->active_expire_utime = INT64_MAX;
@@ -262,6 +265,7 @@ void sim_step(sim_t *s) {
     if (done) {
       s->motion_us = -1;
       s->in_position = 1;
+      event = 1;
     }
   }
   /* Gripper opened past the held width: the fingers let go. */
@@ -287,6 +291,7 @@ void sim_step(sim_t *s) {
   } else {
     s->have_prev = 0;
   }
+  return event;
 }
 
 /* ---- commands ------------------------------------------------------------------------------ */

@@ -140,8 +140,10 @@ void sim_refusals_str(const sim_t *sim, char *buf, size_t size);
 /* 1 while something moves on the sim clock (arm or gripper motion, a trial playing out). */
 int sim_busy(const sim_t *sim);
 
-/* Advance the clock by SIM_DT_US: track, expire, release, play out a trial. */
-void sim_step(sim_t *sim);
+/* Advance the clock by SIM_DT_US: track, expire, release, play out a trial. Returns 1 when the
+ * step changed what a client waits for (the arms came into position, a command expired, a
+ * trial's outcome became final), else 0: the daemon publishes at once then. */
+int sim_step(sim_t *sim);
 
 /* Apply the acceptance rules of docs/messages.md to a decoded command. 0 accepted, else the
  * ERR_* code it was refused with (also in the status). */

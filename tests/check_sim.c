@@ -380,9 +380,58 @@ START_TEST(signals_exit_zero) {
 }
 END_TEST
 
-START_TEST(joint_tracking_velocity_limit) {
+/* As fast as possible, a motion is a burst of ticks: statuses go out at most every 4 ms of wall
+ * time, plus at once when the arms come into position. A 0.67 s motion (167 statuses at 250 Hz
+ * of sim time) then gives at most 2 + 250 per wall second of statuses, and the one that says "in
+ * position" carries the tick the motion ended on, not the next multiple of 4 ms. */
+START_TEST(status_events) {
   fx_t f;
   spawn(&f, NULL);
+  f.hist = calloc(HIST_MAX, sizeof *f.hist);
+  ck_assert_ptr_nonnull(f.hist);
+  placement_arm_t arm;
+  ck_assert_int_eq(placement_arm_load_yumi(&arm, YUMI_URDF, PLACEMENT_ARM_RIGHT, NULL),
+                   PLACEMENT_OK);
+  double q[2][7], w[2] = {0, 0};
+  memcpy(q, f.st.q_measured_rad, sizeof q);
+  /* 0.21 rad at 180 deg/s x 0.1: 0.6685 s, ending on tick 669 ms, between two multiples of 4 */
+  q[1][0] += 0.21;
+  const double scale = 0.1, t_exp = 0.21 / (arm.velocity_rad_s[0] * scale);
+  f.n_hist = 0;
+  int64_t seq = 1;
+  const double t0 = now_s();
+  send_cmd(&f, seq, CMD(MODE_POSITION), (const double(*)[7])q, w, scale, f.st.utime + 60000000);
+  ck_assert(wait_for(&f, seq_in_position, &seq, 10.0));
+  const double wall = now_s() - t0;
+  int64_t t_acc = -1, t_done = -1;
+  size_t during = 0;
+  for (size_t i = 0; i < f.n_hist; i++) {
+    const hist_t *h = &f.hist[i];
+    if (h->seq != 1) continue;
+    if (t_acc < 0) t_acc = h->utime;
+    if (!h->in_position)
+      during++;
+    else if (t_done < 0)
+      t_done = h->utime;
+  }
+  ck_assert_int_ge(t_acc, 0);
+  ck_assert_int_ge(t_done, 0);
+  ck_assert_msg((double)during <= 2.0 + 250.0 * wall,
+                "%zu statuses during a motion of %.3f s of sim time, %.4f s of wall time", during,
+                t_exp, wall);
+  const double dur = (double)(t_done - t_acc) * 1e-6;
+  ck_assert_msg(dur >= t_exp && dur <= t_exp + 0.001 + 1e-9,
+                "in position after %.6f s of controller time, the motion takes %.6f s", dur, t_exp);
+  finish(&f);
+}
+END_TEST
+
+/* The trajectory, sampled by the statuses of a --realtime sim (as fast as possible, a motion is
+ * a burst of ticks with a status only every 4 ms of wall time, test status_events). */
+START_TEST(joint_tracking_velocity_limit) {
+  fx_t f;
+  const char *realtime[] = {"--realtime", NULL};
+  spawn(&f, realtime);
   f.hist = calloc(HIST_MAX, sizeof *f.hist);
   ck_assert_ptr_nonnull(f.hist);
   placement_arm_t arm;
@@ -1239,6 +1288,7 @@ int main(void) {
   tcase_add_test(tc, help_and_bad_options);
   tcase_add_test(tc, signals_exit_zero);
   tcase_add_test(tc, joint_tracking_velocity_limit);
+  tcase_add_test(tc, status_events);
   tcase_add_test(tc, seq_rules);
   tcase_add_test(tc, invalid_commands_refused);
   tcase_add_test(tc, envelope_rules);
