@@ -306,13 +306,15 @@ static int run(daemon_t *d, int realtime) {
       d->publish_now = 0;
       publish(d);
     }
-    /* Advance the clock: one tick when fast; when paced, every tick that is due (at most 100 at
-     * once, after which the anchor moves: a stalled host does not cause a burst of catch-up). */
+    /* Advance the clock: when fast, up to SIM_FAST_BATCH ticks before LCM is read again (one
+     * poll per tick cost more than the tick), fewer when a step makes an event; when paced,
+     * every tick that is due (at most 100 at once, after which the anchor moves: a stalled host
+     * does not cause a burst of catch-up). */
     int ticks = 0;
     while (!stop_flag) {
       const int now_paced = realtime || !sim_busy(&d->sim);
       if (now_paced && d->sim.utime + SIM_DT_US > anchor_sim + (wall_us() - anchor_wall)) break;
-      if (!now_paced && ticks >= 1) break;
+      if (!now_paced && ticks >= SIM_FAST_BATCH) break;
       const int event = sim_step(&d->sim);
       /* Paced, the period is of wall time too. Fast, a status at most every period of wall time
        * (a motion is a burst of ticks), and at once when a step changed what a client waits
@@ -320,7 +322,9 @@ static int run(daemon_t *d, int realtime) {
       if (event || (d->sim.utime % SIM_STATUS_PERIOD_US == 0 &&
                     (now_paced || wall_us() - d->last_publish_wall_us >= SIM_STATUS_PERIOD_US)))
         publish(d);
-      if (++ticks >= 100) {
+      ++ticks;
+      if (event && !now_paced) break; /* let the client's answer in at once */
+      if (ticks >= 100) {
         anchor_wall = wall_us();
         anchor_sim = d->sim.utime;
         break;

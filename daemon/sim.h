@@ -28,6 +28,7 @@
 enum {
   SIM_DT_US = 1000,            /* controller tick [us] */
   SIM_STATUS_PERIOD_US = 4000, /* YUMI_STATUS / OBJECT_STATE every 4 ms of the sim clock (250 Hz) */
+  SIM_FAST_BATCH = 32,         /* as fast as possible: ticks between two reads of LCM */
   SIM_REST_TICKS = 20,         /* at_rest of a held object: quiet for this many ticks */
   SIM_TEXT_MAX = 512,
   SIM_ID_MAX = 128

@@ -232,6 +232,11 @@ static int os_after(const estimate_lcm_t *l, const void *arg) {
   return l->n_os > 0 && l->os.utime > *(const int64_t *)arg;
 }
 
+/* An object state of utime *arg or later: the one published with the status of that utime. */
+static int os_since(const estimate_lcm_t *l, const void *arg) {
+  return l->n_os > 0 && l->os.utime >= *(const int64_t *)arg;
+}
+
 typedef struct {
   int64_t t_release_us, horizon_us;
 } outcome_arg_t;
@@ -463,8 +468,10 @@ static int trial_place(estimate_lcm_t *l, const placement_grasp_t *tp,
   for (int k = 0; k <= PLACEMENT_WAYPOINT_RELEASE; ++k) {
     if (send_waypoint(l, (int)tp->side, &tp->plan.waypoints[k], err, err_size) != 0) return 1;
     if (k == PLACEMENT_WAYPOINT_PLACE) {
+      /* the object as the status that said "in position" saw it: comlearn-sim publishes both
+       * on that tick; waiting for a newer one cost up to a status period of an idle sim */
       const int64_t t = l->st.utime;
-      if (wait_for(l, os_after, &t, l->cfg.ack_timeout_s) != 1) {
+      if (wait_for(l, os_since, &t, l->cfg.ack_timeout_s) != 1) {
         snprintf(err, err_size, "no OBJECT_STATE at the place pose");
         return 1;
       }
