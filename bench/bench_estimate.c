@@ -25,6 +25,7 @@
  * Needs a multicast route for udpm (`ip route add 224.0.0.0/4 dev lo`, scripts/setup.sh). */
 #define _GNU_SOURCE
 
+#include <errno.h>
 #include <getopt.h>
 #include <math.h>
 #include <stdio.h>
@@ -286,13 +287,29 @@ static void usage(FILE *f) {
           MAX_REPS, CLI_LCM_RECV_BUF_BYTES);
 }
 
+/* An integer in [lo, hi] into *out; -1 (with the usage on stderr) otherwise. */
+static int parse_long(const char *arg, long lo, long hi, long *out) {
+  char *end = NULL;
+  errno = 0;
+  const long v = strtol(arg, &end, 10);
+  if (end == arg || *end != '\0' || errno != 0 || v < lo || v > hi) {
+    usage(stderr);
+    return -1;
+  }
+  *out = v;
+  return 0;
+}
+
 /* Options: --reps into *reps, --rock into *only, --concurrent into *concurrent. Returns -1 to go
  * on, else the exit status. */
 static int parse_args(int argc, char **argv, int *reps, const char **only, int *concurrent) {
-  static const struct option opts[] = {
-      {"reps", required_argument, NULL, 'r'},     {"rock", required_argument, NULL, 'k'},
-      {"recv-buf", required_argument, NULL, 'b'}, {"concurrent", no_argument, NULL, 'c'},
-      {"help", no_argument, NULL, 'h'},           {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"reps", required_argument, NULL, 'r'},
+                                       {"rock", required_argument, NULL, 'k'},
+                                       {"recv-buf", required_argument, NULL, 'b'},
+                                       {"concurrent", no_argument, NULL, 'c'},
+                                       {"port", required_argument, NULL, 'p'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
   int c;
   while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
     switch (c) {
@@ -305,24 +322,12 @@ static int parse_args(int argc, char **argv, int *reps, const char **only, int *
         break;
       case 'k': *only = optarg; break;
       case 'c': *concurrent = 1; break;
-      case 'p': {
-        char *end = NULL;
-        base_port = strtol(optarg, &end, 10);
-        if (end == optarg || *end != '\0' || base_port < 1024 || base_port > 65000) {
-          usage(stderr);
-          return 2;
-        }
+      case 'p':
+        if (parse_long(optarg, 1024, 65000, &base_port) != 0) return 2;
         break;
-      }
-      case 'b': {
-        char *end = NULL;
-        recv_buf = strtol(optarg, &end, 10);
-        if (end == optarg || *end != '\0' || recv_buf < 4096 || recv_buf > 67108864) {
-          usage(stderr);
-          return 2;
-        }
+      case 'b':
+        if (parse_long(optarg, 4096, 67108864, &recv_buf) != 0) return 2;
         break;
-      }
       case 'h': usage(stdout); return 0;
       default: usage(stderr); return 2;
     }
