@@ -4,8 +4,8 @@
 # ttl=1, and each namespace runs an estimate against the *other* namespace's sim, so every
 # message crosses the link. Each answer must equal the in-process (--direct) one: the same
 # components and trials. The same pair with ttl=0 must not reach across (exit 1, no controller).
-# Needs root (ip netns, ip link) and iproute2; exits 77 when namespaces cannot be made here (CTest
-# reports that as skipped). docs/messages.md, "Across hosts".
+# Needs root (ip netns, ip link), iproute2 and util-linux's unshare; exits 77 when namespaces cannot
+# be used here, e.g. in a chroot (CTest reports that as skipped). docs/messages.md, "Across hosts".
 # usage: scripts/lan-check.sh [-h|--help] [BUILD_DIR]   (default BUILD_DIR: build/default)
 set -euo pipefail
 case "${1:-}" in
@@ -23,6 +23,14 @@ for exe in "$comlearn" "$sim"; do
   [ -x "$exe" ] || { echo "lan-check: $exe is not built" >&2; exit 1; }
 done
 command -v ip >/dev/null || { echo "lan-check: no ip (iproute2); skipped" >&2; exit 77; }
+# `ip netns exec` needs a network and a mount namespace and makes / a slave mount; a container or
+# a chroot (where / is not a mount point) may allow neither. Probe first, so that nothing is left
+# mounted where it cannot work.
+if ! unshare --net --mount --propagation slave true 2>/dev/null; then
+  echo "lan-check: network and mount namespaces are not available here (needs root, and / a" \
+    "mount point); skipped" >&2
+  exit 77
+fi
 
 ns_a=cl_lan_a_$$ ns_b=cl_lan_b_$$ va=cl_va_$$ vb=cl_vb_$$
 pids=()
