@@ -42,21 +42,22 @@ cleanup() {
   ip netns del "$ns_b" 2>/dev/null || true
 }
 trap cleanup EXIT
-if ! ip netns add "$ns_a" 2>/dev/null; then
-  echo "lan-check: cannot create a network namespace here (needs root and CAP_SYS_ADMIN); skipped" >&2
+skip() {
+  echo "lan-check: $1 failed: namespaces or veth pairs cannot be made here; skipped" >&2
   exit 77
-fi
-ip netns add "$ns_b"
-ip link add "$va" type veth peer name "$vb"
-ip link set "$va" netns "$ns_a"
-ip link set "$vb" netns "$ns_b"
-ip -n "$ns_a" addr add 10.77.0.1/24 dev "$va"
-ip -n "$ns_b" addr add 10.77.0.2/24 dev "$vb"
+}
+ip netns add "$ns_a" 2>/dev/null || skip "ip netns add"
+ip netns add "$ns_b" 2>/dev/null || skip "ip netns add"
+ip link add "$va" type veth peer name "$vb" 2>/dev/null || skip "ip link add (veth)"
+ip link set "$va" netns "$ns_a" && ip link set "$vb" netns "$ns_b" || skip "ip link set netns"
+ip -n "$ns_a" addr add 10.77.0.1/24 dev "$va" || skip "ip addr add"
+ip -n "$ns_b" addr add 10.77.0.2/24 dev "$vb" || skip "ip addr add"
 for n in "$ns_a:$va" "$ns_b:$vb"; do
-  ip -n "${n%%:*}" link set lo up
-  ip -n "${n%%:*}" link set "${n#*:}" up
-  ip -n "${n%%:*}" route add 224.0.0.0/4 dev "${n#*:}" # multicast over the "LAN"
+  ip -n "${n%%:*}" link set lo up && ip -n "${n%%:*}" link set "${n#*:}" up || skip "ip link set up"
+  # multicast over the "LAN"
+  ip -n "${n%%:*}" route add 224.0.0.0/4 dev "${n#*:}" || skip "ip route add"
 done
+ip netns exec "$ns_a" true 2>/dev/null || skip "ip netns exec"
 
 # the answer: the fields of the JSON that carry it
 answer() { grep -o '"com_m": \[[^]]*\]\|"found": \[[^]]*\]\|"trials": [0-9]*' | tr '\n' ' '; }
