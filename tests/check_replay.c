@@ -422,10 +422,18 @@ static void record_replay(const char *urdf) {
            COMLEARN_BIN, urdf, url, live_path);
   int ws = system(cmd);
   ck_assert_msg(WIFEXITED(ws) && WEXITSTATUS(ws) == 0, "live estimate: wait status %d", ws);
-  sleep_s(0.3); /* the final COM_ESTIMATE reaches the logger */
+  /* the final COM_ESTIMATE reaches the logger: lcm-logger writes what it has read when SIGINT
+   * comes, not what is still in its socket; 0.3 s was once too short with both cores busy */
+  sleep_s(1.0);
   ck_assert_int_eq(kill(logger, SIGINT), 0);
   ws = wait_child(logger, 10.0);
   ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 0, "lcm-logger: %d", ws);
+  /* which side lost it, if the replay below finds no final estimate */
+  const size_t loglen = (size_t)file_size(log_path);
+  char *logbytes = read_file(log_path);
+  ck_assert_msg(memmem(logbytes, loglen, "COM_ESTIMATE", strlen("COM_ESTIMATE")) != NULL,
+                "%s has no COM_ESTIMATE: lcm-logger had not read it when SIGINT came", log_path);
+  free(logbytes);
 
   /* 2. replay into comlearn watch */
   char *watch_argv[] = {(char *)COMLEARN_BIN, "watch", "--once", "--json", "--timeout-s", "60",
