@@ -426,6 +426,36 @@ START_TEST(status_events) {
 }
 END_TEST
 
+/* The receive buffer a URL asks for: comlearn-sim says when net.core.rmem_max gives it less
+ * (checked after its first subscription, when LCM has opened the socket), and says nothing when
+ * it got it. Asking for twice rmem_max must warn; 64 KiB, below any rmem_max, must not. */
+START_TEST(receive_buffer_warned) {
+  FILE *f = fopen("/proc/sys/net/core/rmem_max", "r");
+  long rmem_max = 0;
+  ck_assert_ptr_nonnull(f);
+  ck_assert_int_eq(fscanf(f, "%ld", &rmem_max), 1);
+  fclose(f);
+  const long asked[2] = {2 * rmem_max < INT_MAX ? 2 * rmem_max : INT_MAX, 65536};
+  for (int i = 0; i < 2; ++i) {
+    char cmd[1024], out[4096];
+    const unsigned port = 20000u + ((unsigned)getpid() * 8u + url_counter++) % 40000u;
+    snprintf(cmd, sizeof cmd,
+             "timeout -s INT 1 '%s' --lcm-url 'udpm://239.255.76.67:%u?ttl=0&recv_buf_size=%ld' "
+             "2>&1",
+             COMLEARN_SIM_EXE, port, asked[i]);
+    FILE *p = popen(cmd, "r");
+    ck_assert_ptr_nonnull(p);
+    const size_t n = fread(out, 1, sizeof out - 1, p);
+    out[n] = '\0';
+    pclose(p);
+    ck_assert_msg(strstr(out, "running on") != NULL, "the sim did not start: %s", out);
+    const int warned = strstr(out, "LCM's receive buffer is") != NULL;
+    ck_assert_msg(warned == (i == 0), "recv_buf_size %ld, rmem_max %ld: %s", asked[i], rmem_max,
+                  out);
+  }
+}
+END_TEST
+
 /* The trajectory, sampled by the statuses of a --realtime sim (as fast as possible, a motion is
  * a burst of ticks with a status only every 4 ms of wall time, test status_events). */
 START_TEST(joint_tracking_velocity_limit) {
@@ -1289,6 +1319,7 @@ int main(void) {
   tcase_add_test(tc, signals_exit_zero);
   tcase_add_test(tc, joint_tracking_velocity_limit);
   tcase_add_test(tc, status_events);
+  tcase_add_test(tc, receive_buffer_warned);
   tcase_add_test(tc, seq_rules);
   tcase_add_test(tc, invalid_commands_refused);
   tcase_add_test(tc, envelope_rules);
