@@ -183,7 +183,7 @@ typedef struct {
   double drop_rate;
   uint64_t drop_rng;
   comlearn_msg_stats_t stats;
-  char ch_command[256], ch_control[256], ch_status[256], ch_object[256];
+  comlearn_msg_channels_t ch; /* with --channel-prefix */
   int publish_now;
   int64_t last_publish_wall_us; /* when the last status went out (monotonic wall clock) */
   uint64_t dropped_in, dropped_out;
@@ -245,14 +245,14 @@ static void publish(daemon_t *d) {
   sim_status_fill(&d->sim, &st);
   if (drop(d))
     d->dropped_out++;
-  else if (comlearn_yumi_status_t_publish(d->lcm, d->ch_status, &st) != 0)
-    LOG_W("publish %s failed", d->ch_status);
+  else if (comlearn_yumi_status_t_publish(d->lcm, d->ch.yumi_status, &st) != 0)
+    LOG_W("publish %s failed", d->ch.yumi_status);
   comlearn_object_state_t os;
   sim_object_fill(&d->sim, &os);
   if (drop(d))
     d->dropped_out++;
-  else if (comlearn_object_state_t_publish(d->lcm, d->ch_object, &os) != 0)
-    LOG_W("publish %s failed", d->ch_object);
+  else if (comlearn_object_state_t_publish(d->lcm, d->ch.object_state, &os) != 0)
+    LOG_W("publish %s failed", d->ch.object_state);
 }
 
 static int64_t wall_us(void) {
@@ -355,15 +355,7 @@ int main(int argc, char **argv) {
   static daemon_t d;
   d.drop_rate = o.drop_rate;
   d.drop_rng = o.seed ^ 0xD5A61266F0C9392Cull;
-  /* the prefix was checked (--channel-prefix), so every name fits */
-  (void)comlearn_msg_channel(o.prefix, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, d.ch_command,
-                             sizeof d.ch_command);
-  (void)comlearn_msg_channel(o.prefix, COMLEARN_MSG_CHANNEL_SIM_CONTROL, d.ch_control,
-                             sizeof d.ch_control);
-  (void)comlearn_msg_channel(o.prefix, COMLEARN_MSG_CHANNEL_YUMI_STATUS, d.ch_status,
-                             sizeof d.ch_status);
-  (void)comlearn_msg_channel(o.prefix, COMLEARN_MSG_CHANNEL_OBJECT_STATE, d.ch_object,
-                             sizeof d.ch_object);
+  (void)comlearn_msg_channels(o.prefix, &d.ch); /* checked by --channel-prefix */
 
   sim_config_t cfg = {.yumi_urdf = o.yumi_urdf,
                       .seed = o.seed,
@@ -393,8 +385,8 @@ int main(int argc, char **argv) {
     sim_fini(&d.sim);
     return 1;
   }
-  lcm_subscription_t *s1 = lcm_subscribe(d.lcm, d.ch_command, on_command_raw, &d);
-  lcm_subscription_t *s2 = lcm_subscribe(d.lcm, d.ch_control, on_control_raw, &d);
+  lcm_subscription_t *s1 = lcm_subscribe(d.lcm, d.ch.yumi_command, on_command_raw, &d);
+  lcm_subscription_t *s2 = lcm_subscribe(d.lcm, d.ch.sim_control, on_control_raw, &d);
   if (s1 == NULL || s2 == NULL) {
     LOG_E("lcm_subscribe failed");
     lcm_destroy(d.lcm);
@@ -405,8 +397,8 @@ int main(int argc, char **argv) {
   /* Latest command only: a backlog of old commands is worth nothing. */
   lcm_subscription_set_queue_capacity(s1, 100);
   LOG_I("running on %s (%s), channels %s %s -> %s %s", url,
-        o.realtime ? "realtime" : "as fast as possible", d.ch_command, d.ch_control, d.ch_status,
-        d.ch_object);
+        o.realtime ? "realtime" : "as fast as possible", d.ch.yumi_command, d.ch.sim_control,
+        d.ch.yumi_status, d.ch.object_state);
   int rc = run(&d, o.realtime);
   LOG_I(
       "stopping at sim time %.3f s: %lld received, %lld rejected, %lld undecodable, "

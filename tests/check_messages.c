@@ -872,6 +872,15 @@ START_TEST(test_channel_prefix) {
   ck_assert_int_eq(comlearn_msg_channel("R2_", "YUMI_STATUS", ch, 8), COMLEARN_MSG_E_ARG);
   ck_assert_str_eq(ch, "");
   ck_assert_int_eq(comlearn_msg_channel("R2_", NULL, ch, sizeof ch), COMLEARN_MSG_E_ARG);
+  comlearn_msg_channels_t all;
+  ck_assert_int_eq(comlearn_msg_channels("R2_", &all), COMLEARN_MSG_OK);
+  ck_assert_str_eq(all.yumi_command, "R2_YUMI_COMMAND");
+  ck_assert_str_eq(all.object_state, "R2_OBJECT_STATE");
+  ck_assert_str_eq(all.com_estimate, "R2_COM_ESTIMATE");
+  ck_assert_int_eq(comlearn_msg_channels(NULL, &all), COMLEARN_MSG_OK);
+  ck_assert_str_eq(all.sim_control, "SIM_CONTROL");
+  ck_assert_int_eq(comlearn_msg_channels("R*", &all), COMLEARN_MSG_E_ARG);
+  ck_assert_str_eq(all.yumi_status, "");
 }
 END_TEST
 

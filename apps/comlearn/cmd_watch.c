@@ -74,7 +74,7 @@ typedef struct {
   int64_t last_run_id; /* of the last record printed, to head a new run in the table */
   int have_run;
   uint64_t trials, estimates;
-  char ch_trial[64], ch_estimate[64]; /* with --channel-prefix */
+  comlearn_msg_channels_t ch; /* with --channel-prefix (COM_TRIAL and COM_ESTIMATE used) */
 } watch_t;
 
 static const char *kind_name(int8_t k) {
@@ -268,10 +268,7 @@ static int parse_args(int argc, char **argv, const char **url, double *timeout_s
         *url = optarg;
         break;
       case 'c':
-        if (comlearn_msg_channel(optarg, COMLEARN_MSG_CHANNEL_COM_TRIAL, w->ch_trial,
-                                 sizeof w->ch_trial) != COMLEARN_MSG_OK ||
-            comlearn_msg_channel(optarg, COMLEARN_MSG_CHANNEL_COM_ESTIMATE, w->ch_estimate,
-                                 sizeof w->ch_estimate) != COMLEARN_MSG_OK) {
+        if (comlearn_msg_channels(optarg, &w->ch) != COMLEARN_MSG_OK) {
           LOG_E("--channel-prefix: need at most %d of A-Z a-z 0-9 _, got '%s'",
                 COMLEARN_MSG_CHANNEL_PREFIX_MAX, optarg);
           return EXIT_USAGE;
@@ -320,9 +317,9 @@ static int watch_subscribe(lcm_t *lcm, const char *url, watch_t *w, comlearn_msg
                                   .stats = stats};
   *ts = NULL;
   *es = NULL;
-  comlearn_msg_status_t s1 = comlearn_msg_subscribe(lcm, w->ch_trial, &tc, ts);
+  comlearn_msg_status_t s1 = comlearn_msg_subscribe(lcm, w->ch.com_trial, &tc, ts);
   comlearn_msg_status_t s2 =
-      s1 == COMLEARN_MSG_OK ? comlearn_msg_subscribe(lcm, w->ch_estimate, &ec, es) : s1;
+      s1 == COMLEARN_MSG_OK ? comlearn_msg_subscribe(lcm, w->ch.com_estimate, &ec, es) : s1;
   if (s1 != COMLEARN_MSG_OK || s2 != COMLEARN_MSG_OK) {
     LOG_E("subscribing on %s: %s", url, comlearn_msg_status_str(s1 != COMLEARN_MSG_OK ? s1 : s2));
     comlearn_msg_unsubscribe(lcm, *ts);
@@ -349,7 +346,7 @@ static int watch_loop(lcm_t *lcm, const char *url, double timeout_s, watch_t *w)
   sigaction(SIGTERM, &sa, &old_term);
 
   /* Tests and scripts wait for this line before they start publishing. */
-  LOG_I("listening on %s for %s and %s", url, w->ch_trial, w->ch_estimate);
+  LOG_I("listening on %s for %s and %s", url, w->ch.com_trial, w->ch.com_estimate);
   const double t0 = cli_time_now_s();
   int rc = EXIT_SUCCESS;
   while (!g_stop && !(w->once && w->done_seen)) {
@@ -380,8 +377,7 @@ int cmd_watch(int argc, char **argv) {
   double timeout_s = 0.0;
   watch_t w;
   memset(&w, 0, sizeof w);
-  snprintf(w.ch_trial, sizeof w.ch_trial, "%s", COMLEARN_MSG_CHANNEL_COM_TRIAL);
-  snprintf(w.ch_estimate, sizeof w.ch_estimate, "%s", COMLEARN_MSG_CHANNEL_COM_ESTIMATE);
+  (void)comlearn_msg_channels(NULL, &w.ch);
   const int prc = parse_args(argc, argv, &url, &timeout_s, &w);
   if (prc >= 0) return prc;
 

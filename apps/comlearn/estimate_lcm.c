@@ -46,8 +46,7 @@ enum { ID_MAX = 128, PATH_MAX_LEN = 4096 };
 struct estimate_lcm {
   estimate_lcm_config_t cfg;
   char url[512];
-  /* the channels, with the robot's prefix (comlearn/msg.h) */
-  char ch_command[64], ch_control[64], ch_status[64], ch_object[64], ch_trial[64], ch_estimate[64];
+  comlearn_msg_channels_t ch; /* the robot's channels, with its prefix (comlearn/msg.h) */
   char urdf[PATH_MAX_LEN];
   char object_id[ID_MAX];
   char policy[32];
@@ -269,8 +268,8 @@ static int sim_control(estimate_lcm_t *l, int8_t action, int arm, const double g
     l->sc_seq = next_seq(l->sc_seq, l->n_os > 0 ? l->os.sim_control_seq : l->sc_seq);
     sc.seq = l->sc_seq;
     sc.utime = wall_us();
-    if (comlearn_sim_control_t_publish(l->lcm, l->ch_control, &sc) != 0) {
-      snprintf(err, err_size, "publish %s failed", l->ch_control);
+    if (comlearn_sim_control_t_publish(l->lcm, l->ch.sim_control, &sc) != 0) {
+      snprintf(err, err_size, "publish %s failed", l->ch.sim_control);
       return -1;
     }
     l->counters.controls_sent++;
@@ -286,7 +285,7 @@ static int sim_control(estimate_lcm_t *l, int8_t action, int arm, const double g
   snprintf(err, err_size,
            "SIM_CONTROL not acknowledged on %s after %d sends (is comlearn-sim "
            "running on %s?)",
-           l->ch_object, l->cfg.max_resends + 1, l->url);
+           l->ch.object_state, l->cfg.max_resends + 1, l->url);
   return -1;
 }
 
@@ -312,8 +311,8 @@ static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t 
         l->st.utime + (int64_t)llround(wp->duration_s / scale * 1e6) + EXPIRE_MARGIN_US;
     c.mode = CMD(MODE_POSITION);
     c.velocity_scale = scale;
-    if (comlearn_yumi_command_t_publish(l->lcm, l->ch_command, &c) != 0) {
-      snprintf(err, err_size, "publish %s failed", l->ch_command);
+    if (comlearn_yumi_command_t_publish(l->lcm, l->ch.yumi_command, &c) != 0) {
+      snprintf(err, err_size, "publish %s failed", l->ch.yumi_command);
       return -1;
     }
     l->counters.commands_sent++;
@@ -430,8 +429,8 @@ static void publish_trial(estimate_lcm_t *l, const estimate_trial_request_t *req
                    r[i][1] * req->target_link_m[1] + r[i][2] * req->target_link_m[2]);
     t.target_offset_m = p - d;
   }
-  if (comlearn_com_trial_t_publish(l->lcm, l->ch_trial, &t) != 0)
-    logf_(l, "publish %s failed", l->ch_trial);
+  if (comlearn_com_trial_t_publish(l->lcm, l->ch.com_trial, &t) != 0)
+    logf_(l, "publish %s failed", l->ch.com_trial);
 }
 
 /* Step 1 of a trial: the object into the gripper (SIM_CONTROL LOAD, or RESET once loaded; a
@@ -507,7 +506,7 @@ static int trial_outcome(estimate_lcm_t *l, estimate_trial_reply_t *reply, char 
   const int64_t t_now = l->st.utime;
   if (wait_for(l, os_after, &t_now, l->cfg.ack_timeout_s) != 1 ||
       wait_for(l, outcome_ready, &oa, l->cfg.outcome_timeout_s) != 1) {
-    snprintf(err, err_size, "no trial outcome on %s within %.1f s", l->ch_object,
+    snprintf(err, err_size, "no trial outcome on %s within %.1f s", l->ch.object_state,
              l->cfg.outcome_timeout_s);
     return 1;
   }
@@ -593,20 +592,7 @@ void estimate_lcm_config_default(estimate_lcm_config_t *cfg) {
  * and the placement plan settings. */
 static void lcm_identity(estimate_lcm_t *l, const estimate_lcm_config_t *cfg) {
   l->cfg = *cfg;
-  /* checked in estimate_lcm_open: a valid prefix, so every name fits */
-  const char *prefix = cfg->channel_prefix;
-  (void)comlearn_msg_channel(prefix, COMLEARN_MSG_CHANNEL_YUMI_COMMAND, l->ch_command,
-                             sizeof l->ch_command);
-  (void)comlearn_msg_channel(prefix, COMLEARN_MSG_CHANNEL_SIM_CONTROL, l->ch_control,
-                             sizeof l->ch_control);
-  (void)comlearn_msg_channel(prefix, COMLEARN_MSG_CHANNEL_YUMI_STATUS, l->ch_status,
-                             sizeof l->ch_status);
-  (void)comlearn_msg_channel(prefix, COMLEARN_MSG_CHANNEL_OBJECT_STATE, l->ch_object,
-                             sizeof l->ch_object);
-  (void)comlearn_msg_channel(prefix, COMLEARN_MSG_CHANNEL_COM_TRIAL, l->ch_trial,
-                             sizeof l->ch_trial);
-  (void)comlearn_msg_channel(prefix, COMLEARN_MSG_CHANNEL_COM_ESTIMATE, l->ch_estimate,
-                             sizeof l->ch_estimate);
+  (void)comlearn_msg_channels(cfg->channel_prefix, &l->ch); /* checked in estimate_lcm_open */
   /* with comlearn's receive buffer (cli_net.h); a URL too long for it is kept as it is */
   const char *url = cfg->lcm_url ? cfg->lcm_url : COMLEARN_MSG_LCM_URL_DEFAULT;
   if (cli_lcm_url_buffered(url, l->url, sizeof l->url) != 0)
@@ -653,8 +639,8 @@ static int lcm_connect(estimate_lcm_t *l, char *err, size_t err_size) {
                                   .on_message = on_object,
                                   .user = l,
                                   .stats = &l->stats};
-  if (comlearn_msg_subscribe(l->lcm, l->ch_status, &c1, &l->sub_st) != COMLEARN_MSG_OK ||
-      comlearn_msg_subscribe(l->lcm, l->ch_object, &c2, &l->sub_os) != COMLEARN_MSG_OK) {
+  if (comlearn_msg_subscribe(l->lcm, l->ch.yumi_status, &c1, &l->sub_st) != COMLEARN_MSG_OK ||
+      comlearn_msg_subscribe(l->lcm, l->ch.object_state, &c2, &l->sub_os) != COMLEARN_MSG_OK) {
     snprintf(err, err_size, "subscribing on %s failed", l->url);
     estimate_lcm_close(l);
     return -1;
@@ -730,7 +716,7 @@ int estimate_lcm_publish_estimate(estimate_lcm_t *l, const estimate_result_t *r,
   }
   e.trials = r->trial_count > INT32_MAX ? INT32_MAX : (int32_t)r->trial_count;
   e.done = (int8_t)(done != 0);
-  return comlearn_com_estimate_t_publish(l->lcm, l->ch_estimate, &e) == 0 ? 0 : -1;
+  return comlearn_com_estimate_t_publish(l->lcm, l->ch.com_estimate, &e) == 0 ? 0 : -1;
 }
 
 void estimate_lcm_stats(const estimate_lcm_t *l, estimate_lcm_stats_t *out) {

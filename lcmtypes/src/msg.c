@@ -56,6 +56,25 @@ comlearn_msg_status_t comlearn_msg_channel(const char *prefix, const char *base,
   return COMLEARN_MSG_OK;
 }
 
+comlearn_msg_status_t comlearn_msg_channels(const char *prefix, comlearn_msg_channels_t *out) {
+  if (out == NULL) return COMLEARN_MSG_E_ARG;
+  struct {
+    const char *base;
+    char *name;
+  } all[] = {{COMLEARN_MSG_CHANNEL_YUMI_COMMAND, out->yumi_command},
+             {COMLEARN_MSG_CHANNEL_YUMI_STATUS, out->yumi_status},
+             {COMLEARN_MSG_CHANNEL_OBJECT_STATE, out->object_state},
+             {COMLEARN_MSG_CHANNEL_SIM_CONTROL, out->sim_control},
+             {COMLEARN_MSG_CHANNEL_COM_TRIAL, out->com_trial},
+             {COMLEARN_MSG_CHANNEL_COM_ESTIMATE, out->com_estimate}};
+  comlearn_msg_status_t st = COMLEARN_MSG_OK;
+  for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
+    if (comlearn_msg_channel(prefix, all[i].base, all[i].name, sizeof out->yumi_command) !=
+        COMLEARN_MSG_OK)
+      st = COMLEARN_MSG_E_ARG;
+  return st;
+}
+
 const char *comlearn_msg_status_str(comlearn_msg_status_t status) {
   switch (status) {
     case COMLEARN_MSG_OK: return "success";

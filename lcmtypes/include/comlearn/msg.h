@@ -85,6 +85,17 @@ int comlearn_msg_channel_prefix_ok(const char *prefix);
 comlearn_msg_status_t comlearn_msg_channel(const char *prefix, const char *base, char *out,
                                            size_t size);
 
+/* The six channel names of one robot, with its prefix (each fits: 32 + 12 + NUL). */
+typedef struct {
+  char yumi_command[64], yumi_status[64], object_state[64], sim_control[64];
+  char com_trial[64], com_estimate[64];
+} comlearn_msg_channels_t;
+
+/* Every name of out from prefix (NULL: none) and the COMLEARN_MSG_CHANNEL_* names.
+ * COMLEARN_MSG_OK, or COMLEARN_MSG_E_ARG (out NULL, a prefix that is not valid; out is then
+ * all ""). */
+comlearn_msg_status_t comlearn_msg_channels(const char *prefix, comlearn_msg_channels_t *out);
+
 /* A static English description of a status; never NULL (unknown values give "unknown status"). */
 const char *comlearn_msg_status_str(comlearn_msg_status_t status);
 
