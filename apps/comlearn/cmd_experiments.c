@@ -1018,6 +1018,11 @@ static void truth_compare(exp_rock_t *rk, exp_run_t *runs, size_t nruns) {
       runs[i].error_m[k] = runs[i].found[k] ? runs[i].com_m[k] - tm.com_m[k] : NAN;
 }
 
+/* The runs rock_runs makes of one object: per policy the mesh prior, Table I and the seeds. */
+static size_t runs_per_object(const exp_opts_t *o) {
+  return (size_t)o->npolicies * (2 + (size_t)o->seeds);
+}
+
 /* Every run of one object: per policy the mesh prior (s = -1), Table I (s = 0) and the noisy
  * seeds, appended at runs[*nruns]. Returns an exit status. */
 static int rock_runs(const exp_opts_t *o, exp_rock_t *rk, size_t ri, recorder_t *rec,
@@ -1168,7 +1173,7 @@ static void sims_worker(int w, int nw, exp_opts_t o, char *const *paths, size_t 
   }
   o.lcm_url = url;
   o.channel_prefix = prefix;
-  const size_t per_rock = (size_t)o.npolicies * (2 + (size_t)o.seeds);
+  const size_t per_rock = runs_per_object(&o);
   exp_run_t *runs = calloc(per_rock, sizeof *runs);
   recorder_t *rec = malloc(sizeof *rec);
   estimate_result_t *res = malloc(sizeof *res);
@@ -1219,7 +1224,7 @@ static int sims_run(const exp_opts_t *o, const char *url, char *const *paths, si
   exp_run_t **by_rock = calloc(nrocks, sizeof *by_rock);
   size_t *n_rock = calloc(nrocks, sizeof *n_rock);
   if (!by_rock || !n_rock) rc = EXIT_FAILURE;
-  const size_t per_rock = (size_t)o->npolicies * (2 + (size_t)o->seeds);
+  const size_t per_rock = runs_per_object(o);
   for (int w = 0; w < nw; ++w) {
     if (!out[w]) continue;
     rewind(out[w]);
@@ -1264,7 +1269,7 @@ int cmd_experiments(int argc, char **argv) {
   int rc = inputs_check(paths, nrocks, o.out_dir);
   if (rc != EXIT_SUCCESS) return rc;
 
-  const size_t cap = nrocks * (size_t)o.npolicies * (2 + (size_t)o.seeds);
+  const size_t cap = nrocks * runs_per_object(&o);
   exp_rock_t *rocks = calloc(nrocks, sizeof *rocks);
   exp_run_t *runs = calloc(cap, sizeof *runs);
   double *scratch = malloc(3 * cap * sizeof *scratch);
