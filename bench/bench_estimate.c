@@ -73,12 +73,12 @@ static void unique_url(char *url, size_t n) {
     snprintf(url, n, "udpm://239.255.76.67:%u?ttl=0", port);
 }
 
-/* Datagrams the kernel dropped on the sockets of one estimate: the client's, the sim's; and
- * the CPU time each spent (s): the client's in the estimate, the sim's over its whole life. */
+/* What one LCM estimate cost each side: the datagrams the kernel dropped on the client's and the
+ * sim's sockets, and the CPU time (s): the client's in the estimate, the sim's over its life. */
 typedef struct {
   uint64_t client, sim;
   double cpu_client_s, cpu_sim_s;
-} drops_t;
+} lcm_costs_t;
 
 /* CPU seconds (user + system) of this process (RUSAGE_SELF) or of its waited-for children. */
 static double cpu_s(int who) {
@@ -152,10 +152,10 @@ static double lcm_estimate(const char *url, const char *channel_prefix, const ch
 }
 
 /* One LCM estimate against a fresh comlearn-sim; fills *open_s (the spawn and the open), *st and
- * *drops (the kernel's counters of both processes' sockets: this one has no other UDP socket
+ * *cost (the kernel's drop counters of both processes' sockets: this one has no other UDP socket
  * open); returns the wall time of estimate_run, or -1. */
 static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_result_t *r,
-                      double *open_s, estimate_lcm_stats_t *st, drops_t *drops) {
+                      double *open_s, estimate_lcm_stats_t *st, lcm_costs_t *cost) {
   char url[128], msg[512] = "";
   unique_url(url, sizeof url);
   const double t0 = cli_time_now_s(), children0 = cpu_s(RUSAGE_CHILDREN);
@@ -167,13 +167,13 @@ static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_resul
   }
   double open_only = 0.0;
   const double spawned = cli_time_now_s() - t0, c0 = cpu_s(RUSAGE_SELF);
-  const double dt = lcm_estimate(url, NULL, urdf, mesh, r, &open_only, st, &drops->client);
-  drops->cpu_client_s = cpu_s(RUSAGE_SELF) - c0;
+  const double dt = lcm_estimate(url, NULL, urdf, mesh, r, &open_only, st, &cost->client);
+  cost->cpu_client_s = cpu_s(RUSAGE_SELF) - c0;
   *open_s = spawned + open_only;
-  if (cli_udp_drops_of(pid, &drops->sim) != 0)
+  if (cli_udp_drops_of(pid, &cost->sim) != 0)
     LOG_W("the kernel's UDP drop counters cannot be read (/proc)");
   const int ws = estimate_lcm_sim_stop(pid, 2.0);
-  drops->cpu_sim_s = cpu_s(RUSAGE_CHILDREN) - children0;
+  cost->cpu_sim_s = cpu_s(RUSAGE_CHILDREN) - children0;
   if (dt >= 0 && (ws == -1 || !WIFEXITED(ws) || WEXITSTATUS(ws) != 0))
     LOG_E("comlearn-sim exit status %d", ws);
   return dt;
@@ -357,9 +357,9 @@ static int rock_reps(const char *urdf, const model_mesh_t *mesh, int reps, estim
   rr->trials = 0;
   for (int k = 0; k < reps; ++k) {
     estimate_lcm_stats_t st;
-    drops_t drops = {0, 0, 0.0, 0.0};
+    lcm_costs_t cost = {0, 0, 0.0, 0.0};
     rr->td[k] = run_direct(urdf, mesh, rd, &rr->cpu_d[k]);
-    rr->tl[k] = rr->td[k] < 0 ? -1.0 : run_lcm(urdf, mesh, rl, &rr->to[k], &st, &drops);
+    rr->tl[k] = rr->td[k] < 0 ? -1.0 : run_lcm(urdf, mesh, rl, &rr->to[k], &st, &cost);
     if (rr->td[k] < 0 || rr->tl[k] < 0) return -1;
     rr->trials = rl->trial_count;
     const double n = st.trials ? (double)st.trials : 1.0;
@@ -367,10 +367,10 @@ static int rock_reps(const char *urdf, const model_mesh_t *mesh, int reps, estim
     rr->ctl += (double)st.controls_sent / n;
     rr->sta += (double)st.statuses / n;
     rr->obs += (double)st.object_states / n;
-    rr->drops_client += (double)drops.client;
-    rr->cpu_c[k] = drops.cpu_client_s;
-    rr->cpu_sim[k] = drops.cpu_sim_s;
-    rr->drops_sim += (double)drops.sim;
+    rr->drops_client += (double)cost.client;
+    rr->cpu_c[k] = cost.cpu_client_s;
+    rr->cpu_sim[k] = cost.cpu_sim_s;
+    rr->drops_sim += (double)cost.sim;
     if (!same_answer(rl, rd)) rr->agree = 0;
   }
   return 0;
