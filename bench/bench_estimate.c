@@ -2,8 +2,10 @@
  * backend (lib/balance in-process) and with the LCM backend against a spawned comlearn-sim
  * (YuMi placements planned with lib/placement, commands and states over a udpm URL of its own),
  * the LCM messages per trial (YUMI_COMMAND and SIM_CONTROL sent, YUMI_STATUS and OBJECT_STATE
- * received; estimate_lcm_stats), and the datagrams the kernel dropped per estimate on the
- * client's and the sim's sockets (cli_net.h; receive buffer full).
+ * received; estimate_lcm_stats), the datagrams the kernel dropped per estimate on the client's
+ * and the sim's sockets (cli_net.h: their filters turn away the channels each does not read, the
+ * other's and its own publications) and those lost to a full receive buffer on the whole host
+ * during the estimate (RcvbufErrors).
  *
  * Per rock and repetition: the direct estimate (open + run), then comlearn-sim spawned, the LCM
  * backend opened (waits for the first status), the estimate run, the daemon stopped. "lcm s" is
@@ -17,8 +19,9 @@
  * (getrusage of the waited-for child).
  *
  * --concurrent: rounds of 1, 2 and 4 worker processes at once, each with its own comlearn-sim
- * (channel prefix R<w>_) on one shared URL, each running every rock once; the throughput and
- * whether every answer equals the serial --direct one.
+ * (channel prefix R<w>_), each running every rock once; all on one shared URL, then each robot on
+ * a port of its own; the throughput, whether every answer equals the serial --direct one, and
+ * the datagrams lost to full receive buffers on the host in the round.
  *
  * Usage: bench_estimate [--reps N] [--rock NAME] [--recv-buf BYTES] [--concurrent] [--port P]
  *                       [--help]
@@ -74,9 +77,12 @@ static void unique_url(char *url, size_t n) {
 }
 
 /* What one LCM estimate cost each side: the datagrams the kernel dropped on the client's and the
- * sim's sockets, and the CPU time (s): the client's in the estimate, the sim's over its life. */
+ * sim's sockets (filtered on purpose, or a full buffer), those lost to a full buffer on the host
+ * during the estimate (-1: unknown), and the CPU time (s): the client's in the estimate, the
+ * sim's over its life. */
 typedef struct {
   uint64_t client, sim;
+  int64_t overflows;
   double cpu_client_s, cpu_sim_s;
 } lcm_costs_t;
 
@@ -169,6 +175,7 @@ static double run_lcm(const char *urdf, const model_mesh_t *mesh, estimate_resul
   const double spawned = cli_time_now_s() - t0, c0 = cpu_s(RUSAGE_SELF);
   const double dt = lcm_estimate(url, NULL, urdf, mesh, r, &open_only, st, &cost->client);
   cost->cpu_client_s = cpu_s(RUSAGE_SELF) - c0;
+  cost->overflows = st->rcvbuf_overflows;
   *open_s = spawned + open_only;
   if (cli_udp_drops_of(pid, &cost->sim) != 0)
     LOG_W("the kernel's UDP drop counters cannot be read (/proc)");
@@ -215,8 +222,9 @@ static void concurrent_worker(int w, const char *url, size_t n, const model_mesh
   _exit(ok ? 0 : 1);
 }
 
-/* --concurrent: rounds of 1, 2 and 4 workers on one URL, each worker every rock once. Prints the
- * throughput table. Returns 0, or 1 when a worker failed or gave another answer. */
+/* --concurrent: rounds of 1, 2 and 4 workers, each worker every rock once: all on one URL, then a
+ * port each. Prints the throughput table. Returns 0, or 1 when a worker failed or gave another
+ * answer. */
 static int concurrent_table(void) {
   model_object_t obj[N_ROCKS];
   model_mesh_t meshes[N_ROCKS];
@@ -235,39 +243,48 @@ static int concurrent_table(void) {
     if (run_direct(urdf, &meshes[i], &want[i], &cpu) < 0) return 1;
   }
   printf(
-      "Concurrent estimates (bisect, 0.1 mm, noiseless): N workers at once on one LCM URL, "
-      "each with a comlearn-sim of its own (channel prefix R<w>_), each running the %zu rocks "
-      "once.\n\n",
+      "Concurrent estimates (bisect, 0.1 mm, noiseless): N workers at once, each with a "
+      "comlearn-sim of its own (channel prefix R<w>_), each running the %zu rocks once; all on "
+      "one LCM URL, or each robot on a port of its own.\n\n",
       N_ROCKS);
   printf(
-      "| workers (= sims) | estimates | wall s | estimates / s | throughput vs 1 | all equal to "
-      "serial --direct |\n|---|---|---|---|---|---|\n");
+      "| URLs | workers (= sims) | estimates | wall s | estimates / s | throughput vs 1 | lost to "
+      "full buffers (host) | all equal to serial --direct |\n|---|---|---|---|---|---|---|---|\n");
   int failed = 0;
-  double base = 0.0;
   const int rounds[] = {1, 2, 4};
-  for (size_t k = 0; k < sizeof rounds / sizeof rounds[0]; ++k) {
-    const int n = rounds[k];
-    char url[128];
-    unique_url(url, sizeof url);
-    fflush(stdout);
-    const double t0 = cli_time_now_s();
-    pid_t pids[4];
-    for (int w = 0; w < n; ++w) {
-      pids[w] = fork();
-      if (pids[w] == 0) concurrent_worker(w, url, N_ROCKS, meshes, want);
+  for (int own_port = 0; own_port < 2; ++own_port) {
+    double base = 0.0;
+    for (size_t k = 0; k < sizeof rounds / sizeof rounds[0]; ++k) {
+      const int n = rounds[k];
+      char url[128];
+      unique_url(url, sizeof url);
+      fflush(stdout);
+      uint64_t lost0 = 0, lost1 = 0;
+      const int lost_known = cli_udp_rcvbuf_errors(&lost0) == 0;
+      const double t0 = cli_time_now_s();
+      pid_t pids[4];
+      for (int w = 0; w < n; ++w) {
+        if (own_port && w > 0) unique_url(url, sizeof url);
+        pids[w] = fork();
+        if (pids[w] == 0) concurrent_worker(w, url, N_ROCKS, meshes, want);
+      }
+      int all_ok = 1;
+      for (int w = 0; w < n; ++w) {
+        int ws = 0;
+        all_ok &= pids[w] > 0 && waitpid(pids[w], &ws, 0) == pids[w] && WIFEXITED(ws) &&
+                  WEXITSTATUS(ws) == 0;
+      }
+      const double wall = cli_time_now_s() - t0;
+      const double rate = (double)(n * (int)N_ROCKS) / wall;
+      if (n == 1) base = rate;
+      char lost[32] = "?";
+      if (lost_known && cli_udp_rcvbuf_errors(&lost1) == 0)
+        snprintf(lost, sizeof lost, "%llu", (unsigned long long)(lost1 - lost0));
+      printf("| %s | %d | %d | %.2f | %.2f | %.2f | %s | %s |\n", own_port ? "a port each" : "one",
+             n, n * (int)N_ROCKS, wall, rate, base > 0 ? rate / base : 0.0, lost,
+             all_ok ? "yes" : "NO");
+      failed |= !all_ok;
     }
-    int all_ok = 1;
-    for (int w = 0; w < n; ++w) {
-      int ws = 0;
-      all_ok &= pids[w] > 0 && waitpid(pids[w], &ws, 0) == pids[w] && WIFEXITED(ws) &&
-                WEXITSTATUS(ws) == 0;
-    }
-    const double wall = cli_time_now_s() - t0;
-    const double rate = (double)(n * (int)N_ROCKS) / wall;
-    if (n == 1) base = rate;
-    printf("| %d | %d | %.2f | %.2f | %.2f | %s |\n", n, n * (int)N_ROCKS, wall, rate,
-           base > 0 ? rate / base : 0.0, all_ok ? "yes" : "NO");
-    failed |= !all_ok;
   }
   for (size_t i = 0; i < N_ROCKS; ++i) model_object_free(&obj[i]);
   free(want);
@@ -344,6 +361,7 @@ typedef struct {
   double td[MAX_REPS], tl[MAX_REPS], to[MAX_REPS];
   double cmd, ctl, sta, obs;
   double drops_client, drops_sim; /* per estimate, summed over repetitions */
+  int64_t overflows;              /* summed over repetitions; -1 when unknown */
   double cpu_d[MAX_REPS], cpu_c[MAX_REPS], cpu_sim[MAX_REPS]; /* CPU s: direct, client, sim */
   int agree; /* both backends found every component, at the same place, in as many trials */
   size_t trials;
@@ -353,11 +371,12 @@ typedef struct {
 static int rock_reps(const char *urdf, const model_mesh_t *mesh, int reps, estimate_result_t *rd,
                      estimate_result_t *rl, rock_reps_t *rr) {
   rr->cmd = rr->ctl = rr->sta = rr->obs = rr->drops_client = rr->drops_sim = 0;
+  rr->overflows = 0;
   rr->agree = 1;
   rr->trials = 0;
   for (int k = 0; k < reps; ++k) {
     estimate_lcm_stats_t st;
-    lcm_costs_t cost = {0, 0, 0.0, 0.0};
+    lcm_costs_t cost = {0, 0, -1, 0.0, 0.0};
     rr->td[k] = run_direct(urdf, mesh, rd, &rr->cpu_d[k]);
     rr->tl[k] = rr->td[k] < 0 ? -1.0 : run_lcm(urdf, mesh, rl, &rr->to[k], &st, &cost);
     if (rr->td[k] < 0 || rr->tl[k] < 0) return -1;
@@ -371,6 +390,7 @@ static int rock_reps(const char *urdf, const model_mesh_t *mesh, int reps, estim
     rr->cpu_c[k] = cost.cpu_client_s;
     rr->cpu_sim[k] = cost.cpu_sim_s;
     rr->drops_sim += (double)cost.sim;
+    rr->overflows = rr->overflows < 0 || cost.overflows < 0 ? -1 : rr->overflows + cost.overflows;
     if (!same_answer(rl, rd)) rr->agree = 0;
   }
   return 0;
@@ -394,20 +414,22 @@ static int rock_row(const char *rock, int reps, estimate_result_t *rd, estimate_
   const int ok = rock_reps(urdf, &obj.mesh, reps, rd, rl, &rr) == 0;
   model_object_free(&obj);
   if (!ok) {
-    printf("| %s | failed | | | | | | | | | | | | | | |\n", rock);
+    printf("| %s | failed | | | | | | | | | | | | | | | |\n", rock);
     return 1;
   }
   const double mtl = median(rr.tl, (size_t)reps);
   *lcm_s = mtl;
   const double mtd = median(rr.td, (size_t)reps);
   *ratio = mtl / mtd;
+  char overflows[32] = "?";
+  if (rr.overflows >= 0) snprintf(overflows, sizeof overflows, "%lld", (long long)rr.overflows);
   printf(
       "| %s | %zu | %.3f | %.3f | %.3f | %.1f | %.3f | %.3f | %.3f | %.2f | %.2f | %.1f | %.1f "
-      "| %.0f | %.0f | %s |\n",
+      "| %.0f | %.0f | %s | %s |\n",
       rock, rr.trials, mtd, median(rr.cpu_d, (size_t)reps), mtl, mtl / mtd,
       median(rr.cpu_c, (size_t)reps), median(rr.cpu_sim, (size_t)reps), median(rr.to, (size_t)reps),
       rr.cmd / reps, rr.ctl / reps, rr.sta / reps, rr.obs / reps, rr.drops_client / reps,
-      rr.drops_sim / reps, rr.agree ? "yes" : "NO");
+      rr.drops_sim / reps, overflows, rr.agree ? "yes" : "NO");
   fflush(stdout);
   return rr.agree ? 0 : 1;
 }
@@ -433,8 +455,9 @@ int main(int argc, char **argv) {
   printf(
       "| rock | trials | direct s | direct CPU s | lcm s | lcm / direct | lcm CPU s, client | "
       "CPU s, sim (whole life) | lcm open s | commands / trial | SIM_CONTROL / trial | statuses / "
-      "trial | object states / trial | kernel drops, client | kernel drops, sim | agree |\n");
-  printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "trial | object states / trial | filtered by the kernel, client | filtered by the kernel, "
+      "sim | lost to full buffers (host) | agree |\n");
+  printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   int failed = 0, rows = 0, met = 0, met5 = 0;
   double worst = 0.0, worst_ratio = 0.0;
   for (size_t i = 0; i < N_ROCKS; ++i) {

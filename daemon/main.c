@@ -68,7 +68,7 @@ static void usage(FILE *f) {
       "  --workspace-margin-mm M   the arm's tool stays in the box over B grown by M mm on every\n"
       "                            side, from 50 mm under B to 600 mm over it, 0..10000\n"
       "                            (default: %.0f)\n"
-      "  -v, --verbose             log every refused message (default: off)\n"
+      "  -v, --verbose             log every command: refused (why) or accepted (when)\n"
       "  -q, --quiet               errors only (default: off)\n"
       "  -h, --help                this help\n"
       "\n"
@@ -183,11 +183,15 @@ typedef struct {
   double drop_rate;
   uint64_t drop_rng;
   comlearn_msg_stats_t stats;
-  comlearn_msg_channels_t ch; /* with --channel-prefix */
-  int publish_now;
+  comlearn_msg_channels_t ch;   /* with --channel-prefix */
+  int realtime;                 /* --realtime: the clock paced to the wall clock throughout */
+  int publish_now;              /* PUB_* to publish before the next tick */
   int64_t last_publish_wall_us; /* when the last status went out (monotonic wall clock) */
   uint64_t dropped_in, dropped_out;
 } daemon_t;
+
+/* What publish() sends: a mask. */
+enum { PUB_STATUS = 1, PUB_OBJECT = 2, PUB_BOTH = 3 };
 
 static int drop(daemon_t *d) {
   if (d->drop_rate <= 0.0) return 0;
@@ -219,9 +223,17 @@ static void on_command_raw(const lcm_recv_buf_t *rbuf, const char *channel, void
   comlearn_yumi_command_t cmd;
   if (!receive(d, rbuf, channel, comlearn_yumi_command_t_get_type_info(), &cmd)) return;
   int32_t r = sim_command(&d->sim, &cmd);
-  if (r != 0) LOG_D("%s", d->sim.error_text);
+  if (r != 0)
+    LOG_D("%s", d->sim.error_text);
+  else
+    LOG_D("command seq %lld accepted at sim utime %lld", (long long)cmd.seq,
+          (long long)d->sim.utime);
   comlearn_yumi_command_t_decode_cleanup(&cmd);
-  d->publish_now = 1;
+  /* The status after a command: at once when refused (its error) or already in position. An
+   * accepted motion as fast as possible lasts a burst of ticks: the status at its end (or the
+   * next periodic one, at most SIM_STATUS_PERIOD_US of wall time later) says both accepted and
+   * in position, one message instead of two (docs/sim.md). Paced, at once. */
+  if (r != 0 || d->realtime || !sim_busy(&d->sim)) d->publish_now |= PUB_BOTH;
 }
 
 static void on_control_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
@@ -234,19 +246,23 @@ static void on_control_raw(const lcm_recv_buf_t *rbuf, const char *channel, void
               (int)sc.action, sc.object_id, (int)r);
   if (r == COMLEARN_OBJECT_STATE_T_SIM_CONTROL_ERR_LOAD) LOG_W("%s", d->sim.error_text);
   comlearn_sim_control_t_decode_cleanup(&sc);
-  d->publish_now = 1;
+  d->publish_now |= PUB_BOTH;
 }
 
 static int64_t wall_us(void);
 
-static void publish(daemon_t *d) {
-  d->last_publish_wall_us = wall_us();
-  comlearn_yumi_status_t st;
-  sim_status_fill(&d->sim, &st);
-  if (drop(d))
-    d->dropped_out++;
-  else if (comlearn_yumi_status_t_publish(d->lcm, d->ch.yumi_status, &st) != 0)
-    LOG_W("publish %s failed", d->ch.yumi_status);
+/* YUMI_STATUS and / or OBJECT_STATE now (what: PUB_*). */
+static void publish(daemon_t *d, int what) {
+  if (what & PUB_STATUS) {
+    d->last_publish_wall_us = wall_us();
+    comlearn_yumi_status_t st;
+    sim_status_fill(&d->sim, &st);
+    if (drop(d))
+      d->dropped_out++;
+    else if (comlearn_yumi_status_t_publish(d->lcm, d->ch.yumi_status, &st) != 0)
+      LOG_W("publish %s failed", d->ch.yumi_status);
+  }
+  if (!(what & PUB_OBJECT)) return;
   comlearn_object_state_t os;
   sim_object_fill(&d->sim, &os);
   if (drop(d))
@@ -271,13 +287,14 @@ static int drain(daemon_t *d) {
   return 0;
 }
 
-static int run(daemon_t *d, int realtime) {
+static int run(daemon_t *d) {
+  const int realtime = d->realtime;
   /* Pacing anchor: when paced, sim time = anchor_sim + (wall - anchor_wall). Re-anchored when a
    * fast burst ends, so the clock continues from where the burst left it. */
   int64_t anchor_wall = wall_us(), anchor_sim = d->sim.utime;
   int paced_prev = 1;
   int failures = 0;
-  publish(d);
+  publish(d, PUB_BOTH);
   while (!stop_flag) {
     const int paced = realtime || !sim_busy(&d->sim);
     if (paced && !paced_prev) {
@@ -303,8 +320,8 @@ static int run(daemon_t *d, int realtime) {
       failures = 0;
     }
     if (d->publish_now) {
+      publish(d, d->publish_now);
       d->publish_now = 0;
-      publish(d);
     }
     /* Advance the clock: when fast, up to SIM_FAST_BATCH ticks before LCM is read again (one
      * poll per tick cost more than the tick), fewer when a step makes an event; when paced,
@@ -317,11 +334,13 @@ static int run(daemon_t *d, int realtime) {
       if (!now_paced && ticks >= SIM_FAST_BATCH) break;
       const int event = sim_step(&d->sim);
       /* Paced, the period is of wall time too. Fast, a status at most every period of wall time
-       * (a motion is a burst of ticks), and at once when a step changed what a client waits
-       * for. */
-      if (event || (d->sim.utime % SIM_STATUS_PERIOD_US == 0 &&
-                    (now_paced || wall_us() - d->last_publish_wall_us >= SIM_STATUS_PERIOD_US)))
-        publish(d);
+       * (a motion is a burst of ticks), and at once what a step changed that a client waits
+       * for: the arms' events both messages, a trial's end the object's. */
+      if (d->sim.utime % SIM_STATUS_PERIOD_US == 0 &&
+          (now_paced || wall_us() - d->last_publish_wall_us >= SIM_STATUS_PERIOD_US))
+        publish(d, PUB_BOTH);
+      else if (event)
+        publish(d, event & SIM_EVENT_ARM ? PUB_BOTH : PUB_OBJECT);
       ++ticks;
       if (event && !now_paced) break; /* let the client's answer in at once */
       if (ticks >= 100) {
@@ -354,6 +373,7 @@ int main(int argc, char **argv) {
 
   static daemon_t d;
   d.drop_rate = o.drop_rate;
+  d.realtime = o.realtime;
   d.drop_rng = o.seed ^ 0xD5A61266F0C9392Cull;
   (void)comlearn_msg_channels(o.prefix, &d.ch); /* checked by --channel-prefix */
 
@@ -385,6 +405,8 @@ int main(int argc, char **argv) {
     sim_fini(&d.sim);
     return 1;
   }
+  cli_socket_set_t before;
+  cli_socket_set_now(&before);
   lcm_subscription_t *s1 = lcm_subscribe(d.lcm, d.ch.yumi_command, on_command_raw, &d);
   lcm_subscription_t *s2 = lcm_subscribe(d.lcm, d.ch.sim_control, on_control_raw, &d);
   if (s1 == NULL || s2 == NULL) {
@@ -393,13 +415,22 @@ int main(int argc, char **argv) {
     sim_fini(&d.sim);
     return 1;
   }
-  cli_lcm_buffer_check(url); /* LCM opens its receive socket on the first subscription */
+  /* LCM opens its receive socket on the first subscription: check its buffer, and let the
+   * kernel drop what the sim does not read, its own statuses first (cli_net.h) */
+  cli_lcm_buffer_check(url);
+  const char *heard[] = {d.ch.yumi_command, d.ch.sim_control};
+  const int filtered = cli_lcm_filter_new_sockets(&before, heard, 2);
+  if (filtered < 0)
+    LOG_W("no kernel filter on LCM's receive socket (%s): every datagram on the URL wakes it",
+          strerror(errno));
+  uint64_t overflows_start = 0;
+  const int overflows_known = cli_udp_rcvbuf_errors(&overflows_start) == 0;
   /* Latest command only: a backlog of old commands is worth nothing. */
   lcm_subscription_set_queue_capacity(s1, 100);
   LOG_I("running on %s (%s), channels %s %s -> %s %s", url,
         o.realtime ? "realtime" : "as fast as possible", d.ch.yumi_command, d.ch.sim_control,
         d.ch.yumi_status, d.ch.object_state);
-  int rc = run(&d, o.realtime);
+  int rc = run(&d);
   LOG_I(
       "stopping at sim time %.3f s: %lld received, %lld rejected, %lld undecodable, "
       "%llu dropped in, %llu dropped out",
@@ -409,10 +440,16 @@ int main(int argc, char **argv) {
   char refusals[512];
   sim_refusals_str(&d.sim, refusals, sizeof refusals);
   LOG_I("%s", refusals);
-  uint64_t kernel_drops = 0; /* datagrams that never reached LCM (cli_net.h) */
-  if (cli_udp_drops(&kernel_drops) == 0)
-    LOG_I("%llu datagrams dropped by the kernel before LCM read them (receive buffer full)",
-          (unsigned long long)kernel_drops);
+  /* datagrams that never reached LCM (cli_net.h): on its socket, filtered on purpose or lost
+   * to a full buffer; on the host, lost to a full buffer */
+  uint64_t socket_drops = 0, overflows_end = 0;
+  if (cli_udp_drops(&socket_drops) == 0)
+    LOG_I("%llu datagrams dropped by the kernel on its sockets (%s)",
+          (unsigned long long)socket_drops,
+          filtered > 0 ? "filtered: channels it does not read; or a full buffer" : "a full buffer");
+  if (overflows_known && cli_udp_rcvbuf_errors(&overflows_end) == 0)
+    LOG_I("%llu datagrams lost to a full receive buffer on this host while it ran (RcvbufErrors)",
+          (unsigned long long)(overflows_end - overflows_start));
   lcm_unsubscribe(d.lcm, s1);
   lcm_unsubscribe(d.lcm, s2);
   lcm_destroy(d.lcm);

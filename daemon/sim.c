@@ -236,12 +236,12 @@ static void hold_here(sim_t *s) {
 }
 
 int sim_step(sim_t *s) {
-  int event = s->phase == SIM_OBJ_TRIAL && s->utime < s->trial_t1; /* kept if it ends now */
+  const int playing = s->phase == SIM_OBJ_TRIAL && s->utime < s->trial_t1;
   s->utime += SIM_DT_US;
-  event = event && s->utime >= s->trial_t1;
+  int event = playing && s->utime >= s->trial_t1 ? SIM_EVENT_OBJECT : 0; /* it ends now */
   /* Expiry of the executing command: stop and hold (docs/messages.md). */
   if (s->state == ERR(STATE_POSITION) && s->utime >= s->active_expire_utime) {
-    event = 1;
+    event |= SIM_EVENT_ARM;
     hold_here(s);
     s->state = ERR(STATE_HOLD);
     s->active_expire_utime = INT64_MAX;
@@ -265,7 +265,7 @@ int sim_step(sim_t *s) {
     if (done) {
       s->motion_us = -1;
       s->in_position = 1;
-      event = 1;
+      event |= SIM_EVENT_ARM;
     }
   }
   /* Gripper opened past the held width: the fingers let go. */

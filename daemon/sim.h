@@ -141,9 +141,16 @@ void sim_refusals_str(const sim_t *sim, char *buf, size_t size);
 /* 1 while something moves on the sim clock (arm or gripper motion, a trial playing out). */
 int sim_busy(const sim_t *sim);
 
-/* Advance the clock by SIM_DT_US: track, expire, release, play out a trial. Returns 1 when the
- * step changed what a client waits for (the arms came into position, a command expired, a
- * trial's outcome became final), else 0: the daemon publishes at once then. */
+/* What a step changed that a client waits for (sim_step's result, a mask): the daemon publishes
+ * at once what it names. */
+enum {
+  SIM_EVENT_ARM = 1,   /* the arms came into position or a command expired: YUMI_STATUS, and
+                        * OBJECT_STATE (where the motion left the object) */
+  SIM_EVENT_OBJECT = 2 /* a trial's outcome became final: OBJECT_STATE */
+};
+
+/* Advance the clock by SIM_DT_US: track, expire, release, play out a trial. Returns the events
+ * of the step (SIM_EVENT_*), 0 when none. */
 int sim_step(sim_t *sim);
 
 /* Apply the acceptance rules of docs/messages.md to a decoded command. 0 accepted, else the

@@ -1,11 +1,13 @@
-#define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE /* SO_ATTACH_FILTER; POSIX 2008 with it */
 /* check_cli_common: comlearn_cli (apps/common), what the programs share: the JSON value writer
  * (escaping, 9 significant digits, non-finite numbers as null) and the logger (prefix, level
  * names, the level filter, clamping), byte for byte against the expected text; the kernel's UDP
- * drop counter and receive buffers of the process's sockets, and the LCM receive buffer the
- * programs ask for. */
+ * drop counter and receive buffers of the process's sockets, the LCM receive buffer the
+ * programs ask for, and the kernel filter that passes an LCM socket only the channels it reads. */
 #include <arpa/inet.h>
 #include <check.h>
+#include <errno.h>
+#include <linux/filter.h>
 #include <math.h>
 #include <netinet/in.h>
 #include <stdint.h>
@@ -259,6 +261,164 @@ START_TEST(udp_rcvbuf_checked) {
 }
 END_TEST
 
+/* A datagram as LCM sends a short message: magic, sequence number, the channel and its NUL, the
+ * payload. Its length into *n. */
+static void lcm_short(unsigned char *buf, size_t *n, uint32_t magic, const char *channel) {
+  const uint32_t m = htonl(magic), seq = htonl(7);
+  memcpy(buf, &m, 4);
+  memcpy(buf + 4, &seq, 4);
+  const size_t len = strlen(channel) + 1;
+  memcpy(buf + 8, channel, len);
+  memcpy(buf + 8 + len, "payload", 7);
+  *n = 8 + len + 7;
+}
+
+/* cli_lcm_filter_build refuses what it cannot express: no channel, more than 8, a NULL, an empty
+ * or a 64-byte name. Its program is one magic check, two instructions per load of 4, 2 or 1
+ * bytes of a name with its NUL, an accept per name, one drop. */
+START_TEST(lcm_filter_built) {
+  struct sock_filter prog[CLI_LCM_FILTER_INSNS_MAX];
+  const char *one[] = {"ABC"}, *nine[9], *bad[] = {"A", NULL};
+  for (int i = 0; i < 9; ++i) nine[i] = "A";
+  char long_name[65];
+  memset(long_name, 'x', 64);
+  long_name[64] = '\0';
+  const char *too_long[] = {long_name}, *empty[] = {""};
+  ck_assert_int_eq(cli_lcm_filter_build(one, 0, prog), -1);
+  ck_assert_int_eq(cli_lcm_filter_build(nine, 9, prog), -1);
+  ck_assert_int_eq(cli_lcm_filter_build(bad, 2, prog), -1);
+  ck_assert_int_eq(cli_lcm_filter_build(empty, 1, prog), -1);
+  ck_assert_int_eq(cli_lcm_filter_build(too_long, 1, prog), -1);
+  ck_assert_int_eq(cli_lcm_filter_build(NULL, 1, prog), -1);
+  /* "ABC" + NUL: one word: 3 + 2 + 1 + 1 */
+  ck_assert_int_eq(cli_lcm_filter_build(one, 1, prog), 7);
+  /* 63 bytes + NUL: 16 words; "ABCDEFG" + NUL: 2 words; "ABCDE" + NUL: a word and a half */
+  long_name[63] = '\0';
+  const char *three[] = {long_name, "ABCDEFG", "ABCDE"};
+  ck_assert_int_eq(cli_lcm_filter_build(three, 3, prog), 3 + 33 + 5 + 5 + 1);
+  /* 8 of the longest fit the buffer */
+  const char *eight[8];
+  for (int i = 0; i < 8; ++i) eight[i] = long_name;
+  ck_assert_int_le(cli_lcm_filter_build(eight, 8, prog), CLI_LCM_FILTER_INSNS_MAX);
+}
+END_TEST
+
+/* On a UDP socket with the filter for two channels, exactly the short LCM messages on those two
+ * arrive, with every datagram that is not a short LCM message; names that differ by a prefix, a
+ * suffix, one letter or the case are dropped by the kernel (counted on the socket), and so is a
+ * datagram too short to hold a magic. A socket without the filter gets all of them. */
+START_TEST(lcm_filter_passes_named_channels) {
+  const char *heard[] = {"R1_YUMI_STATUS", "R1_OBJECT_STATE"};
+  struct {
+    uint32_t magic;
+    const char *channel;
+    int passes;
+  } sent[] = {
+      {0x4c433032, "R1_YUMI_STATUS", 1},     {0x4c433032, "R1_OBJECT_STATE", 1},
+      {0x4c433032, "R1_YUMI_STATUSX", 0},    {0x4c433032, "R1_YUMI_STATU", 0},
+      {0x4c433032, "R2_YUMI_STATUS", 0},     {0x4c433032, "YUMI_STATUS", 0},
+      {0x4c433032, "r1_yumi_status", 0},     {0x4c433032, "R1_OBJECT_STATEE", 0},
+      {0x4c433032, "R1_YUMI_STATUS\x01", 0}, {0x4c433033, "R2_YUMI_STATUS", 1}, /* a fragment */
+      {0x12345678, "anything", 1},           {0x4c433032, "", 0},
+  };
+  const size_t n_sent = sizeof sent / sizeof sent[0];
+  int rx[2];
+  struct sockaddr_in a[2];
+  for (int k = 0; k < 2; ++k) {
+    rx[k] = socket(AF_INET, SOCK_DGRAM, 0);
+    ck_assert_int_ge(rx[k], 0);
+    memset(&a[k], 0, sizeof a[k]);
+    a[k].sin_family = AF_INET;
+    a[k].sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ck_assert_int_eq(bind(rx[k], (struct sockaddr *)&a[k], sizeof a[k]), 0);
+    socklen_t len = sizeof a[k];
+    ck_assert_int_eq(getsockname(rx[k], (struct sockaddr *)&a[k], &len), 0);
+  }
+  ck_assert_int_eq(cli_lcm_filter_attach(rx[0], heard, 2), 0);
+  const char *none[] = {""};
+  errno = 0;
+  ck_assert_int_eq(cli_lcm_filter_attach(rx[1], none, 1), -1);
+  ck_assert_int_eq(errno, EINVAL);
+  uint64_t drops0 = 0, drops1 = 0;
+  ck_assert_int_eq(cli_udp_drops(&drops0), 0);
+  const int tx = socket(AF_INET, SOCK_DGRAM, 0);
+  ck_assert_int_ge(tx, 0);
+  size_t want = 0;
+  for (size_t i = 0; i <= n_sent; ++i) {
+    unsigned char buf[128];
+    size_t n = 3; /* the last: 3 bytes, too short for a magic */
+    if (i < n_sent)
+      lcm_short(buf, &n, sent[i].magic, sent[i].channel);
+    else
+      memcpy(buf, "LC0", 3);
+    want += i < n_sent && sent[i].passes;
+    for (int k = 0; k < 2; ++k)
+      ck_assert_int_eq(sendto(tx, buf, n, 0, (struct sockaddr *)&a[k], sizeof a[k]), (ssize_t)n);
+  }
+  /* what arrived, in order: loopback delivers at once */
+  size_t next = 0, got = 0;
+  for (;;) {
+    unsigned char buf[128];
+    const ssize_t r = recv(rx[0], buf, sizeof buf, MSG_DONTWAIT);
+    if (r < 0) break;
+    while (next < n_sent && !sent[next].passes) ++next;
+    ck_assert_uint_lt(next, n_sent);
+    unsigned char exp[128];
+    size_t n;
+    lcm_short(exp, &n, sent[next].magic, sent[next].channel);
+    ck_assert_int_eq(r, (ssize_t)n);
+    ck_assert_mem_eq(buf, exp, n);
+    ++next;
+    ++got;
+  }
+  ck_assert_uint_eq(got, want);
+  size_t unfiltered = 0;
+  for (unsigned char buf[128]; recv(rx[1], buf, sizeof buf, MSG_DONTWAIT) >= 0;) ++unfiltered;
+  ck_assert_uint_eq(unfiltered, n_sent + 1);
+  ck_assert_int_eq(cli_udp_drops(&drops1), 0);
+  ck_assert_uint_eq(drops1 - drops0, n_sent + 1 - want);
+  close(tx);
+  close(rx[0]);
+  close(rx[1]);
+}
+END_TEST
+
+/* cli_lcm_filter_new_sockets filters only the bound UDP sockets opened after its snapshot: one
+ * bound before and an unbound one opened after keep getting everything. cli_udp_rcvbuf_errors
+ * reads the host's count of datagrams lost to full buffers. */
+START_TEST(lcm_filter_new_sockets_only) {
+  const char *heard[] = {"MINE"};
+  struct sockaddr_in lo;
+  memset(&lo, 0, sizeof lo);
+  lo.sin_family = AF_INET;
+  lo.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  const int old = socket(AF_INET, SOCK_DGRAM, 0);
+  ck_assert_int_eq(bind(old, (struct sockaddr *)&lo, sizeof lo), 0);
+  cli_socket_set_t before;
+  cli_socket_set_now(&before);
+  ck_assert_uint_ge(before.n, 1);
+  ck_assert_int_eq(cli_lcm_filter_new_sockets(&before, heard, 1), 0); /* nothing new */
+  const int unbound = socket(AF_INET, SOCK_DGRAM, 0), fresh = socket(AF_INET, SOCK_DGRAM, 0);
+  ck_assert_int_eq(bind(fresh, (struct sockaddr *)&lo, sizeof lo), 0);
+  ck_assert_int_eq(cli_lcm_filter_new_sockets(&before, heard, 1), 1);
+  struct sock_filter prog[CLI_LCM_FILTER_INSNS_MAX];
+  socklen_t len = sizeof prog; /* SO_GET_FILTER: the attached program's length */
+  ck_assert_int_eq(getsockopt(fresh, SOL_SOCKET, SO_ATTACH_FILTER, prog, &len), 0);
+  ck_assert_int_eq((int)len, cli_lcm_filter_build(heard, 1, prog));
+  len = sizeof prog;
+  ck_assert_int_eq(getsockopt(old, SOL_SOCKET, SO_ATTACH_FILTER, prog, &len), 0);
+  ck_assert_int_eq((int)len, 0);
+  len = sizeof prog;
+  ck_assert_int_eq(getsockopt(unbound, SOL_SOCKET, SO_ATTACH_FILTER, prog, &len), 0);
+  ck_assert_int_eq((int)len, 0);
+  uint64_t lost = 1;
+  ck_assert_int_eq(cli_udp_rcvbuf_errors(&lost), 0);
+  close(old);
+  close(unbound);
+  close(fresh);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("cli_common");
   TCase *json = tcase_create("json");
@@ -274,6 +434,9 @@ int main(void) {
   tcase_add_test(net, udp_drops_counted);
   tcase_add_test(net, lcm_url_buffered);
   tcase_add_test(net, udp_rcvbuf_checked);
+  tcase_add_test(net, lcm_filter_built);
+  tcase_add_test(net, lcm_filter_passes_named_channels);
+  tcase_add_test(net, lcm_filter_new_sockets_only);
   suite_add_tcase(s, net);
   SRunner *r = srunner_create(s);
   srunner_run_all(r, CK_NORMAL);

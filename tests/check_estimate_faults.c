@@ -249,19 +249,23 @@ END_TEST
 
 /* ---- kill -9 and restart mid-estimate -------------------------------------------------------- */
 
-/* Loop test i kills in trial request kill_at[i], kill_delay_ms[i] after it started: in the
- * SIM_CONTROL, a waypoint, the outcome wait or between trials, depending on the machine. */
+/* Loop test i kills in trial request kill_at[i], kill_delay_us[i] after it started: in the
+ * SIM_CONTROL, a waypoint, the outcome wait or between trials, depending on the machine (a trial
+ * takes 2-5 ms against a sim as fast as possible). */
 enum { KILL_CASES = 4, RESTART_DELAY_MS = 200 };
-static const int kill_at[KILL_CASES] = {3, 6, 10, 16}, kill_delay_ms[KILL_CASES] = {0, 15, 30, 45};
+static const int kill_at[KILL_CASES] = {3, 6, 10, 16},
+                 kill_delay_us[KILL_CASES] = {0, 300, 900, 1800};
 static int kill_case;
 static atomic_int killed_at; /* trials_started when the daemon was killed; 0: not yet */
 
 static void *killer_main(void *arg) {
   (void)arg;
+  const struct timespec poll = {0, 100000L};
   while (!atomic_load(&stop_threads) && atomic_load(&trials_started) < kill_at[kill_case])
-    sleep_ms(1);
+    nanosleep(&poll, NULL);
   if (atomic_load(&stop_threads)) return NULL;
-  sleep_ms(kill_delay_ms[kill_case]); /* inside the trial (a trial takes ~40 ms) */
+  const struct timespec in_trial = {0, 1000L * kill_delay_us[kill_case]};
+  nanosleep(&in_trial, NULL);
   const pid_t old = atomic_load(&sim_pid);
   kill(old, SIGKILL);
   int ws;
@@ -291,9 +295,9 @@ START_TEST(daemon_killed_and_restarted) {
   box_run(&b);
   report("daemon_killed_and_restarted", &b);
   fprintf(stderr,
-          "daemon_killed_and_restarted: killed in trial request %d + %d ms; backend "
+          "daemon_killed_and_restarted: killed in trial request %d + %d us; backend "
           "log:\n%s",
-          kill_at[kill_case], kill_delay_ms[kill_case], log_buf);
+          kill_at[kill_case], kill_delay_us[kill_case], log_buf);
   /* killed mid-estimate, and the estimate went on against the new daemon */
   ck_assert_int_ge(atomic_load(&killed_at), kill_at[kill_case]);
   ck_assert_int_lt(atomic_load(&killed_at), (int)b.l->trial_count);

@@ -75,6 +75,10 @@ static void estimate_direct_urdf(const char *urdf, const model_mesh_t *mesh, est
   estimate_direct_close(d);
 }
 
+/* What the kernel filter on the backend's receive socket turned away in the last estimate_lcm_urdf
+ * (the socket's drop count: its own publications loop back to it on a udpm URL). */
+static uint64_t filtered_last;
+
 static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estimate_result_t *r,
                               estimate_lcm_stats_t *stats) {
   char url[128], msg[512] = "";
@@ -92,6 +96,8 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
   lc.policy = "bisect";
   estimate_lcm_t *l = NULL;
   estimate_backend_t b;
+  uint64_t drops0 = 0, drops1 = 0;
+  ck_assert_int_eq(cli_udp_drops(&drops0), 0);
   ck_assert_msg(estimate_lcm_open(&lc, &l, &b, msg, sizeof msg) == 0,
                 "%s (udpm needs a multicast route: `ip route add 224.0.0.0/4 dev lo` as root, "
                 "scripts/setup.sh)",
@@ -114,6 +120,9 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
   ck_assert_msg(s == ESTIMATE_OK, "lcm %s: %s: %s", urdf, estimate_status_str(s), r->msg);
   ck_assert_int_eq(estimate_lcm_publish_estimate(l, r, cfg.resolution_m, 1), 0);
   estimate_lcm_stats(l, stats);
+  ck_assert_int_eq(stats->kernel_filter, 1);
+  ck_assert_int_eq(cli_udp_drops(&drops1), 0);
+  filtered_last = drops1 - drops0;
   estimate_lcm_close(l);
   const int ws = estimate_lcm_sim_stop(sim_pid, 2.0);
   sim_pid = -1;
@@ -146,6 +155,12 @@ static void run_both(const char *urdf, const double truth_m[3], double tol_m) {
   ck_assert_uint_ge(st.controls_sent, st.trials);
   ck_assert_uint_eq(st.undecodable, 0);
   ck_assert_uint_eq(st.refused, 0); /* the real sim sends nothing absurd */
+  /* the kernel, not LCM's thread, threw away what the backend published itself: every command,
+   * SIM_CONTROL and COM_TRIAL, and the COM_ESTIMATE (those still in flight at the close aside:
+   * at most the last) */
+  const uint64_t own = st.commands_sent + st.controls_sent + st.trials + 1;
+  ck_assert_msg(filtered_last + 1 >= own, "%llu datagrams filtered, %llu published",
+                (unsigned long long)filtered_last, (unsigned long long)own);
   free(d);
   free(l);
   model_object_free(&obj);

@@ -498,10 +498,11 @@ static void lcm_report(estimate_lcm_t *lcmb, estimate_status_t es, const estimat
     LOG_W("publishing COM_ESTIMATE failed");
   estimate_lcm_stats_t ls;
   estimate_lcm_stats(lcmb, &ls);
-  uint64_t kernel_drops = 0; /* what never reached LCM (receive buffer full) */
-  if (cli_udp_drops(&kernel_drops) == 0 && kernel_drops > 0)
-    LOG_W("lcm: the kernel dropped %llu datagrams before LCM read them (receive buffer full)",
-          (unsigned long long)kernel_drops);
+  if (ls.rcvbuf_overflows > 0) /* what may never have reached LCM */
+    LOG_W(
+        "lcm: %lld datagrams were dropped for a full receive buffer on this host during the "
+        "estimate (RcvbufErrors; any process's)",
+        (long long)ls.rcvbuf_overflows);
   LOG_D(
       "lcm: %llu trials, %llu commands (%llu resent), %llu sim controls, %llu trial "
       "restarts, %llu statuses, %llu object states, %llu undecodable, %llu refused",

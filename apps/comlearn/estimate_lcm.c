@@ -68,6 +68,8 @@ struct estimate_lcm {
   int opened; /* estimate_lcm_open took the cell's seqs: from now on they are ours */
   int loaded;
   int64_t run_id;
+  uint64_t rcvbuf_errors_open; /* cli_udp_rcvbuf_errors at the open */
+  int rcvbuf_known;
   estimate_lcm_stats_t counters;
 };
 
@@ -224,11 +226,6 @@ static int seq_in_position(const estimate_lcm_t *l, const void *arg) {
   const int64_t seq = *(const int64_t *)arg;
   return l->n_st > 0 &&
          ((l->st.last_accepted_seq == seq && l->st.in_position) || l->st.last_accepted_seq < seq);
-}
-
-/* An object state newer than utime *arg. */
-static int os_after(const estimate_lcm_t *l, const void *arg) {
-  return l->n_os > 0 && l->os.utime > *(const int64_t *)arg;
 }
 
 /* An object state of utime *arg or later: the one published with the status of that utime. */
@@ -502,9 +499,12 @@ static int trial_outcome(estimate_lcm_t *l, estimate_trial_reply_t *reply, char 
           (int64_t)llround(l->plan_cfg.release_opening_m /
                            (l->plan_cfg.gripper_speed_m_s * l->plan_cfg.velocity_fraction) * 1e6),
       .horizon_us = (int64_t)llround(bc.horizon_s * 1e6) + 200000};
-  /* release happened when the opening started; the status at in_position is later */
+  /* release happened when the opening started; the status at in_position is later. The object
+   * state of that status's tick is enough (comlearn-sim publishes both on it): waiting for a
+   * newer one cost a status period of an idle sim, 4 ms a trial when the release's motion and
+   * the trial end on the same tick */
   const int64_t t_now = l->st.utime;
-  if (wait_for(l, os_after, &t_now, l->cfg.ack_timeout_s) != 1 ||
+  if (wait_for(l, os_since, &t_now, l->cfg.ack_timeout_s) != 1 ||
       wait_for(l, outcome_ready, &oa, l->cfg.outcome_timeout_s) != 1) {
     snprintf(err, err_size, "no trial outcome on %s within %.1f s", l->ch.object_state,
              l->cfg.outcome_timeout_s);
@@ -639,13 +639,24 @@ static int lcm_connect(estimate_lcm_t *l, char *err, size_t err_size) {
                                   .on_message = on_object,
                                   .user = l,
                                   .stats = &l->stats};
+  cli_socket_set_t before;
+  cli_socket_set_now(&before);
   if (comlearn_msg_subscribe(l->lcm, l->ch.yumi_status, &c1, &l->sub_st) != COMLEARN_MSG_OK ||
       comlearn_msg_subscribe(l->lcm, l->ch.object_state, &c2, &l->sub_os) != COMLEARN_MSG_OK) {
     snprintf(err, err_size, "subscribing on %s failed", l->url);
     estimate_lcm_close(l);
     return -1;
   }
-  cli_lcm_buffer_check(l->url); /* LCM opens its receive socket on the first subscription */
+  /* LCM opens its receive socket on the first subscription: check its buffer, and let the
+   * kernel drop what this estimator does not read (cli_net.h) */
+  cli_lcm_buffer_check(l->url);
+  const char *heard[] = {l->ch.yumi_status, l->ch.object_state};
+  const int filtered = cli_lcm_filter_new_sockets(&before, heard, 2);
+  if (filtered < 0)
+    logf_(l, "no kernel filter on LCM's receive socket (%s): every datagram on %s wakes it",
+          strerror(errno), l->url);
+  l->counters.kernel_filter = filtered > 0;
+  l->rcvbuf_known = cli_udp_rcvbuf_errors(&l->rcvbuf_errors_open) == 0;
   if (wait_for(l, have_both, NULL, l->cfg.startup_timeout_s) != 1) {
     snprintf(err, err_size,
              "no YUMI_STATUS / OBJECT_STATE on %s within %.1f s: is comlearn-sim "
@@ -721,6 +732,10 @@ int estimate_lcm_publish_estimate(estimate_lcm_t *l, const estimate_result_t *r,
 
 void estimate_lcm_stats(const estimate_lcm_t *l, estimate_lcm_stats_t *out) {
   *out = l->counters;
+  uint64_t now = 0;
+  out->rcvbuf_overflows = l->rcvbuf_known && cli_udp_rcvbuf_errors(&now) == 0
+                              ? (int64_t)(now - l->rcvbuf_errors_open)
+                              : -1;
   out->statuses = l->n_st;
   out->object_states = l->n_os;
   out->undecodable = comlearn_msg_stats_rejected(&l->stats);

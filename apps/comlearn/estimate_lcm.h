@@ -76,15 +76,19 @@ typedef struct {
   uint64_t trials;        /* trial requests answered */
   uint64_t commands_sent; /* YUMI_COMMAND messages, resends included */
   uint64_t commands_resent;
-  uint64_t controls_sent;  /* SIM_CONTROL messages, resends included */
-  uint64_t trial_restarts; /* whole trials run again */
-  uint64_t statuses;       /* YUMI_STATUS received */
-  uint64_t object_states;  /* OBJECT_STATE received */
-  uint64_t undecodable;    /* buffers on the subscribed channels that did not decode */
-  uint64_t refused;        /* decoded but refused (docs/security.md): a utime or seq outside
-                              [-1, 2^62] or a non-finite pose, which would otherwise overflow the
-                              expiry and seq arithmetic or poison the trial; a seq this estimator
-                              never sent; the state of another object than the one it loaded */
+  uint64_t controls_sent;   /* SIM_CONTROL messages, resends included */
+  uint64_t trial_restarts;  /* whole trials run again */
+  uint64_t statuses;        /* YUMI_STATUS received */
+  uint64_t object_states;   /* OBJECT_STATE received */
+  uint64_t undecodable;     /* buffers on the subscribed channels that did not decode */
+  uint64_t refused;         /* decoded but refused (docs/security.md): a utime or seq outside
+                               [-1, 2^62] or a non-finite pose, which would otherwise overflow the
+                               expiry and seq arithmetic or poison the trial; a seq this estimator
+                               never sent; the state of another object than the one it loaded */
+  int kernel_filter;        /* 1: the kernel drops, on LCM's receive socket, every channel but
+                               the two it reads (cli_net.h); 0: it could not be attached */
+  int64_t rcvbuf_overflows; /* datagrams lost to a full receive buffer on this host since the
+                               open (cli_udp_rcvbuf_errors: any socket); -1 when unknown */
 } estimate_lcm_stats_t;
 
 void estimate_lcm_stats(const estimate_lcm_t *l, estimate_lcm_stats_t *out);

@@ -21,6 +21,13 @@ int cli_udp_drops(uint64_t *drops);
  * to read them (the same user, or root). */
 int cli_udp_drops_of(pid_t pid, uint64_t *drops);
 
+/* A socket's drop count holds both what a full receive buffer lost and what a socket filter
+ * (cli_lcm_filter_attach below) turned away on purpose. The datagrams lost to a full receive
+ * buffer alone are counted only for the whole network namespace (this host, outside
+ * containers): RcvbufErrors of /proc/net/snmp (Udp) plus Udp6RcvbufErrors of /proc/net/snmp6.
+ * Their sum into *n and 0; -1 when neither can be read (*n 0). */
+int cli_udp_rcvbuf_errors(uint64_t *n);
+
 /* The largest receive buffer among this process's bound UDP sockets (those /proc/net/udp{,6}
  * lists), as the kernel reports it (getsockopt SO_RCVBUF: on Linux twice what was set). 0 and
  * *bytes set; -1 when the process has none or /proc cannot be read (*bytes 0). */
@@ -39,5 +46,43 @@ int cli_lcm_url_buffered(const char *url, char *out, size_t size);
  * largest UDP receive buffer is smaller (net.core.rmem_max caps what a process may set). Nothing
  * for other URLs. */
 void cli_lcm_buffer_check(const char *url);
+
+/* ---- a kernel filter on LCM's receive socket ------------------------------------------------
+ *
+ * Every process on a udpm URL is handed every datagram sent to it: its own publications (a
+ * comlearn-sim hears each of its statuses) and, with many robots on one URL, every other robot's
+ * traffic. LCM's receive thread wakes for each, reads it and throws away what nobody subscribed
+ * to. A socket filter (SO_ATTACH_FILTER, classic BPF) on LCM's receive socket lets the kernel drop
+ * those before anyone wakes (docs/messages.md, "Many robots on one URL"). */
+
+enum { CLI_NET_SOCKETS_MAX = 256, CLI_LCM_FILTER_CHANNELS_MAX = 8, CLI_LCM_FILTER_INSNS_MAX = 512 };
+
+/* The socket inodes of this process at one moment. */
+typedef struct {
+  unsigned long inode[CLI_NET_SOCKETS_MAX];
+  size_t n;
+} cli_socket_set_t;
+
+/* This process's sockets now: taken before the first lcm_subscribe on an lcm_t, it tells the
+ * receive socket that subscription opens from every socket that was there before. */
+void cli_socket_set_now(cli_socket_set_t *set);
+
+/* The filter program for channels[0..n) (each 1..63 bytes, n 1..CLI_LCM_FILTER_CHANNELS_MAX):
+ * it passes an LCM short message (magic "LC02") whose channel is one of them, and every datagram
+ * that is not a short LCM message (a fragment of a long one, anything else: LCM judges those);
+ * it drops short messages on other channels. prog must hold CLI_LCM_FILTER_INSNS_MAX entries of
+ * struct sock_filter (linux/filter.h). Returns the number of instructions, -1 on bad arguments. */
+int cli_lcm_filter_build(const char *const *channels, size_t n, void *prog);
+
+/* Attach that filter to the UDP socket fd. 0 ok; -1 with errno (EINVAL for bad channels). */
+int cli_lcm_filter_attach(int fd, const char *const *channels, size_t n);
+
+/* Attach it to every UDP socket of this process bound to a port that was not in `before` (LCM's
+ * receive socket, opened by the first lcm_subscribe since). Returns how many got it: 1 for a
+ * udpm lcm_t, 0 when there is none (another provider, or subscribed before `before`); -1 when
+ * /proc cannot be read or attaching failed (errno). Without it everything works as before, only
+ * slower. */
+int cli_lcm_filter_new_sockets(const cli_socket_set_t *before, const char *const *channels,
+                               size_t n);
 
 #endif
