@@ -22,6 +22,7 @@
 #include "comlearn/comlearn_object_state_t.h"
 #include "comlearn/comlearn_sim_control_t.h"
 #include "comlearn/comlearn_yumi_command_t.h"
+#include "comlearn/comlearn_yumi_status_t.h"
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "comlearn/msg.h"
@@ -79,6 +80,42 @@ static void estimate_direct_urdf(const char *urdf, const model_mesh_t *mesh, est
  * (the socket's drop count: its own publications loop back to it on a udpm URL). */
 static uint64_t filtered_last;
 
+/* The latest YUMI_STATUS a test's own LCM client heard. */
+typedef struct {
+  comlearn_yumi_status_t st;
+  int n;
+} last_status_t;
+
+static void keep_status(const lcm_recv_buf_t *rb, const char *ch, void *user) {
+  (void)ch;
+  last_status_t *ls = user;
+  comlearn_yumi_status_t st;
+  if (comlearn_msg_decode(comlearn_yumi_status_t_get_type_info(), rb->data, rb->data_size, &st,
+                          NULL) != COMLEARN_MSG_OK)
+    return;
+  ls->st = st;
+  ls->st.error_text = NULL;
+  ls->n++;
+  comlearn_yumi_status_t_decode_cleanup(&st);
+}
+
+/* After the backend closed: the controller on url holds the last command it sent (the retreat
+ * it pipelined, seen through at the close), in position. */
+static void assert_left_at_rest(const char *url, uint64_t commands_sent) {
+  lcm_t *lcm = lcm_create(url);
+  ck_assert_ptr_nonnull(lcm);
+  last_status_t ls = {.n = 0};
+  lcm_subscription_t *sub = lcm_subscribe(lcm, COMLEARN_MSG_CHANNEL_YUMI_STATUS, keep_status, &ls);
+  ck_assert_ptr_nonnull(sub);
+  for (int k = 0; k < 100 && ls.n == 0; ++k) lcm_handle_timeout(lcm, 20);
+  ck_assert_int_gt(ls.n, 0);
+  ck_assert_int_eq(ls.st.last_accepted_seq, (int64_t)commands_sent); /* a fresh sim: seqs 1.. */
+  ck_assert_int_eq(ls.st.in_position, 1);
+  ck_assert_int_eq(ls.st.state, COMLEARN_YUMI_STATUS_T_STATE_POSITION);
+  lcm_unsubscribe(lcm, sub);
+  lcm_destroy(lcm);
+}
+
 static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estimate_result_t *r,
                               estimate_lcm_stats_t *stats) {
   char url[128], msg[512] = "";
@@ -124,6 +161,7 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
   ck_assert_int_eq(cli_udp_drops(&drops1), 0);
   filtered_last = drops1 - drops0;
   estimate_lcm_close(l);
+  assert_left_at_rest(url, stats->commands_sent);
   const int ws = estimate_lcm_sim_stop(sim_pid, 2.0);
   sim_pid = -1;
   ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 0, "comlearn-sim exit %d", ws);

@@ -67,6 +67,12 @@ struct estimate_lcm {
   int64_t seq, sc_seq;
   int opened; /* estimate_lcm_open took the cell's seqs: from now on they are ours */
   int loaded;
+  /* The last trial's retreat, sent and not yet seen in position: the estimator chooses and plans
+   * the next trial while the arm moves away (docs/estimate.md, "Pipelining"). */
+  int retreating;
+  int retreat_arm;
+  int64_t retreat_seq;
+  placement_waypoint_t retreat_wp;
   int64_t run_id;
   uint64_t rcvbuf_errors_open; /* cli_udp_rcvbuf_errors at the open */
   int rcvbuf_known;
@@ -286,62 +292,89 @@ static int sim_control(estimate_lcm_t *l, int8_t action, int arm, const double g
   return -1;
 }
 
-/* Send one waypoint (arm `arm` to q / width, the other arm held where it is) and wait until it
- * is accepted and reached; resend with a new seq on a timeout or a refusal. 0 ok, -1 (err). */
+/* Publish one waypoint (arm `arm` to q / width, the other arm held where it is, from the latest
+ * status) with a new seq, into *seq. 0 ok, -1 (err). */
+static int publish_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t *wp,
+                            int64_t *seq, char *err, size_t err_size) {
+  const double scale = l->plan_cfg.velocity_fraction;
+  comlearn_yumi_command_t c;
+  memset(&c, 0, sizeof c);
+  memcpy(c.q_commanded_rad, l->st.q_measured_rad, sizeof c.q_commanded_rad);
+  memcpy(c.gripper_width_commanded_m, l->st.gripper_width_measured_m,
+         sizeof c.gripper_width_commanded_m);
+  memcpy(c.q_commanded_rad[arm], wp->q_rad, sizeof wp->q_rad);
+  c.gripper_width_commanded_m[arm] = wp->gripper_width_m;
+  l->seq = next_seq(l->seq, l->st.last_accepted_seq);
+  c.seq = l->seq;
+  c.utime = wall_us();
+  /* The sim times joints at scale x their limits and the gripper at scale x 25 mm/s: the
+   * planned duration / scale bounds the motion on the controller's clock. */
+  c.expire_utime = l->st.utime + (int64_t)llround(wp->duration_s / scale * 1e6) + EXPIRE_MARGIN_US;
+  c.mode = CMD(MODE_POSITION);
+  c.velocity_scale = scale;
+  if (comlearn_yumi_command_t_publish(l->lcm, l->ch.yumi_command, &c) != 0) {
+    snprintf(err, err_size, "publish %s failed", l->ch.yumi_command);
+    return -1;
+  }
+  l->counters.commands_sent++;
+  *seq = c.seq;
+  return 0;
+}
+
+/* Wait until waypoint seq is accepted and reached, the motion waited for at most motion_s of wall
+ * time. 1 reached; 0 not (not accepted, something newer accepted, not in position in time, or
+ * lost by a restarted controller: the caller sends it again), logged; -1 when LCM fails (err). */
+static int await_waypoint(estimate_lcm_t *l, const placement_waypoint_t *wp, int64_t seq,
+                          double motion_s, char *err, size_t err_size) {
+  int w = wait_for(l, seq_accepted, &seq, l->cfg.ack_timeout_s);
+  if (w == 1 && l->st.last_accepted_seq == seq) {
+    w = wait_for(l, seq_in_position, &seq, motion_s);
+    if (w == 1 && l->st.last_accepted_seq < seq) {
+      logf_(l, "%s waypoint seq %lld: the controller lost it (accepted seq now %lld: restarted?)",
+            placement_waypoint_kind_str(wp->kind), (long long)seq,
+            (long long)l->st.last_accepted_seq);
+      return 0; /* resend at once */
+    }
+  } else if (w == 1)
+    w = 0; /* something newer was accepted: not ours; resend */
+  if (w < 0) {
+    snprintf(err, err_size, "lcm_handle_timeout failed");
+    return -1;
+  }
+  if (w == 0)
+    logf_(l, "%s waypoint seq %lld: no %s within the timeout (status seq %lld, error %d)",
+          placement_waypoint_kind_str(wp->kind), (long long)seq,
+          l->st.last_accepted_seq >= seq ? "in_position" : "acceptance",
+          (long long)l->st.last_accepted_seq, (int)l->st.error_code);
+  return w;
+}
+
+/* Send one waypoint and wait until it is accepted and reached; resend with a new seq on a
+ * timeout or a refusal. 0 ok, -1 (err). */
 static int send_waypoint(estimate_lcm_t *l, int arm, const placement_waypoint_t *wp, char *err,
                          size_t err_size) {
-  const double scale = l->plan_cfg.velocity_fraction;
   for (int k = 0; k <= l->cfg.max_resends; ++k) {
-    comlearn_yumi_command_t c;
-    memset(&c, 0, sizeof c);
-    memcpy(c.q_commanded_rad, l->st.q_measured_rad, sizeof c.q_commanded_rad);
-    memcpy(c.gripper_width_commanded_m, l->st.gripper_width_measured_m,
-           sizeof c.gripper_width_commanded_m);
-    memcpy(c.q_commanded_rad[arm], wp->q_rad, sizeof wp->q_rad);
-    c.gripper_width_commanded_m[arm] = wp->gripper_width_m;
-    l->seq = next_seq(l->seq, l->st.last_accepted_seq);
-    c.seq = l->seq;
-    c.utime = wall_us();
-    /* The sim times joints at scale x their limits and the gripper at scale x 25 mm/s: the
-     * planned duration / scale bounds the motion on the controller's clock. */
-    c.expire_utime =
-        l->st.utime + (int64_t)llround(wp->duration_s / scale * 1e6) + EXPIRE_MARGIN_US;
-    c.mode = CMD(MODE_POSITION);
-    c.velocity_scale = scale;
-    if (comlearn_yumi_command_t_publish(l->lcm, l->ch.yumi_command, &c) != 0) {
-      snprintf(err, err_size, "publish %s failed", l->ch.yumi_command);
-      return -1;
-    }
-    l->counters.commands_sent++;
+    int64_t seq;
+    if (publish_waypoint(l, arm, wp, &seq, err, err_size) != 0) return -1;
     if (k > 0) l->counters.commands_resent++;
-    int w = wait_for(l, seq_accepted, &c.seq, l->cfg.ack_timeout_s);
-    if (w == 1 && l->st.last_accepted_seq == c.seq) {
-      w = wait_for(l, seq_in_position, &c.seq, l->cfg.motion_timeout_s);
-      if (w == 1 && l->st.last_accepted_seq < c.seq) {
-        logf_(l,
-              "%s waypoint seq %lld: the controller lost it (accepted seq now %lld: "
-              "restarted?)",
-              placement_waypoint_kind_str(wp->kind), (long long)c.seq,
-              (long long)l->st.last_accepted_seq);
-        continue; /* resend at once */
-      }
-    } else if (w == 1)
-      w = 0; /* something newer was accepted: not ours; resend */
-    if (w < 0) {
-      snprintf(err, err_size, "lcm_handle_timeout failed");
-      return -1;
-    }
+    const int w = await_waypoint(l, wp, seq, l->cfg.motion_timeout_s, err, err_size);
+    if (w < 0) return -1;
     if (w == 1) return 0;
-    logf_(l,
-          "%s waypoint seq %lld: no %s within the timeout (status seq %lld, error %d); "
-          "resending",
-          placement_waypoint_kind_str(wp->kind), (long long)c.seq,
-          l->st.last_accepted_seq >= c.seq ? "in_position" : "acceptance",
-          (long long)l->st.last_accepted_seq, (int)l->st.error_code);
   }
   snprintf(err, err_size, "%s waypoint: not accepted / reached after %d sends (status error %d)",
            placement_waypoint_kind_str(wp->kind), l->cfg.max_resends + 1, (int)l->st.error_code);
   return -1;
+}
+
+/* The pipelined retreat of the last trial, seen through: in position, or sent again until it is.
+ * 0 ok (or none pending), -1 (err). */
+static int retreat_finish(estimate_lcm_t *l, char *err, size_t err_size) {
+  if (!l->retreating) return 0;
+  l->retreating = 0;
+  const int w =
+      await_waypoint(l, &l->retreat_wp, l->retreat_seq, l->cfg.motion_timeout_s, err, err_size);
+  if (w < 0) return -1;
+  return w == 1 ? 0 : send_waypoint(l, l->retreat_arm, &l->retreat_wp, err, err_size);
 }
 
 /* ---- one trial ----------------------------------------------------------------------------- */
@@ -356,6 +389,8 @@ static int plan_trial(estimate_lcm_t *l, const model_pose_t *rel, placement_gras
   req.mesh_link = l->cfg.mesh_link;
   req.object_in_block = *rel;
   memcpy(req.q_start_rad, l->st.q_measured_rad, sizeof req.q_start_rad);
+  if (l->retreating) /* the arm is on its way there */
+    memcpy(req.q_start_rad[l->retreat_arm], l->retreat_wp.q_rad, sizeof l->retreat_wp.q_rad);
   const placement_grasp_config_t gcfg = PLACEMENT_GRASP_CONFIG_INIT;
   placement_error_t pe = {{0}};
   const placement_status_t ps = placement_grasp_plan(l->arm, &l->plan_cfg, &gcfg, &req, g, &pe);
@@ -532,19 +567,40 @@ static int trial_outcome(estimate_lcm_t *l, estimate_trial_reply_t *reply, char 
   return 0;
 }
 
+/* The plan's start is where the arm is: after a pipelined retreat it was planned from the
+ * retreat's target, which the arm reaches unless the controller lost the command (restarted). */
+static int plan_start_holds(const estimate_lcm_t *l, const placement_grasp_t *tp,
+                            const double q_start[PLACEMENT_JOINTS]) {
+  for (int k = 0; k < PLACEMENT_JOINTS; ++k)
+    if (fabs(l->st.q_measured_rad[tp->side][k] - q_start[k]) > 1e-9) return 0;
+  return 1;
+}
+
 /* One attempt of a trial. 0 ok (reply filled), 1 retryable failure, -1 fatal (err filled). */
 static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
                          estimate_trial_reply_t *reply, char *err, size_t err_size) {
   placement_grasp_t tp;
   if (plan_trial(l, &req->release, &tp, err, err_size) != 0) return -1;
+  /* the plan was made while the last retreat moved; now see the arm there */
+  double q_start[PLACEMENT_JOINTS];
+  const int side = (int)tp.side;
+  memcpy(q_start,
+         l->retreating && l->retreat_arm == side ? l->retreat_wp.q_rad : l->st.q_measured_rad[side],
+         sizeof q_start);
+  if (retreat_finish(l, err, err_size) != 0) return 1;
+  if (!plan_start_holds(l, &tp, q_start) && plan_trial(l, &req->release, &tp, err, err_size) != 0)
+    return -1;
   int r = trial_load(l, &tp, err, err_size);
   if (r == 0) r = trial_place(l, &tp, reply, err, err_size);
   if (r == 0) r = trial_outcome(l, reply, err, err_size);
   if (r != 0) return r;
-  /* 5. retreat (the object is no longer held) */
-  if (send_waypoint(l, (int)tp.side, &tp.plan.waypoints[PLACEMENT_WAYPOINT_RETREAT], err,
-                    err_size) != 0)
-    return 1;
+  /* 5. retreat (the object is no longer held): sent now, seen through before the next trial's
+   * first message (or at the close), so that the estimator's choice and the next plan overlap
+   * the motion */
+  l->retreat_arm = side;
+  l->retreat_wp = tp.plan.waypoints[PLACEMENT_WAYPOINT_RETREAT];
+  if (publish_waypoint(l, side, &l->retreat_wp, &l->retreat_seq, err, err_size) != 0) return 1;
+  l->retreating = 1;
   return 0;
 }
 
@@ -743,6 +799,16 @@ void estimate_lcm_stats(const estimate_lcm_t *l, estimate_lcm_stats_t *out) {
 
 void estimate_lcm_close(estimate_lcm_t *l) {
   if (!l) return;
+  if (l->lcm && l->retreating) {
+    /* leave the arm at rest where the last trial sent it; a controller that went away costs at
+     * most the acknowledgement timeout and the motion's own time */
+    char err[256];
+    l->retreating = 0;
+    (void)await_waypoint(
+        l, &l->retreat_wp, l->retreat_seq,
+        l->retreat_wp.duration_s / l->plan_cfg.velocity_fraction + l->cfg.ack_timeout_s, err,
+        sizeof err);
+  }
   if (l->lcm) {
     comlearn_msg_unsubscribe(l->lcm, l->sub_st);
     comlearn_msg_unsubscribe(l->lcm, l->sub_os);
