@@ -1,7 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
-/* check_cli: the comlearn program as a user runs it: output values and exit codes (inspect, and
- * `estimate --direct` refusing an implausible truth). */
+/* check_cli: the comlearn program as a user runs it: output values and exit codes (inspect,
+ * `estimate --direct` refusing an implausible truth, logcheck on logs written here). */
 #include <check.h>
+#include <lcm/eventlog.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,6 +10,8 @@
 #include <unistd.h>
 
 #include "cli_test_util.h"
+#include "comlearn/comlearn_com_estimate_t.h"
+#include "comlearn/comlearn_com_trial_t.h"
 
 #ifndef COMLEARN_BIN
 #error "COMLEARN_BIN must name the comlearn executable"
@@ -149,6 +152,134 @@ START_TEST(estimate_direct_implausible_truth) {
 }
 END_TEST
 
+/* ---- logcheck ---------------------------------------------------------------------------- */
+
+static void log_event(lcm_eventlog_t *log, const char *channel, const void *data, int len) {
+  static int64_t n;
+  lcm_eventlog_event_t ev = {.eventnum = n, .timestamp = 1000 * ++n};
+  ev.channellen = (int32_t)strlen(channel);
+  ev.channel = (char *)channel;
+  ev.datalen = len;
+  ev.data = (void *)data;
+  ck_assert_int_eq(lcm_eventlog_write_event(log, &ev), 0);
+}
+
+static void log_trial(lcm_eventlog_t *log, const char *channel, int64_t run_id, int32_t index) {
+  comlearn_com_trial_t t;
+  memset(&t, 0, sizeof t);
+  t.run_id = run_id;
+  t.trial_index = index;
+  t.object_id = (char *)"box";
+  t.policy = (char *)"bisect";
+  unsigned char buf[4096];
+  const int len = comlearn_com_trial_t_encode(buf, 0, sizeof buf, &t);
+  ck_assert_int_gt(len, 0);
+  log_event(log, channel, buf, len);
+}
+
+static void log_estimate(lcm_eventlog_t *log, const char *channel, int64_t run_id, int32_t trials,
+                         int done) {
+  comlearn_com_estimate_t e;
+  memset(&e, 0, sizeof e);
+  e.run_id = run_id;
+  e.trials = trials;
+  e.done = (int8_t)done;
+  e.object_id = (char *)"box";
+  e.policy = (char *)"bisect";
+  unsigned char buf[4096];
+  const int len = comlearn_com_estimate_t_encode(buf, 0, sizeof buf, &e);
+  ck_assert_int_gt(len, 0);
+  log_event(log, channel, buf, len);
+}
+
+/* A row of logcheck's channel table: the channel, its events and bytes. */
+static int has_row(const char *out, const char *channel, int events, int bytes) {
+  char row[128];
+  snprintf(row, sizeof row, "  %-32s %10d %12d\n", channel, events, bytes);
+  return strstr(out, row) != NULL;
+}
+
+/* comlearn logcheck counts the events per channel and checks, per run, the trial indices against
+ * the final COM_ESTIMATE's count, on any robot's channels. One log holds a complete run (3
+ * trials, a running estimate before the final one) and a status; a second log of the same
+ * recording holds robot R1_'s runs: one missing trial 1, one with trial 0 twice, one with a
+ * trial beyond its count, one without a final estimate, an undecodable COM_TRIAL, and a record on
+ * "bad.COM_TRIAL" (not a robot's channel: counted, not checked). */
+START_TEST(logcheck_finds_what_is_missing) {
+  char good[512], bad[512], junk[512], cmd[2048], out[8192];
+  snprintf(good, sizeof good, "%s/good.lcmlog", tmpdir);
+  snprintf(bad, sizeof bad, "%s/bad.lcmlog", tmpdir);
+  snprintf(junk, sizeof junk, "%s/junk.lcmlog", tmpdir);
+  lcm_eventlog_t *log = lcm_eventlog_create(good, "w");
+  ck_assert_ptr_nonnull(log);
+  for (int i = 0; i < 3; ++i) {
+    log_trial(log, "COM_TRIAL", 11, i);
+    log_estimate(log, "COM_ESTIMATE", 11, i + 1, 0);
+  }
+  log_estimate(log, "COM_ESTIMATE", 11, 3, 1);
+  log_event(log, "YUMI_STATUS", "abc", 3);
+  lcm_eventlog_destroy(log);
+  log = lcm_eventlog_create(bad, "w");
+  ck_assert_ptr_nonnull(log);
+  log_trial(log, "R1_COM_TRIAL", 21, 0); /* run 21: 0 and 2 of 3 */
+  log_trial(log, "R1_COM_TRIAL", 21, 2);
+  log_estimate(log, "R1_COM_ESTIMATE", 21, 3, 1);
+  log_trial(log, "R1_COM_TRIAL", 22, 0); /* run 22: 0 twice, 1 */
+  log_trial(log, "R1_COM_TRIAL", 22, 0);
+  log_trial(log, "R1_COM_TRIAL", 22, 1);
+  log_estimate(log, "R1_COM_ESTIMATE", 22, 2, 1);
+  log_trial(log, "R1_COM_TRIAL", 23, 0); /* run 23: 0, 1 and 5 of 2 */
+  log_trial(log, "R1_COM_TRIAL", 23, 1);
+  log_trial(log, "R1_COM_TRIAL", 23, 5);
+  log_estimate(log, "R1_COM_ESTIMATE", 23, 2, 1);
+  log_trial(log, "R1_COM_TRIAL", 24, 0); /* run 24: no final estimate */
+  log_estimate(log, "R1_COM_ESTIMATE", 24, 1, 0);
+  log_event(log, "R1_COM_TRIAL", "garbage", 7);
+  log_trial(log, "bad.COM_TRIAL", 25, 0);
+  lcm_eventlog_destroy(log);
+
+  snprintf(cmd, sizeof cmd, "'%s' logcheck '%s'", COMLEARN_BIN, good);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert_msg(strstr(out, "8 events in 1 log\n") != NULL, "%s", out);
+  ck_assert_msg(has_row(out, "COM_TRIAL", 3, 3 * 308) && has_row(out, "YUMI_STATUS", 1, 3), "%s",
+                out);
+  ck_assert_msg(
+      strstr(out,
+             "complete: 1 runs, 3 of 3 trial records, 0 missing, 0 repeated, 0 beyond "
+             "the final count, 0 runs without a final COM_ESTIMATE, 0 undecodable") != NULL,
+      "%s", out);
+  snprintf(cmd, sizeof cmd, "'%s' logcheck -v '%s' '%s'", COMLEARN_BIN, good, bad);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 1);
+  ck_assert_msg(
+      strstr(out,
+             "INCOMPLETE: 5 runs, 9 of 10 trial records, 1 missing, 1 repeated, 1 beyond "
+             "the final count, 1 runs without a final COM_ESTIMATE, 1 undecodable") != NULL,
+      "%s", out);
+  ck_assert_msg(strstr(out, "run 21 box: 2 of 3 trials, 1 missing, 0 repeated, 0 beyond\n") &&
+                    strstr(out, "run 22 box: 2 of 2 trials, 0 missing, 1 repeated, 0 beyond\n") &&
+                    strstr(out, "run 23 box: 2 of 2 trials, 0 missing, 0 repeated, 1 beyond\n"),
+                "%s", out);
+  ck_assert_msg(strstr(out, "run 24 box: 1 trial records, no final COM_ESTIMATE") != NULL, "%s",
+                out);
+  ck_assert_msg(
+      has_row(out, "bad.COM_TRIAL", 1, 308) && has_row(out, "R1_COM_TRIAL", 10, 9 * 308 + 7), "%s",
+      out);
+  /* no log, a missing one, one that is not an LCM log */
+  snprintf(cmd, sizeof cmd, "'%s' logcheck 2>&1", COMLEARN_BIN);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  snprintf(cmd, sizeof cmd, "'%s' logcheck '%s/missing.lcmlog' 2>&1", COMLEARN_BIN, tmpdir);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  ck_assert_msg(strstr(out, "missing.lcmlog") != NULL, "%s", out);
+  FILE *f = fopen(junk, "w");
+  ck_assert_ptr_nonnull(f);
+  fputs("not an LCM log at all\n", f);
+  fclose(f);
+  snprintf(cmd, sizeof cmd, "'%s' logcheck '%s' 2>&1", COMLEARN_BIN, junk);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  ck_assert_msg(strstr(out, "junk.lcmlog: no LCM events") != NULL, "%s", out);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("cli");
   TCase *tc = tcase_create("inspect");
@@ -157,6 +288,7 @@ int main(void) {
   tcase_add_test(tc, inspect_box_json);
   tcase_add_test(tc, inspect_without_truth_reports_no_truth);
   tcase_add_test(tc, bad_input_exit_codes);
+  tcase_add_test(tc, logcheck_finds_what_is_missing);
   suite_add_tcase(s, tc);
   TCase *est = tcase_create("estimate");
   tcase_add_checked_fixture(est, setup, teardown);
