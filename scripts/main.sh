@@ -3,15 +3,19 @@
 #
 #   1. set up and build (scripts/setup.sh);
 #   2. start comlearn-sim (the YuMi controller and world stand-in) on a private LCM URL, and two
-#      lcm-loggers (the COM_* records, and every channel) under out/lcm/;
-#   3. `comlearn experiments`: every bundled rock x every policy, noiseless over LCM with YuMi
-#      placement, then with the noise profile over several seeds (in-process, same physics and
-#      seeding as comlearn-sim); Table I and Fig. 2 under out/experiments/;
+#      recorders under out/lcm/: lcm-logger for every robot's COM_* records, `comlearn record`
+#      for every channel (lcm-logger drops messages under load, docs/replay.md);
+#   3. `comlearn experiments --sims N`: every bundled rock x every policy, noiseless over LCM with
+#      YuMi placement on N comlearn-sims of its own (robots R0_ .. on the same URL), then with the
+#      noise profile over several seeds (in-process, same physics and seeding as comlearn-sim);
+#      Table I and Fig. 2 under out/experiments/;
 #   4. `comlearn stack`: the three uneven rocks stacked on their CoMs learned over LCM, then on
 #      bounding-box centers and on the true CoMs, each simulated for 5 s; side views under out/;
-#   5. stop the loggers and the simulator, write out/report.md.
+#   5. stop the loggers and the simulator, check that both logs hold every trial record
+#      (`comlearn logcheck`, out/lcm/logcheck_*.txt), write out/report.md.
 #
-# Environment: SEEDS (noisy runs per rock and policy, default 5), OUT (default out).
+# Environment: SEEDS (noisy runs per rock and policy, default 5), SIMS (simulators for the
+# experiments, default 2: one per core here; 0 = the one of step 2), OUT (default out).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
@@ -22,6 +26,10 @@ comlearn=$bin/apps/comlearn/comlearn
 sim=$bin/daemon/comlearn-sim
 out=${OUT:-out}
 seeds=${SEEDS:-5}
+sims=${SIMS:-2}
+case "$sims" in
+  '' | *[!0-9]*) echo "main: SIMS='$sims' is not a whole number" >&2; exit 2 ;;
+esac
 # recv_buf_size for lcm-logger too: comlearn's programs add it when a URL has none (cli_net.h)
 url="udpm://239.255.76.67:$((7700 + $$ % 1000))?ttl=0&recv_buf_size=4194304"
 stack_rocks=(assets/rocks/rock_1_uneven.urdf assets/rocks/rock_2_uneven.urdf
@@ -47,12 +55,12 @@ stop_all() {
 trap stop_all EXIT
 trap 'exit 130' INT TERM
 
-step "comlearn-sim on $url; lcm-logger -> $out/lcm/"
+step "comlearn-sim on $url; lcm-logger and comlearn record -> $out/lcm/"
 "$sim" --lcm-url "$url" -q &
 sim_pid=$!
-lcm-logger --lcm-url="$url" -c 'COM_.*' --quiet "$out/lcm/results.lcmlog" &
+lcm-logger --lcm-url="$url" -c '([A-Za-z0-9_]*_)?COM_.*' --quiet "$out/lcm/results.lcmlog" &
 log_results_pid=$!
-lcm-logger --lcm-url="$url" --quiet "$out/lcm/all.lcmlog" &
+"$comlearn" record "$out/lcm/all.lcmlog" --lcm-url "$url" -q &
 log_all_pid=$!
 pids=("$log_results_pid" "$log_all_pid" "$sim_pid")
 sleep 1
@@ -61,8 +69,10 @@ kill -0 "$sim_pid" || { echo "main: comlearn-sim did not start" >&2; exit 1; }
 step "comlearn inspect --truth assets/rocks/*.urdf"
 "$comlearn" inspect --truth assets/rocks/*.urdf | tee "$out/inspect.txt"
 
-step "comlearn experiments assets/rocks/*.urdf --lcm-url URL --seeds $seeds --out $out/experiments"
-"$comlearn" experiments assets/rocks/*.urdf --lcm-url "$url" --seeds "$seeds" \
+sims_args=()
+[ "$sims" -gt 0 ] && sims_args=(--sims "$sims")
+step "comlearn experiments assets/rocks/*.urdf --lcm-url URL ${sims_args[*]} --seeds $seeds --out $out/experiments"
+"$comlearn" experiments assets/rocks/*.urdf --lcm-url "$url" "${sims_args[@]}" --seeds "$seeds" \
   --out "$out/experiments" | tee "$out/experiments/table.txt"
 
 for src in learned bbox true; do
@@ -79,6 +89,15 @@ step "stopping the loggers and comlearn-sim"
 stop_all
 trap - EXIT
 ls -l "$out/lcm" >&2
+
+step "comlearn logcheck: every trial record in both logs?"
+logcheck=()
+for f in all results; do
+  "$comlearn" logcheck "$out/lcm/$f.lcmlog" > "$out/lcm/logcheck_$f.txt" ||
+    echo "main: warning: $out/lcm/$f.lcmlog lacks trial records ($out/lcm/logcheck_$f.txt)" >&2
+  logcheck+=("$f.lcmlog: $(tail -n 1 "$out/lcm/logcheck_$f.txt")")
+done
+printf '%s\n' "${logcheck[@]}" >&2
 
 finished=$(date +%s)
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
@@ -115,7 +134,11 @@ commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
   done
   echo "## Recording"
   echo
-  echo "\`lcm/results.lcmlog\` (COM_TRIAL, COM_ESTIMATE) and \`lcm/all.lcmlog\` (every channel)."
+  echo "\`lcm/results.lcmlog\` (every robot's COM_TRIAL, COM_ESTIMATE) and \`lcm/all.lcmlog\`"
+  echo "(every channel); \`comlearn logcheck\` on each (\`lcm/logcheck_*.txt\`):"
+  echo
+  printf -- '- %s\n' "${logcheck[@]}"
+  echo
   echo "Replay: \`comlearn watch --lcm-url URL & lcm-logplayer --lcm-url=URL out/lcm/results.lcmlog\`"
   echo "(docs/replay.md)."
 } > "$out/report.md"

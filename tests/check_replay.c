@@ -5,7 +5,8 @@
  * replayed trial outcomes and the final estimate equal the live ones (the live `--json`). It then
  * recomputes the estimate in-process from the log's COM_TRIAL outcomes and released / settled
  * poses (a backend that plays the log back) and compares it with the log's COM_ESTIMATE. Also:
- * `comlearn watch` exits 1 on a --once timeout and 0 on SIGINT. */
+ * `comlearn watch` exits 1 on a --once timeout and 0 on SIGINT, and `comlearn record` keeps a
+ * backlog far beyond lcm-logger's 30 waiting messages. */
 #include <check.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -559,6 +560,105 @@ START_TEST(watch_timeout_and_sigint) {
 }
 END_TEST
 
+/* ---- comlearn record ------------------------------------------------------------------------ */
+
+/* `comlearn record` keeps what piles up while it is busy: it records into a FIFO that this test
+ * stops reading, so that its writes block with the pipe full while a burst of n messages on 4
+ * channels arrives; LCM's thread queues them (lcm-logger's subscription would keep 30 waiting
+ * and drop the rest). Then SIGINT, and the FIFO read to its end: the log, parsed by LCM's own
+ * reader, holds the readiness probes and then exactly the burst, in the order sent, byte for
+ * byte. Bad input: an existing FILE without --force, no FILE, a bad --flush-ms, an unwritable
+ * FILE: exit 2. */
+START_TEST(record_keeps_a_backlog) {
+  char url[128], fifo[512], log_path[512], err[512];
+  unique_url(url, sizeof url);
+  snprintf(fifo, sizeof fifo, "%s/rec.fifo", tmpdir);
+  snprintf(log_path, sizeof log_path, "%s/rec.lcmlog", tmpdir);
+  snprintf(err, sizeof err, "%s/rec.err", tmpdir);
+  ck_assert_int_eq(mkfifo(fifo, 0600), 0);
+  char *argv[] = {(char *)COMLEARN_BIN, "record", fifo, "-f", "--lcm-url", url, NULL};
+  const pid_t rec = spawn(argv, NULL, err);
+  const int rd = open(fifo, O_RDONLY); /* returns once the recorder opened it */
+  ck_assert_int_ge(rd, 0);
+  ck_assert_int_eq(fcntl(rd, F_SETFL, O_NONBLOCK), 0);
+  FILE *copy = fopen(log_path, "wb");
+  ck_assert_ptr_nonnull(copy);
+  char buf[65536];
+  lcm_t *lcm = lcm_create(url);
+  ck_assert_ptr_nonnull(lcm);
+  size_t got = 0;
+  for (const double t0 = now_s(); got == 0 && now_s() - t0 < 20.0;) { /* subscribed? */
+    const char probe[] = "probe";
+    ck_assert_int_eq(lcm_publish(lcm, "COM_PROBE", probe, sizeof probe), 0);
+    sleep_s(0.15); /* past its 100 ms flush */
+    for (ssize_t k; (k = read(rd, buf, sizeof buf)) > 0; got += (size_t)k)
+      ck_assert_uint_eq(fwrite(buf, 1, (size_t)k, copy), (size_t)k);
+  }
+  ck_assert_msg(got > 0, "comlearn record wrote nothing within 20 s");
+  const char *channels[4] = {"YUMI_STATUS", "OBJECT_STATE", "R3_YUMI_STATUS", "COM_TRIAL"};
+  const int n = 2000; /* ~110 bytes of log each: over 3 times the pipe's 64 KiB */
+  for (int i = 0; i < n; ++i) {
+    char payload[64];
+    const int len = snprintf(payload, sizeof payload, "message %d of %d", i, n);
+    ck_assert_int_eq(lcm_publish(lcm, channels[i % 4], payload, (unsigned)len), 0);
+    if (i % 100 == 99) sleep_s(0.002); /* within the socket's buffer, whatever rmem_max */
+  }
+  lcm_destroy(lcm);
+  sleep_s(0.3); /* the recorder blocked on the full pipe all along */
+  ck_assert_int_eq(kill(rec, SIGINT), 0);
+  ck_assert_int_eq(fcntl(rd, F_SETFL, 0), 0);
+  for (ssize_t k; (k = read(rd, buf, sizeof buf)) > 0;)
+    ck_assert_uint_eq(fwrite(buf, 1, (size_t)k, copy), (size_t)k);
+  close(rd);
+  ck_assert_int_eq(fclose(copy), 0);
+  int ws = wait_child(rec, 10.0);
+  ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 0, "comlearn record: %d", ws);
+  lcm_eventlog_t *log = lcm_eventlog_create(log_path, "r");
+  ck_assert_ptr_nonnull(log);
+  int next = 0, probes = 0;
+  for (lcm_eventlog_event_t *ev; (ev = lcm_eventlog_read_next_event(log)) != NULL;) {
+    if (strcmp(ev->channel, "COM_PROBE") == 0) {
+      ck_assert_int_eq(next, 0); /* the probes come before the burst */
+      probes++;
+    } else {
+      char want[64];
+      const int len = snprintf(want, sizeof want, "message %d of %d", next, n);
+      ck_assert_msg(next < n, "more than %d messages", n);
+      ck_assert_str_eq(ev->channel, channels[next % 4]);
+      ck_assert_int_eq(ev->datalen, len);
+      ck_assert_mem_eq(ev->data, want, (size_t)len);
+      ck_assert_int_eq(ev->eventnum, probes + next);
+      next++;
+    }
+    lcm_eventlog_free_event(ev);
+  }
+  lcm_eventlog_destroy(log);
+  ck_assert_int_gt(probes, 0);
+  ck_assert_msg(next == n, "%d of %d messages recorded", next, n);
+
+  char *exists[] = {(char *)COMLEARN_BIN, "record", log_path, "--lcm-url", url, NULL};
+  ws = wait_child(spawn(exists, NULL, err), 10.0);
+  ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 2, "existing file: %d", ws);
+  char *text = read_file(err);
+  ck_assert_msg(strstr(text, "exists (--force overwrites it)") != NULL, "%s", text);
+  free(text);
+  char *none[] = {(char *)COMLEARN_BIN, "record", NULL};
+  ws = wait_child(spawn(none, NULL, NULL), 10.0);
+  ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 2, "no file: %d", ws);
+  char *flush[] = {(char *)COMLEARN_BIN, "record", "x.lcmlog", "--flush-ms", "0", NULL};
+  ws = wait_child(spawn(flush, NULL, NULL), 10.0);
+  ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 2, "--flush-ms 0: %d", ws);
+  char bad_dir[600];
+  snprintf(bad_dir, sizeof bad_dir, "%s/no/such/dir.lcmlog", tmpdir);
+  char *unwritable[] = {(char *)COMLEARN_BIN, "record", bad_dir, "--lcm-url", url, NULL};
+  ws = wait_child(spawn(unwritable, NULL, err), 10.0);
+  ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 2, "unwritable: %d", ws);
+  text = read_file(err);
+  ck_assert_msg(strstr(text, "dir.lcmlog") != NULL, "%s", text);
+  free(text);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("replay");
   TCase *tc = tcase_create("replay");
@@ -567,6 +667,7 @@ int main(void) {
   tcase_add_test(tc, watch_timeout_and_sigint);
   tcase_add_test(tc, replay_box);
   tcase_add_test(tc, replay_rock);
+  tcase_add_test(tc, record_keeps_a_backlog);
   suite_add_tcase(s, tc);
   SRunner *sr = srunner_create(s);
   srunner_run_all(sr, CK_NORMAL);

@@ -10,6 +10,9 @@
  *   watch                    live table of COM_TRIAL / COM_ESTIMATE traffic (cmd_watch.c).
  *   stack OBJECT.urdf...     plan and simulate a stack on the objects' CoMs (cmd_stack.c).
  *   experiments OBJECT.urdf... the paper's Table I and Fig. 2 (cmd_experiments.c).
+ *   record FILE              record LCM traffic, losing nothing that arrived (cmd_record.c).
+ *   logcheck LOG...          an LCM log's channels, and whether every trial record is in it
+ *                            (cmd_logcheck.c).
  */
 #define _GNU_SOURCE
 #include <getopt.h>
@@ -20,6 +23,8 @@
 
 #include "cmd_estimate.h"
 #include "cmd_experiments.h"
+#include "cmd_logcheck.h"
+#include "cmd_record.h"
 #include "cmd_stack.h"
 #include "cmd_watch.h"
 #include "comlearn/cli_json.h"
@@ -59,6 +64,11 @@ static void usage(FILE *out) {
           "                           `comlearn stack --help`\n"
           "  experiments              the paper's Table I and Fig. 2 for every rock and policy,\n"
           "                           noiseless and noisy; see `comlearn experiments --help`\n"
+          "  record FILE              record the LCM traffic into FILE (lcm-logger's format)\n"
+          "                           without dropping any; see `comlearn record --help`\n"
+          "  logcheck LOG...          the events per channel of LCM logs, and whether they hold\n"
+          "                           every trial record of every run; see\n"
+          "                           `comlearn logcheck --help`\n"
           "\n"
           "inspect options:\n"
           "  --link NAME      URDF link to read (default: the root link)\n"
@@ -254,6 +264,8 @@ int main(int argc, char **argv) {
   if (strcmp(cmd, "watch") == 0) return cmd_watch(argc - 1, argv + 1);
   if (strcmp(cmd, "stack") == 0) return cmd_stack(argc - 1, argv + 1);
   if (strcmp(cmd, "experiments") == 0) return cmd_experiments(argc - 1, argv + 1);
+  if (strcmp(cmd, "logcheck") == 0) return cmd_logcheck(argc - 1, argv + 1);
+  if (strcmp(cmd, "record") == 0) return cmd_record(argc - 1, argv + 1);
   LOG_E("unknown command '%s'", cmd);
   usage(stderr);
   return EXIT_USAGE;
