@@ -20,8 +20,8 @@
  *
  * --concurrent: rounds of 1, 2 and 4 worker processes at once, each with its own comlearn-sim
  * (channel prefix R<w>_), each running every rock once; all on one shared URL, then each robot on
- * a port of its own; the throughput, whether every answer equals the serial --direct one, and
- * the datagrams lost to full receive buffers on the host in the round.
+ * a port of its own; --reps times, interleaved; the median throughput, whether every answer
+ * equals the serial --direct one, and the datagrams lost to full receive buffers on the host.
  *
  * Usage: bench_estimate [--reps N] [--rock NAME] [--recv-buf BYTES] [--concurrent] [--port P]
  *                       [--help]
@@ -222,10 +222,39 @@ static void concurrent_worker(int w, const char *url, size_t n, const model_mesh
   _exit(ok ? 0 : 1);
 }
 
-/* --concurrent: rounds of 1, 2 and 4 workers, each worker every rock once: all on one URL, then a
- * port each. Prints the throughput table. Returns 0, or 1 when a worker failed or gave another
+/* One round of --concurrent: n workers at once, on one URL or a port each. Its wall time into
+ * *wall and the datagrams lost to full buffers on the host into *lost (-1: unknown). Returns 1
+ * when every worker gave the serial answers, else 0. */
+static int concurrent_round(int n, int own_port, const model_mesh_t *meshes,
+                            const estimate_result_t *want, double *wall, int64_t *lost) {
+  char url[128];
+  unique_url(url, sizeof url);
+  fflush(stdout);
+  uint64_t lost0 = 0, lost1 = 0;
+  const int lost_known = cli_udp_rcvbuf_errors(&lost0) == 0;
+  const double t0 = cli_time_now_s();
+  pid_t pids[4];
+  for (int w = 0; w < n; ++w) {
+    if (own_port && w > 0) unique_url(url, sizeof url);
+    pids[w] = fork();
+    if (pids[w] == 0) concurrent_worker(w, url, N_ROCKS, meshes, want);
+  }
+  int all_ok = 1;
+  for (int w = 0; w < n; ++w) {
+    int ws = 0;
+    all_ok &=
+        pids[w] > 0 && waitpid(pids[w], &ws, 0) == pids[w] && WIFEXITED(ws) && WEXITSTATUS(ws) == 0;
+  }
+  *wall = cli_time_now_s() - t0;
+  *lost = lost_known && cli_udp_rcvbuf_errors(&lost1) == 0 ? (int64_t)(lost1 - lost0) : -1;
+  return all_ok;
+}
+
+/* --concurrent: rounds of 1, 2 and 4 workers, each worker every rock once, all on one URL, then a
+ * port each; reps times over, the rounds interleaved (a change in the machine's load touches
+ * all of them). Prints the medians. Returns 0, or 1 when a worker failed or gave another
  * answer. */
-static int concurrent_table(void) {
+static int concurrent_table(int reps) {
   model_object_t obj[N_ROCKS];
   model_mesh_t meshes[N_ROCKS];
   estimate_result_t *want = calloc(N_ROCKS, sizeof *want);
@@ -245,45 +274,38 @@ static int concurrent_table(void) {
   printf(
       "Concurrent estimates (bisect, 0.1 mm, noiseless): N workers at once, each with a "
       "comlearn-sim of its own (channel prefix R<w>_), each running the %zu rocks once; all on "
-      "one LCM URL, or each robot on a port of its own.\n\n",
-      N_ROCKS);
+      "one LCM URL, or each robot on a port of its own. Medians of %d rounds each, "
+      "interleaved.\n\n",
+      N_ROCKS, reps);
   printf(
-      "| URLs | workers (= sims) | estimates | wall s | estimates / s | throughput vs 1 | lost to "
-      "full buffers (host) | all equal to serial --direct |\n|---|---|---|---|---|---|---|---|\n");
+      "| URLs | workers (= sims) | estimates | wall s (median) | wall s (range) | estimates / s | "
+      "throughput vs 1 | lost to full buffers (host, all rounds) | all equal to serial --direct "
+      "|\n|---|---|---|---|---|---|---|---|---|\n");
   int failed = 0;
-  const int rounds[] = {1, 2, 4};
+  enum { ROUNDS = 3 };
+  const int rounds[ROUNDS] = {1, 2, 4};
   for (int own_port = 0; own_port < 2; ++own_port) {
-    double base = 0.0;
-    for (size_t k = 0; k < sizeof rounds / sizeof rounds[0]; ++k) {
+    double wall[ROUNDS][MAX_REPS], lo[ROUNDS], hi[ROUNDS];
+    int64_t lost[ROUNDS] = {0};
+    int ok[ROUNDS] = {1, 1, 1};
+    for (int r = 0; r < reps; ++r)
+      for (int k = 0; k < ROUNDS; ++k) {
+        int64_t l = 0;
+        ok[k] &= concurrent_round(rounds[k], own_port, meshes, want, &wall[k][r], &l);
+        lost[k] = lost[k] < 0 || l < 0 ? -1 : lost[k] + l;
+        lo[k] = r == 0 ? wall[k][r] : fmin(lo[k], wall[k][r]);
+        hi[k] = r == 0 ? wall[k][r] : fmax(hi[k], wall[k][r]);
+      }
+    const double base = (double)N_ROCKS / median(wall[0], (size_t)reps);
+    for (int k = 0; k < ROUNDS; ++k) {
       const int n = rounds[k];
-      char url[128];
-      unique_url(url, sizeof url);
-      fflush(stdout);
-      uint64_t lost0 = 0, lost1 = 0;
-      const int lost_known = cli_udp_rcvbuf_errors(&lost0) == 0;
-      const double t0 = cli_time_now_s();
-      pid_t pids[4];
-      for (int w = 0; w < n; ++w) {
-        if (own_port && w > 0) unique_url(url, sizeof url);
-        pids[w] = fork();
-        if (pids[w] == 0) concurrent_worker(w, url, N_ROCKS, meshes, want);
-      }
-      int all_ok = 1;
-      for (int w = 0; w < n; ++w) {
-        int ws = 0;
-        all_ok &= pids[w] > 0 && waitpid(pids[w], &ws, 0) == pids[w] && WIFEXITED(ws) &&
-                  WEXITSTATUS(ws) == 0;
-      }
-      const double wall = cli_time_now_s() - t0;
-      const double rate = (double)(n * (int)N_ROCKS) / wall;
-      if (n == 1) base = rate;
-      char lost[32] = "?";
-      if (lost_known && cli_udp_rcvbuf_errors(&lost1) == 0)
-        snprintf(lost, sizeof lost, "%llu", (unsigned long long)(lost1 - lost0));
-      printf("| %s | %d | %d | %.2f | %.2f | %.2f | %s | %s |\n", own_port ? "a port each" : "one",
-             n, n * (int)N_ROCKS, wall, rate, base > 0 ? rate / base : 0.0, lost,
-             all_ok ? "yes" : "NO");
-      failed |= !all_ok;
+      const double m = median(wall[k], (size_t)reps), rate = (double)(n * (int)N_ROCKS) / m;
+      char lost_s[32] = "?";
+      if (lost[k] >= 0) snprintf(lost_s, sizeof lost_s, "%lld", (long long)lost[k]);
+      printf("| %s | %d | %d | %.2f | %.2f-%.2f | %.2f | %.2f | %s | %s |\n",
+             own_port ? "a port each" : "one", n, n * (int)N_ROCKS, m, lo[k], hi[k], rate,
+             rate / base, lost_s, ok[k] ? "yes" : "NO");
+      failed |= !ok[k];
     }
   }
   for (size_t i = 0; i < N_ROCKS; ++i) model_object_free(&obj[i]);
@@ -298,7 +320,8 @@ static void usage(FILE *f) {
           "  --port P          the LCM URLs' first port, 1024..65000, one more per URL\n"
           "                    (default: 8700 + a number from the pid, 0..999)\n"
           "  --concurrent      instead: the throughput of 1, 2 and 4 estimates at once, each\n"
-          "                    against a comlearn-sim of its own, all on one URL\n"
+          "                    against a comlearn-sim of its own, all on one URL, then on a\n"
+          "                    port each; medians of --reps rounds\n"
           "  --recv-buf BYTES  recv_buf_size on the LCM URL of both processes, 4096..67108864\n"
           "                    (default: none named, so each takes comlearn's %d)\n",
           MAX_REPS, CLI_LCM_RECV_BUF_BYTES);
@@ -441,7 +464,7 @@ int main(int argc, char **argv) {
   int concurrent = 0;
   const int prc = parse_args(argc, argv, &reps, &only, &concurrent);
   if (prc >= 0) return prc;
-  if (concurrent) return concurrent_table();
+  if (concurrent) return concurrent_table(reps);
 
   estimate_result_t *rd = malloc(sizeof *rd), *rl = malloc(sizeof *rl);
   if (!rd || !rl) {

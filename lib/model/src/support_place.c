@@ -89,6 +89,19 @@ int model_mesh_lowest_over_rect(const model_mesh_t *mesh, const double (*r)[3], 
       w[k][0] += ox;
       w[k][1] += oy;
     }
+    /* Inside the rectangle, a triangle's lowest point is a vertex (seen above); wholly beyond
+     * one side of it, the triangle does not count. Only the others can cross its boundary or
+     * hold a corner. */
+    int inside = 0, beyond[4] = {0, 0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+      inside += fabs(w[k][0]) <= half_x && fabs(w[k][1]) <= half_y;
+      beyond[0] += w[k][0] < -half_x;
+      beyond[1] += w[k][0] > half_x;
+      beyond[2] += w[k][1] < -half_y;
+      beyond[3] += w[k][1] > half_y;
+    }
+    if (inside == 3 || beyond[0] == 3 || beyond[1] == 3 || beyond[2] == 3 || beyond[3] == 3)
+      continue;
     for (int k = 0; k < 3; ++k) {
       const double *p = w[k], *q = w[(k + 1) % 3];
       edge_crossing(p, q, 0, -half_x, half_y, &found, &best);
