@@ -4,7 +4,6 @@
 #include <getopt.h>
 #include <limits.h>
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,15 +14,10 @@
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_net.h"
 #include "comlearn/cli_paths.h"
+#include "comlearn/cli_stop.h"
 #include "comlearn/math3d.h"
 #include "comlearn/msg.h"
 #include "sim.h"
-
-static volatile sig_atomic_t stop_flag = 0;
-static void on_signal(int sig) {
-  (void)sig;
-  stop_flag = 1;
-}
 
 typedef struct {
   const char *lcm_url;
@@ -282,7 +276,7 @@ static int drain(daemon_t *d) {
   for (int i = 0; i < 1000; i++) {
     int r = lcm_handle_timeout(d->lcm, 0);
     if (r == 0) return 0;
-    if (r < 0) return stop_flag ? 0 : -1;
+    if (r < 0) return cli_stop_requested() ? 0 : -1;
   }
   return 0;
 }
@@ -295,7 +289,7 @@ static int run(daemon_t *d) {
   int paced_prev = 1;
   int failures = 0;
   publish(d, PUB_BOTH);
-  while (!stop_flag) {
+  while (!cli_stop_requested()) {
     const int paced = realtime || !sim_busy(&d->sim);
     if (paced && !paced_prev) {
       anchor_wall = wall_us();
@@ -311,7 +305,7 @@ static int run(daemon_t *d) {
     } else {
       rc = drain(d);
     }
-    if (rc < 0 && !stop_flag) {
+    if (rc < 0 && !cli_stop_requested()) {
       if (++failures > 100) {
         LOG_E("lcm_handle_timeout keeps failing; giving up");
         return 1;
@@ -328,7 +322,7 @@ static int run(daemon_t *d) {
      * every tick that is due (at most 100 at once, after which the anchor moves: a stalled host
      * does not cause a burst of catch-up). */
     int ticks = 0;
-    while (!stop_flag) {
+    while (!cli_stop_requested()) {
       const int now_paced = realtime || !sim_busy(&d->sim);
       if (now_paced && d->sim.utime + SIM_DT_US > anchor_sim + (wall_us() - anchor_wall)) break;
       if (!now_paced && ticks >= SIM_FAST_BATCH) break;
@@ -364,12 +358,7 @@ int main(int argc, char **argv) {
   if (prc < 0) return 0;
   if (prc > 0) return prc;
 
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, NULL);
-  sigaction(SIGTERM, &sa, NULL);
+  cli_stop_install();
 
   static daemon_t d;
   d.drop_rate = o.drop_rate;

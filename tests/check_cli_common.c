@@ -10,6 +10,7 @@
 #include <linux/filter.h>
 #include <math.h>
 #include <netinet/in.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,6 +21,7 @@
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_net.h"
+#include "comlearn/cli_stop.h"
 #include "comlearn/cli_time.h"
 
 /* What the writer wrote to a memory stream, as a string (static; valid until the next call). */
@@ -419,6 +421,33 @@ START_TEST(lcm_filter_new_sockets_only) {
 }
 END_TEST
 
+/* cli_stop: SIGTERM and SIGINT raise the flag (and do not kill), cli_stop_install clears it (a
+ * second one too, keeping the first one's saved handlers), and cli_stop_restore puts back the
+ * handler that was there before. */
+static volatile sig_atomic_t own_handler_ran;
+static void own_handler(int sig) {
+  (void)sig;
+  own_handler_ran = 1;
+}
+
+START_TEST(stop_on_signals) {
+  ck_assert(signal(SIGTERM, own_handler) != SIG_ERR);
+  cli_stop_install();
+  ck_assert_int_eq(cli_stop_requested(), 0);
+  ck_assert_int_eq(raise(SIGTERM), 0);
+  ck_assert_int_eq(cli_stop_requested(), 1);
+  cli_stop_install();
+  ck_assert_int_eq(cli_stop_requested(), 0);
+  ck_assert_int_eq(raise(SIGINT), 0);
+  ck_assert_int_eq(cli_stop_requested(), 1);
+  ck_assert_int_eq(own_handler_ran, 0);
+  cli_stop_restore();
+  cli_stop_restore(); /* not installed: nothing */
+  ck_assert_int_eq(raise(SIGTERM), 0);
+  ck_assert_int_eq(own_handler_ran, 1);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("cli_common");
   TCase *json = tcase_create("json");
@@ -429,6 +458,7 @@ int main(void) {
   TCase *log = tcase_create("log");
   tcase_add_test(log, log_level_filter);
   tcase_add_test(log, time_is_monotonic);
+  tcase_add_test(log, stop_on_signals);
   suite_add_tcase(s, log);
   TCase *net = tcase_create("net");
   tcase_add_test(net, udp_drops_counted);

@@ -14,7 +14,6 @@
 #include <errno.h>
 #include <getopt.h>
 #include <inttypes.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,17 +24,11 @@
 
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_net.h"
+#include "comlearn/cli_stop.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/msg.h"
 
 enum { EXIT_USAGE = 2, DRAIN_MAX = 1000000 };
-
-static volatile sig_atomic_t g_stop;
-
-static void on_signal(int sig) {
-  (void)sig;
-  g_stop = 1;
-}
 
 static void usage(FILE *out) {
   fprintf(out,
@@ -172,18 +165,12 @@ int cmd_record(int argc, char **argv) {
   cli_lcm_buffer_check(url);
   uint64_t lost0 = 0, lost1 = 0;
   const int lost_known = cli_udp_rcvbuf_errors(&lost0) == 0;
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sa.sa_flags = SA_RESTART; /* a write blocked on a slow FILE goes on; LCM's wait returns */
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, NULL);
-  sigaction(SIGTERM, &sa, NULL);
+  cli_stop_install(); /* SA_RESTART: a write blocked on a slow FILE goes on */
   LOG_I("recording '%s' on %s into %s", regex, url, path);
   int rc = 0;
   double next_flush = cli_time_now_s() + 1e-3 * flush_ms;
-  while (!g_stop && !r.failed) {
-    if (lcm_handle_timeout(lcm, flush_ms < 100 ? flush_ms : 100) < 0 && !g_stop) {
+  while (!cli_stop_requested() && !r.failed) {
+    if (lcm_handle_timeout(lcm, flush_ms < 100 ? flush_ms : 100) < 0 && !cli_stop_requested()) {
       LOG_E("record: lcm_handle_timeout failed on %s", url);
       rc = 1;
       break;
@@ -196,6 +183,7 @@ int cmd_record(int argc, char **argv) {
       next_flush = cli_time_now_s() + 1e-3 * flush_ms;
     }
   }
+  cli_stop_restore();
   /* what LCM's thread had already queued goes in too */
   for (int i = 0; i < DRAIN_MAX && !r.failed && lcm_handle_timeout(lcm, 0) > 0; ++i) {}
   lcm_unsubscribe(lcm, sub);

@@ -11,7 +11,6 @@
 #include <getopt.h>
 #include <inttypes.h>
 #include <math.h>
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,6 +21,7 @@
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_net.h"
+#include "comlearn/cli_stop.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/comlearn_com_estimate_t.h"
 #include "comlearn/comlearn_com_trial_t.h"
@@ -29,13 +29,6 @@
 #include "comlearn/msg.h"
 
 enum { EXIT_USAGE = 2 };
-
-static volatile sig_atomic_t g_stop;
-
-static void on_signal(int sig) {
-  (void)sig;
-  g_stop = 1;
-}
 
 static void usage(FILE *out) {
   fprintf(out,
@@ -336,20 +329,13 @@ static int watch_subscribe(lcm_t *lcm, const char *url, watch_t *w, comlearn_msg
  * w is filled in by the callbacks. Returns an exit status (EXIT_FAILURE: --once timed out, or LCM
  * failed). */
 static int watch_loop(lcm_t *lcm, const char *url, double timeout_s, watch_t *w) {
-  struct sigaction sa;
-  memset(&sa, 0, sizeof sa);
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  struct sigaction old_int, old_term;
-  g_stop = 0;
-  sigaction(SIGINT, &sa, &old_int);
-  sigaction(SIGTERM, &sa, &old_term);
+  cli_stop_install();
 
   /* Tests and scripts wait for this line before they start publishing. */
   LOG_I("listening on %s for %s and %s", url, w->ch.com_trial, w->ch.com_estimate);
   const double t0 = cli_time_now_s();
   int rc = EXIT_SUCCESS;
-  while (!g_stop && !(w->once && w->done_seen)) {
+  while (!cli_stop_requested() && !(w->once && w->done_seen)) {
     if (timeout_s > 0) {
       const double left = timeout_s - (cli_time_now_s() - t0);
       if (left <= 0) {
@@ -361,14 +347,13 @@ static int watch_loop(lcm_t *lcm, const char *url, double timeout_s, watch_t *w)
       }
     }
     /* bounded: SIGINT and the timeout are seen within 100 ms */
-    if (lcm_handle_timeout(lcm, 100) < 0 && !g_stop) {
+    if (lcm_handle_timeout(lcm, 100) < 0 && !cli_stop_requested()) {
       LOG_E("lcm_handle_timeout failed on %s", url);
       rc = EXIT_FAILURE;
       break;
     }
   }
-  sigaction(SIGINT, &old_int, NULL);
-  sigaction(SIGTERM, &old_term, NULL);
+  cli_stop_restore();
   return rc;
 }
 
