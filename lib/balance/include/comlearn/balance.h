@@ -80,7 +80,10 @@ typedef struct {
   /* Clearly tipping early: the CoM is beyond B's top (outside its footprint) and |w| grew for
    * tip_grow_steps consecutive steps. Default 20. */
   int tip_grow_steps;
-  double horizon_s; /* time cap of one trial; default 0.75 s: INVALID when reached */
+  /* Time cap of one trial; default 0.75 s. Reached: STAYS when the body never rotated more than
+   * 1e-3 rad from release nor moved its CoM more than 10 um, its CoM over B (held still in a
+   * contact limit cycle on a rough face, docs/physics.md); else INVALID. */
+  double horizon_s;
   /* Clearly tipped: rotated more than tip_angle_rad from release, the CoM below the top of B, or
    * the CoM beyond B's footprint by more than the object's radius. Default 0.35 rad. */
   double tip_angle_rad;
@@ -193,14 +196,14 @@ typedef struct {
 
 /* Run one trial: release obj at `release` (link frame in the world; touching B, see
  * balance_pose_over_edge) at rest, step until it is clearly at rest (STAYS), clearly tipping or
- * tipped (TIPS), slid (SLIDES), or the horizon passes (INVALID); see balance_config_t for each
- * test. Other objects of the world are taken out of the simulation first. noise may be NULL.
- * Deterministic: the same world configuration, object and inputs give a bit-identical result,
- * whatever ran before. Allocates nothing itself (ODE allocates its step memory).
- * Returns BALANCE_E_ARG (NULL, obj of another world, noise out of range), BALANCE_E_NONFINITE
- * (pose or noise), BALANCE_E_POSE (see balance_pose_over_edge; or the mesh starting more than
- * 0.1 mm inside B), BALANCE_E_DIVERGED (non-finite state: reported, not aborted),
- * BALANCE_E_NOMEM. *out is filled only on BALANCE_OK (zeroed otherwise). */
+ * tipped (TIPS), slid (SLIDES), or the horizon passes (INVALID, or STAYS when held still); see
+ * balance_config_t for each test. Other objects of the world are taken out of the simulation first.
+ * noise may be NULL. Deterministic: the same world configuration, object and inputs give a
+ * bit-identical result, whatever ran before. Allocates nothing itself (ODE allocates its step
+ * memory). Returns BALANCE_E_ARG (NULL, obj of another world, noise out of range),
+ * BALANCE_E_NONFINITE (pose or noise), BALANCE_E_POSE (see balance_pose_over_edge; or the mesh
+ * starting more than 0.1 mm inside B), BALANCE_E_DIVERGED (non-finite state: reported, not
+ * aborted), BALANCE_E_NOMEM. *out is filled only on BALANCE_OK (zeroed otherwise). */
 balance_status_t balance_trial_run(balance_world_t *world, balance_object_t *obj,
                                    const model_pose_t *release, const balance_noise_t *noise,
                                    balance_trial_result_t *out);
