@@ -406,12 +406,8 @@ int main(int argc, char **argv) {
   }
   /* LCM opens its receive socket on the first subscription: check its buffer, and let the
    * kernel drop what the sim does not read, its own statuses first (cli_net.h) */
-  cli_lcm_buffer_check(url);
   const char *heard[] = {d.ch.yumi_command, d.ch.sim_control};
-  const int filtered = cli_lcm_filter_new_sockets(&before, heard, 2);
-  if (filtered < 0)
-    LOG_W("no kernel filter on LCM's receive socket (%s): every datagram on the URL wakes it",
-          strerror(errno));
+  const int filtered = cli_lcm_receive_setup(url, &before, heard, 2);
   uint64_t overflows_start = 0;
   const int overflows_known = cli_udp_rcvbuf_errors(&overflows_start) == 0;
   /* Latest command only: a backlog of old commands is worth nothing. */

@@ -380,10 +380,11 @@ static int retreat_finish(estimate_lcm_t *l, char *err, size_t err_size) {
 /* ---- one trial ----------------------------------------------------------------------------- */
 
 /* The grasp (lib/placement's top-down grasp, docs/estimate.md) for the release pose and a plan
- * from the measured joints: right arm, finger yaws 0, 90, -90, 180 degrees, then the left arm.
+ * from the measured joints (a pipelined retreat's arm from the retreat's target): right arm,
+ * finger yaws 0, 90, -90, 180 degrees, then the left arm. The planned arm's start into start.
  * 0 ok, -1 (err). */
-static int plan_trial(estimate_lcm_t *l, const model_pose_t *rel, placement_grasp_t *g, char *err,
-                      size_t err_size) {
+static int plan_trial(estimate_lcm_t *l, const model_pose_t *rel, placement_grasp_t *g,
+                      double start[PLACEMENT_JOINTS], char *err, size_t err_size) {
   placement_grasp_request_t req;
   memset(&req, 0, sizeof req);
   req.mesh_link = l->cfg.mesh_link;
@@ -394,7 +395,10 @@ static int plan_trial(estimate_lcm_t *l, const model_pose_t *rel, placement_gras
   const placement_grasp_config_t gcfg = PLACEMENT_GRASP_CONFIG_INIT;
   placement_error_t pe = {{0}};
   const placement_status_t ps = placement_grasp_plan(l->arm, &l->plan_cfg, &gcfg, &req, g, &pe);
-  if (ps == PLACEMENT_OK) return 0;
+  if (ps == PLACEMENT_OK) {
+    memcpy(start, req.q_start_rad[g->side], sizeof req.q_start_rad[g->side]);
+    return 0;
+  }
   snprintf(err, err_size, "no placement plan for the release pose (%.4f, %.4f, %.4f): %s %s",
            rel->position_m[0], rel->position_m[1], rel->position_m[2], placement_status_str(ps),
            pe.msg);
@@ -580,16 +584,14 @@ static int plan_start_holds(const estimate_lcm_t *l, const placement_grasp_t *tp
 static int trial_attempt(estimate_lcm_t *l, const estimate_trial_request_t *req,
                          estimate_trial_reply_t *reply, char *err, size_t err_size) {
   placement_grasp_t tp;
-  if (plan_trial(l, &req->release, &tp, err, err_size) != 0) return -1;
-  /* the plan was made while the last retreat moved; now see the arm there */
   double q_start[PLACEMENT_JOINTS];
-  const int side = (int)tp.side;
-  memcpy(q_start,
-         l->retreating && l->retreat_arm == side ? l->retreat_wp.q_rad : l->st.q_measured_rad[side],
-         sizeof q_start);
+  if (plan_trial(l, &req->release, &tp, q_start, err, err_size) != 0) return -1;
+  /* the plan was made while the last retreat moved; now see the arm there */
   if (retreat_finish(l, err, err_size) != 0) return 1;
-  if (!plan_start_holds(l, &tp, q_start) && plan_trial(l, &req->release, &tp, err, err_size) != 0)
+  if (!plan_start_holds(l, &tp, q_start) &&
+      plan_trial(l, &req->release, &tp, q_start, err, err_size) != 0)
     return -1;
+  const int side = (int)tp.side;
   int r = trial_load(l, &tp, err, err_size);
   if (r == 0) r = trial_place(l, &tp, reply, err, err_size);
   if (r == 0) r = trial_outcome(l, reply, err, err_size);
@@ -705,13 +707,8 @@ static int lcm_connect(estimate_lcm_t *l, char *err, size_t err_size) {
   }
   /* LCM opens its receive socket on the first subscription: check its buffer, and let the
    * kernel drop what this estimator does not read (cli_net.h) */
-  cli_lcm_buffer_check(l->url);
   const char *heard[] = {l->ch.yumi_status, l->ch.object_state};
-  const int filtered = cli_lcm_filter_new_sockets(&before, heard, 2);
-  if (filtered < 0)
-    logf_(l, "no kernel filter on LCM's receive socket (%s): every datagram on %s wakes it",
-          strerror(errno), l->url);
-  l->counters.kernel_filter = filtered > 0;
+  l->counters.kernel_filter = cli_lcm_receive_setup(l->url, &before, heard, 2) > 0;
   l->rcvbuf_known = cli_udp_rcvbuf_errors(&l->rcvbuf_errors_open) == 0;
   if (wait_for(l, have_both, NULL, l->cfg.startup_timeout_s) != 1) {
     snprintf(err, err_size,

@@ -251,6 +251,16 @@ void cli_socket_set_now(cli_socket_set_t *set) {
   set->n = socket_inodes(0, set->inode, NULL, CLI_NET_SOCKETS_MAX);
 }
 
+int cli_lcm_receive_setup(const char *url, const cli_socket_set_t *before,
+                          const char *const *channels, size_t n) {
+  cli_lcm_buffer_check(url);
+  const int filtered = cli_lcm_filter_new_sockets(before, channels, n);
+  if (filtered < 0)
+    LOG_W("no kernel filter on LCM's receive socket (%s): every datagram on %s wakes it",
+          strerror(errno), url ? url : "the URL");
+  return filtered;
+}
+
 int cli_lcm_filter_new_sockets(const cli_socket_set_t *before, const char *const *channels,
                                size_t n) {
   unsigned long inode[MAX_SOCKETS];

@@ -85,4 +85,10 @@ int cli_lcm_filter_attach(int fd, const char *const *channels, size_t n);
 int cli_lcm_filter_new_sockets(const cli_socket_set_t *before, const char *const *channels,
                                size_t n);
 
+/* Right after the first lcm_subscribe on a udpm lcm_t of url (before: the sockets just before
+ * it): cli_lcm_buffer_check(url), then cli_lcm_filter_new_sockets for the process's channels,
+ * with a warning (cli_log) when the filter cannot be attached. Returns what the latter does. */
+int cli_lcm_receive_setup(const char *url, const cli_socket_set_t *before,
+                          const char *const *channels, size_t n);
+
 #endif
