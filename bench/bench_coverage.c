@@ -65,6 +65,8 @@ typedef struct {
   int seed;   /* 0: noiseless */
   int status; /* estimate_status_t */
   int found[3];
+  int support_left[3]; /* not found, and the reason: a support point left B before the CoM
+                          crossed the edge (estimate.c, contact_limited_note) */
   double err_m[3], hw_m[3];
   unsigned trials;
   double cpu_s;     /* CPU time of estimate_run (estimator and in-process simulation) */
@@ -257,6 +259,8 @@ static void run_one(const opts_t *o, const obj_t *ob, int object, int pi, int se
     r->found[k] = r->status == ESTIMATE_OK && res->found[k];
     r->err_m[k] = r->found[k] ? res->com_m[k] - truth.com_m[k] : NAN;
     r->hw_m[k] = r->found[k] ? res->halfwidth_m[k] : NAN;
+    r->support_left[k] = r->status == ESTIMATE_OK && !res->found[k] &&
+                         strstr(res->reason[k], "support point left B") != NULL;
   }
 }
 
@@ -384,6 +388,22 @@ static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *re
         row(stdout, estimate_policy_name(o->pol[p]), noisy ? "noisy (95 %)" : "noiseless (bound)",
             &s);
     }
+  printf(
+      "\nComponents not found, and of them those whose reason is that a support point left B "
+      "before the CoM crossed the edge:\n\n| policy | mode | not found | a support point "
+      "left B |\n|---|---|---:|---:|\n");
+  for (int p = 0; p < o->npol; ++p)
+    for (int noisy = 0; noisy < 2; ++noisy) {
+      int miss = 0, left = 0, runs = 0;
+      for (size_t i = 0; i < n; ++i) {
+        if (recs[i].policy != p || (recs[i].seed > 0) != noisy) continue;
+        ++runs;
+        for (int k = 0; k < 3; ++k) miss += !recs[i].found[k], left += recs[i].support_left[k];
+      }
+      if (runs)
+        printf("| %s | %s | %d | %d |\n", estimate_policy_name(o->pol[p]),
+               noisy ? "noisy" : "noiseless", miss, left);
+    }
   printf("\nPer family, %s:\n\n", estimate_policy_name(o->pol[0]));
   printf(kHeader, "family");
   for (int fam = 0; fam < FAMILIES; ++fam)
@@ -422,10 +442,13 @@ static void report(const opts_t *o, const obj_t *objs, int nobj, const rec_t *re
   for (size_t i = 0; i < n; ++i) {
     const rec_t *r = &recs[i];
     if (r->policy == 0 && r->seed == 0 && r->determinable > 0 &&
-        !(r->found[0] && r->found[1] && r->found[2]))
-      printf("- missed on %s (%d resting directions): %s%s%s\n", objs[r->object].name,
-             r->world_poses, r->found[0] ? "" : "x ", r->found[1] ? "" : "y ",
-             r->found[2] ? "" : "z");
+        !(r->found[0] && r->found[1] && r->found[2])) {
+      printf("- missed on %s (%d resting directions):", objs[r->object].name, r->world_poses);
+      for (int k = 0; k < 3; ++k)
+        if (!r->found[k])
+          printf(" %c%s", "xyz"[k], r -> support_left[k] ? " (a support point left B)" : "");
+      printf("\n");
+    }
   }
   int shown = 0;
   for (size_t i = 0; i < n; ++i)
@@ -467,7 +490,8 @@ static void write_json(const opts_t *o, const obj_t *objs, const rec_t *recs, si
     json_triple(f, r->found, r->err_m);
     fprintf(f, "], \"halfwidth_m\": [");
     json_triple(f, r->found, r->hw_m);
-    fprintf(f, "]");
+    fprintf(f, "], \"support_left\": [%d, %d, %d]", r->support_left[0], r->support_left[1],
+            r->support_left[2]);
     if (r->world_poses >= 0) /* first policy, noiseless */
       fprintf(f, ", \"world_poses\": %d, \"determinable\": %s", r->world_poses,
               r->determinable ? "true" : "false");

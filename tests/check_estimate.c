@@ -499,6 +499,47 @@ START_TEST(spare_patch_searched_rough) {
 }
 END_TEST
 
+/* A bowl on its side (rim seed 21, even) rests on a few points of its foot ring and its rim. Set
+ * over the edge it tips when one of them leaves B, whatever its CoM (the outcome model: the
+ * estimate 20.8 mm outside the support left, measured), so its z stays +-15.5 mm wide: not found,
+ * and the reason says why, naming the search. x and y come from its foot and are found, inside
+ * their bounds. With noise, on a scanned box (seed 39, even; placement 0.5 mm, pose 0.2 mm, seed
+ * 1), x is too wide for the same reason (a noise peak left B, the estimate 1.9 mm outside) but y
+ * (+-1.06 mm) is too wide by noise alone: its reason must not blame a support point. */
+START_TEST(contact_limited_reason) {
+  estimate_result_t *r = malloc(sizeof *r);
+  ck_assert_ptr_nonnull(r);
+  char urdf[512];
+  shaped_urdf(SHAPEGEN_RIM, 21, 0, urdf, sizeof urdf);
+  model_mass_t truth;
+  estimate_urdf_noisy(urdf, NULL, 0, 0.0, 0.0, r, &truth);
+  ck_assert_int_eq(check_covered("rim_s21_even", r, &truth), 2);
+  ck_assert(!r->found[2]);
+  ck_assert_msg(strstr(r->reason[2], "wider than") &&
+                    strstr(r->reason[2], "it tipped when a support point left B"),
+                "z: %s", r->reason[2]);
+  double outside_mm = 0.0;
+  const char *at = strstr(r->reason[2], "(the estimate ");
+  ck_assert_ptr_nonnull(at);
+  ck_assert_int_eq(sscanf(at, "(the estimate %lf mm outside", &outside_mm), 1);
+  ck_assert_msg(outside_mm > 10.0, "z: %s", r->reason[2]);
+  for (int k = 0; k < 2; ++k) ck_assert_str_eq(r->reason[k], "");
+
+  shaped_urdf(SHAPEGEN_SCANNED, 39, 0, urdf, sizeof urdf);
+  estimate_config_t cfg; /* as comlearn estimate --direct sets it from the noise options */
+  estimate_config_default(&cfg);
+  cfg.noise_sigma_m = 0.5e-3;
+  cfg.pose_noise_sigma_m = 0.2e-3;
+  estimate_urdf_noisy(urdf, &cfg, 1, 0.5e-3, 0.2e-3, r, &truth);
+  ck_assert_msg(!r->found[0] && strstr(r->reason[0], "support point left B"), "x: %s",
+                r->reason[0]);
+  ck_assert_msg(
+      !r->found[1] && strstr(r->reason[1], "wider than") && !strstr(r->reason[1], "support point"),
+      "y: %s", r->reason[1]);
+  free(r);
+}
+END_TEST
+
 /* A contact limit cycle (docs/physics.md, "Limit cycles on rough faces"): the scanned box seed 39
  * (even), set down on one of its faces in the middle of B, can rock between contact sets on its
  * 2 um bumps at a few 1e-2 rad/s with a period of a few steps until the horizon, its pose still
@@ -1049,6 +1090,7 @@ int main(void) {
   tcase_add_test(tc, rough_faces_with_noise);
   tcase_add_test(tc, spare_patch_searched_rough);
   tcase_add_test(tc, settled_rough_face);
+  tcase_add_test(tc, contact_limited_reason);
   tcase_add_test(tc, still_at_the_horizon_stays);
   tcase_add_loop_test(tc, noisy_intervals_cover, 0, 2);
   tcase_add_test(tc, noise_target_refines);

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "comlearn/math3d.h"
+#include "comlearn/model_outcome.h"
 #include "comlearn/model_support.h"
 #include "comlearn/qlearn_solve.h"
 
@@ -1941,6 +1942,86 @@ static estimate_status_t search_done(est_t *est) {
   }
 }
 
+/* The fed search whose plane widens a . c most (the largest term |p_j| (h_j + b_j) of
+ * dir_halfwidth), or -1. */
+static int widest_plane(const est_t *est, const qlearn_solve_result_t *res, const double a[3]) {
+  int widest = -1;
+  double most = 0.0;
+  for (size_t i = 0; i < est->result.search_count; ++i) {
+    const estimate_search_t *sr = &est->result.search[i];
+    if (!sr->fed) continue;
+    const double w = fabs(plane_coef(est, res, a, sr)) * (sr->halfwidth_m + sr->bias_m);
+    if (w > most) {
+      most = w;
+      widest = (int)i;
+    }
+  }
+  return widest;
+}
+
+/* By the outcome model, how far outside its support polygon the estimate lay at the placement of
+ * search si that tipped next to its STAYS (the largest x that tipped below the smallest that
+ * stayed, or the largest that tipped when none stayed; docs/physics.md, "The outcome model,
+ * validated"). Where the CoM sets the threshold that is about the bracket; millimetres mean a
+ * support point left B first and the object tipped wherever its CoM was. HUGE_VAL when nothing
+ * tipped there or the model cannot say. */
+static double tip_margin(const est_t *est, int si, model_outcome_work_t *work,
+                         model_outcome_support_t *sup) {
+  const estimate_result_t *out = &est->result;
+  double stays = HUGE_VAL;
+  for (size_t i = 0; i < out->trial_count; ++i)
+    if (out->trial[i].search == si && seen_outcome(est, &out->trial[i]) == ESTIMATE_STAYS)
+      stays = fmin(stays, out->trial[i].x_m);
+  int tip = -1;
+  for (size_t i = 0; i < out->trial_count; ++i) {
+    const estimate_trial_t *t = &out->trial[i];
+    if (t->search == si && seen_outcome(est, t) == ESTIMATE_TIPS && t->x_m < stays &&
+        (tip < 0 || t->x_m > out->trial[tip].x_m))
+      tip = (int)i;
+  }
+  int in;
+  double margin;
+  if (tip < 0 ||
+      model_outcome_support_build(est->mesh, &out->trial[tip].released, est->base_size_m, NULL,
+                                  work, sup) != MODEL_OK ||
+      model_outcome_support_test(sup, est->guess_m, &in, &margin) != MODEL_OK)
+    return HUGE_VAL;
+  return margin;
+}
+
+/* Why a component is not found, when rough search j (its widest plane, or the search that was not
+ * used) and its mirror tipped because a support point left B, not because the CoM crossed the
+ * edge (the estimate more than the limit outside the support at the tip: a bowl on its side, on a
+ * few points of its foot ring and rim): appended to r as "; ..." (nothing otherwise). Allocates
+ * the outcome model's work area for the call. */
+static void contact_limited_note(const est_t *est, int j, char *r, size_t size) {
+  const estimate_result_t *out = &est->result;
+  if (j < 0 || !search_rough(est, j)) return;
+  if (out->search[j].mirror_of >= 0) j = out->search[j].mirror_of;
+  const size_t wsize = model_outcome_work_size(est->mesh);
+  void *mem = malloc(wsize);
+  model_outcome_support_t *sup = malloc(sizeof *sup);
+  model_outcome_work_t *work = mem ? model_outcome_work_init(mem, wsize, est->mesh) : NULL;
+  double worst = HUGE_VAL;
+  int at = -1;
+  for (size_t i = 0; work && sup && i < out->search_count; ++i) {
+    if ((int)i != j && out->search[i].mirror_of != j) continue;
+    const double m = tip_margin(est, (int)i, work, sup);
+    if (m < worst) {
+      worst = m;
+      at = (int)i;
+    }
+  }
+  free(mem);
+  free(sup);
+  if (at < 0 || !(worst < -est->cfg.max_halfwidth_m)) return;
+  const size_t len = strlen(r);
+  snprintf(r + len, size - len,
+           "; on face %d (search %d) it tipped when a support point left B, not when the CoM "
+           "crossed the edge (the estimate %.1f mm outside the support left)",
+           out->search[at].face, at, -1e3 * worst);
+}
+
 /* Why component k is not found (or "" when it is). */
 static void component_reason(est_t *est, int k, int determined, int unverified, double hw) {
   estimate_result_t *out = &est->result;
@@ -1955,6 +2036,8 @@ static void component_reason(est_t *est, int k, int determined, int unverified, 
   } else if (determined) {
     snprintf(r, sizeof r, "its interval +-%.3f mm is wider than the %.3f mm limit", 1e3 * hw,
              1e3 * est->cfg.max_halfwidth_m);
+    const double e[3] = {k == 0, k == 1, k == 2};
+    contact_limited_note(est, widest_plane(est, &est->res, e), r, sizeof r);
   } else if (est->face2_note[0] && out->rank == 2) {
     snprintf(r, sizeof r, "not determined: %s", est->face2_note);
   } else {
@@ -1962,9 +2045,10 @@ static void component_reason(est_t *est, int k, int determined, int unverified, 
     for (size_t i = 0; i < out->search_count; ++i)
       if (!out->search[i].fed && out->search[i].note[0] && out->search[i].mirror_of < 0)
         last = (int)i;
-    if (last >= 0)
+    if (last >= 0) {
       snprintf(r, sizeof r, "not determined: search %d not used: %s", last, out->search[last].note);
-    else
+      contact_limited_note(est, last, r, sizeof r);
+    } else
       snprintf(r, sizeof r, "not determined by the %d independent directions measured", out->rank);
   }
   memcpy(out->reason[k], r, sizeof r);
