@@ -5,6 +5,14 @@
 # libnewlib-arm-none-eabi if missing (needs root). Usage: bench/cortex_m4.sh [outdir]
 set -eu
 here=$(cd "$(dirname "$0")/.." && pwd)
+case "${1:-}" in
+  -h | --help)
+    echo "usage: bench/cortex_m4.sh [OUTDIR]   (default OUTDIR: \$TMPDIR/comlearn_cortex_m4)"
+    echo "lib/qlearn built for Cortex-M4: text / data / bss per object and archive, and a link check."
+    exit 0 ;;
+  -*) echo "cortex_m4.sh: unknown option '$1' (try --help)" >&2; exit 2 ;;
+esac
+[ $# -le 1 ] || { echo "cortex_m4.sh: one OUTDIR at most (try --help)" >&2; exit 2; }
 out=${1:-${TMPDIR:-/tmp}/comlearn_cortex_m4}
 if ! command -v arm-none-eabi-gcc >/dev/null 2>&1; then
   echo "installing gcc-arm-none-eabi libnewlib-arm-none-eabi" >&2

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Cross-check lib/balance against MuJoCo (docs/physics.md, "Cross-check with MuJoCo").
-#   bash bench/mujoco_crosscheck.sh BUILD_DIR WORK_DIR [mujoco_crosscheck.py options...]
+# usage: bash bench/mujoco_crosscheck.sh BUILD_DIR WORK_DIR [mujoco_crosscheck.py options...]
 # Writes the objects (comlearn-shapegen box, pebble, lumpy, ring, mug, feet3, seeds 1-2, and
 # comlearn-rockgen random rocks 1-2; even and uneven each), the placements with lib/balance's
 # verdicts (placements_dump), a Python venv with mujoco 4.0.0 and trimesh 5.2.0 from PyPI
@@ -10,6 +10,10 @@ set -euo pipefail
 if [[ $# -lt 2 || $1 == -h || $1 == --help ]]; then
   sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'
   exit $([[ $# -ge 1 && ($1 == -h || $1 == --help) ]] && echo 0 || echo 2)
+fi
+if [[ $1 == -* ]]; then
+  echo "mujoco_crosscheck.sh: unknown option '$1' (try --help)" >&2
+  exit 2
 fi
 build=$1 work=$2
 shift 2

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # What a catch-all recording keeps of many robots on one URL (docs/replay.md, "Recorders").
-#   bash bench/record_loss.sh BUILD_DIR [SIMS [RUNS]]
+# usage: bash bench/record_loss.sh BUILD_DIR [SIMS [RUNS]]
 # Runs `comlearn experiments assets/rocks/*.urdf --seeds 0 --sims SIMS` (default 2) RUNS times
 # (default 3) on a udpm URL of its own while lcm-logger and `comlearn record` both record every
 # channel, then `comlearn logcheck` on each log. Prints a markdown table: per run, the trial
@@ -11,6 +11,10 @@ set -euo pipefail
 if [[ $# -lt 1 || $1 == -h || $1 == --help ]]; then
   sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'
   exit $([[ $# -ge 1 && ($1 == -h || $1 == --help) ]] && echo 0 || echo 2)
+fi
+if [[ $1 == -* ]]; then
+  echo "record_loss.sh: unknown option '$1' (try --help)" >&2
+  exit 2
 fi
 build=$1 sims=${2:-2} runs=${3:-3}
 here=$(cd "$(dirname "$0")/.." && pwd)

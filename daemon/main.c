@@ -11,6 +11,7 @@
 
 #include <lcm/lcm.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_net.h"
 #include "comlearn/cli_paths.h"
@@ -65,6 +66,7 @@ static void usage(FILE *f) {
       "  -v, --verbose             log every command: refused (why) or accepted (when)\n"
       "  -q, --quiet               errors only (default: off)\n"
       "  -h, --help                this help\n"
+      "  -V, --version             print the version\n"
       "\n"
       "Exit codes: 0 stopped by a signal, 1 runtime failure, 2 bad usage.\n",
       COMLEARN_MSG_LCM_URL_DEFAULT, cli_paths_yumi_urdf(), SIM_OBJECT_DIRS_MAX,
@@ -94,10 +96,11 @@ static int parse_options(int argc, char **argv, options_t *o) {
                                            {"verbose", no_argument, NULL, 'v'},
                                            {"quiet", no_argument, NULL, 'q'},
                                            {"help", no_argument, NULL, 'h'},
+                                           {"version", no_argument, NULL, 'V'},
                                            {NULL, 0, NULL, 0}};
   int c;
   opterr = 0;
-  while ((c = getopt_long(argc, argv, "vqh", longopts, NULL)) != -1) {
+  while ((c = getopt_long(argc, argv, "vqhV", longopts, NULL)) != -1) {
     switch (c) {
       case 'u': o->lcm_url = optarg; break;
       case 'r': o->realtime = 1; break;
@@ -152,13 +155,8 @@ static int parse_options(int argc, char **argv, options_t *o) {
       case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
       case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return -1;
-      default:
-        if (optopt != 0 && optopt != '?')
-          LOG_E("option needs a value or is unknown: -%c", optopt);
-        else
-          LOG_E("unknown option or missing value: %s", argv[optind - 1]);
-        fprintf(stderr, "try 'comlearn-sim --help'\n");
-        return 2;
+      case 'V': cli_version_print(stdout, "comlearn-sim"); return -1;
+      default: cli_getopt_complain("comlearn-sim", "vqhV", longopts, argv); return 2;
     }
   }
   if (optind < argc) {

@@ -13,7 +13,12 @@ case "${1:-}" in
     sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'
     exit 0
     ;;
+  -*)
+    echo "lan-check.sh: unknown option '$1' (try --help)" >&2
+    exit 2
+    ;;
 esac
+[ $# -le 1 ] || { echo "lan-check.sh: one BUILD_DIR at most (try --help)" >&2; exit 2; }
 here=$(cd "$(dirname "$0")/.." && pwd)
 bin=${1:-$here/build/default}
 comlearn=$bin/apps/comlearn/comlearn

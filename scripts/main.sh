@@ -14,32 +14,87 @@
 #   5. stop the loggers and the simulator, check that both logs hold every trial record
 #      (`comlearn logcheck`, out/lcm/logcheck_*.txt), write out/report.md.
 #
-# Environment: SEEDS (noisy runs per rock and policy, default 5), SIMS (simulators for the
-# experiments, default 2: one per core here; 0 = the one of step 2), OUT (default out).
+# Options (scripts/main.sh --help) or the environment: SEEDS (noisy runs per rock and policy,
+# default 5), SIMS (simulators for the experiments, default 2: one per core here; 0 = the one of
+# step 2), OUT (default out); the options win.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
+
+usage() {
+  cat <<'EOF'
+usage: scripts/main.sh [--out DIR] [--lcm-url URL] [--seeds N] [--sims N] [-h | --help]
+The main job of README.md: set up and build (scripts/setup.sh), then the paper's experiments
+and the rock stack over LCM against comlearn-sim, recorded; a report in DIR/report.md.
+  --out DIR      where everything goes, emptied first; relative to the current folder
+                 (default: $OUT, else out)
+  --lcm-url URL  LCM URL of the job's comlearn-sim and recorders; no other comlearn-sim may
+                 answer there (default: udpm://239.255.76.67:<7700 + pid % 1000>?ttl=0)
+  --seeds N      noisy runs per rock and policy, 0..1000 (default: $SEEDS, else 5)
+  --sims N       simulators for the experiments, 0..16; 0: the job's own (default: $SIMS,
+                 else 2)
+  -h, --help     this text (and nothing else)
+Exit status: 0 done, 1 a step failed, 2 bad usage.
+EOF
+}
+
+out=${OUT:-out}
+seeds=${SEEDS:-5}
+sims=${SIMS:-2}
+url=
+while [ $# -gt 0 ]; do
+  case "$1" in
+    -h | --help) usage; exit 0 ;;
+    --out | --lcm-url | --seeds | --sims)
+      [ $# -ge 2 ] || { echo "main: $1 needs a value (try --help)" >&2; exit 2; }
+      case "$1" in
+        --out) out=$2 ;;
+        --lcm-url) url=$2 ;;
+        --seeds) seeds=$2 ;;
+        --sims) sims=$2 ;;
+      esac
+      shift 2 ;;
+    *) echo "main: unexpected argument '$1' (try --help)" >&2; exit 2 ;;
+  esac
+done
+whole() { # NAME VALUE MAX: a whole number 0..MAX
+  case "$2" in
+    '' | *[!0-9]*) echo "main: $1 '$2' is not a whole number" >&2; exit 2 ;;
+  esac
+  [ "$2" -le "$3" ] || { echo "main: $1 $2 is over $3" >&2; exit 2; }
+}
+whole --seeds "$seeds" 1000
+whole --sims "$sims" 16
+[ -n "$out" ] || { echo "main: --out is empty" >&2; exit 2; }
+out=$(realpath -m -- "$out") # relative to where the job was started
+case "$out" in
+  / | "$(realpath -m -- "${HOME:-/}")" | "$(realpath -m -- "$here")")
+    echo "main: refusing to empty '$out'" >&2; exit 2 ;;
+esac
+if [ -z "$url" ]; then
+  url="udpm://239.255.76.67:$((7700 + $$ % 1000))?ttl=0"
+fi
+case "$url" in
+  udpm://*) ;;
+  *) echo "main: --lcm-url '$url' is not a udpm:// URL" >&2; exit 2 ;;
+esac
+# recv_buf_size for lcm-logger too: comlearn's programs add it when a URL has none (cli_net.h)
+case "$url" in
+  *recv_buf_size=*) ;;
+  *\?*) url="$url&recv_buf_size=4194304" ;;
+  *) url="$url?recv_buf_size=4194304" ;;
+esac
+
 cd "$here"
 bash scripts/setup.sh default
 
 bin=build/default
 comlearn=$bin/apps/comlearn/comlearn
 sim=$bin/daemon/comlearn-sim
-out=${OUT:-out}
-seeds=${SEEDS:-5}
-sims=${SIMS:-2}
-case "$sims" in
-  '' | *[!0-9]*) echo "main: SIMS='$sims' is not a whole number" >&2; exit 2 ;;
-esac
-# recv_buf_size for lcm-logger too: comlearn's programs add it when a URL has none (cli_net.h)
-url="udpm://239.255.76.67:$((7700 + $$ % 1000))?ttl=0&recv_buf_size=4194304"
 stack_rocks=(assets/rocks/rock_1_uneven.urdf assets/rocks/rock_2_uneven.urdf
              assets/rocks/rock_3_uneven.urdf)
 
 step() { printf '\n== %s\n' "$*" >&2; }
 
-case "$out" in
-  "" | / | . | .. | "$HOME") echo "main: refusing OUT='$out'" >&2; exit 2 ;;
-esac
 rm -rf "$out"
 mkdir -p "$out/lcm" "$out/experiments"
 started=$(date +%s)

@@ -4,7 +4,25 @@
 # usage: scripts/setup.sh [PRESET]      (PRESET: default | asan | fuzz; default: default)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
+
+case "${1:-}" in
+  -h | --help)
+    cat <<'EOF'
+usage: scripts/setup.sh [PRESET]
+Installs the Debian 12 packages comlearn needs (only the missing ones; as root), raises the
+UDP receive buffer limit and adds a multicast route when there is none (as root), then
+configures and builds the CMake preset. Safe to run again.
+  PRESET      default | asan | fuzz (default: default); see CMakePresets.json
+  -h, --help  this text (and nothing else)
+EOF
+    exit 0 ;;
+esac
+[ $# -le 1 ] || { echo "setup: one PRESET at most (try --help)" >&2; exit 2; }
 preset=${1:-default}
+case "$preset" in
+  default | asan | fuzz) ;;
+  *) echo "setup: unknown preset '$preset': default, asan or fuzz (try --help)" >&2; exit 2 ;;
+esac
 
 # Build tools and libraries, all from Debian 12. libjchart2d-java feeds lcm-spy's message viewer;
 # a JDK builds the Java jar of our message types for lcm-spy, and a JRE with AWT runs lcm-spy.

@@ -453,7 +453,8 @@ START_TEST(cli_bad_input) {
       {"--resolution-mm 0", "--resolution-mm: '0'"},
       {"--sims 0", "--sims: '0' is not an integer in [1, 16]"},
       {"--sims 17", "--sims: '17'"},
-      {"--bogus", "unrecognized option"},
+      {"--bogus", "comlearn experiments: error: unknown option '--bogus'"},
+      {"--seeds", "comlearn experiments: error: --seeds needs a value"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
     snprintf(cmd, sizeof cmd, "'%s' experiments '%s' %s 2>&1", COMLEARN_BIN, urdf, cases[i].args);

@@ -3,3 +3,14 @@ target_compile_definitions(check_cli PRIVATE COMLEARN_BIN="$<TARGET_FILE:comlear
 add_dependencies(check_cli comlearn)
 # comlearn_cli (apps/common): the programs' JSON writer and logger, as units.
 comlearn_add_check(check_cli_common SOURCES check_cli_common.c LIBS comlearn_cli TIMEOUT 30)
+# The command-line surface of every program and script (--version, --help without side effects,
+# unknown options and missing values named): tests/cli_surface.sh.
+set(comlearn_cli_programs comlearn comlearn-sim)
+set(comlearn_cli_program_files)
+foreach(t IN LISTS comlearn_cli_programs)
+  list(APPEND comlearn_cli_program_files $<TARGET_FILE:${t}>)
+endforeach()
+add_test(NAME cli_surface
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/cli_surface.sh ${PROJECT_VERSION}
+                 ${PROJECT_SOURCE_DIR} ${comlearn_cli_program_files})
+set_tests_properties(cli_surface PROPERTIES TIMEOUT 300)

@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "comlearn/balance_poses.h"
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_net.h"
@@ -78,6 +79,7 @@ static void usage(FILE *out) {
           "  -v, --verbose      log debug messages on stderr (default: info)\n"
           "  -q, --quiet        log errors only; no progress (default: info, progress on a tty)\n"
           "  -h, --help         show this help\n"
+          "  -V, --version      print the version\n"
           "\n"
           "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n");
 }
@@ -355,7 +357,8 @@ static int parse_option(int c, est_args_t *a) {
       cli_log_set_level(CLI_LOG_ERROR);
       return 0;
     case 'h': usage(stdout); return -1; /* done: exit 0 */
-    default: usage(stderr); return EXIT_USAGE;
+    case 'V': cli_version_print(stdout, "comlearn"); return -1;
+    default: return EXIT_USAGE; /* parse_args says why */
   }
 }
 
@@ -380,14 +383,18 @@ static int parse_args(int argc, char **argv, est_args_t *a) {
                                        {"pose-noise-mm", required_argument, NULL, 'O'},
                                        {"seed", required_argument, NULL, 'e'},
                                        {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
                                        {NULL, 0, NULL, 0}};
   memset(a, 0, sizeof *a);
   estimate_config_default(&a->cfg);
   a->seed = 1;
   int c;
   optind = 1;
-  while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "vqhV", opts, NULL)) != -1) {
     const int rc = parse_option(c, a);
+    if (rc == EXIT_USAGE && (c == '?' || c == ':'))
+      cli_getopt_complain("comlearn estimate", "vqhV", opts, argv);
     if (rc != 0) return rc;
   }
   if (optind != argc - 1) {

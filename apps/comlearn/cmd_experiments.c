@@ -23,6 +23,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_paths.h"
@@ -171,6 +172,7 @@ static void usage(FILE *out) {
       "  -v, --verbose            log debug messages on stderr (default: info)\n"
       "  -q, --quiet              log errors only; no progress (default: one line per run)\n"
       "  -h, --help               show this help\n"
+      "  -V, --version            print the version\n"
       "\n"
       "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n",
       MAX_SEEDS);
@@ -896,6 +898,7 @@ static int parse_args(int argc, char **argv, exp_opts_t *o) {
                                        {"verbose", no_argument, NULL, 'v'},
                                        {"quiet", no_argument, NULL, 'q'},
                                        {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
                                        {NULL, 0, NULL, 0}};
   memset(o, 0, sizeof *o);
   o->npolicies = MAX_POLICIES;
@@ -907,7 +910,8 @@ static int parse_args(int argc, char **argv, exp_opts_t *o) {
   int c;
   double mm;
   optind = 1;
-  while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "vqhV", opts, NULL)) != -1) {
     switch (c) {
       case 'P':
         if (parse_policies(optarg, o) != 0) return EXIT_USAGE;
@@ -958,7 +962,8 @@ static int parse_args(int argc, char **argv, exp_opts_t *o) {
         cli_log_set_level(CLI_LOG_ERROR);
         break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
-      default: usage(stderr); return EXIT_USAGE;
+      case 'V': cli_version_print(stdout, "comlearn"); return EXIT_SUCCESS;
+      default: cli_getopt_complain("comlearn experiments", "vqhV", opts, argv); return EXIT_USAGE;
     }
   }
   return -1;

@@ -16,6 +16,7 @@
 
 #include <lcm/eventlog.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/comlearn_com_estimate_t.h"
 #include "comlearn/comlearn_com_trial_t.h"
@@ -37,6 +38,7 @@ static void usage(FILE *out) {
           "  -v, --verbose      one line per run (default: the totals)\n"
           "  -q, --quiet        only the verdict line, and errors (default: channels too)\n"
           "  -h, --help         show this help\n"
+          "  -V, --version      print the version\n"
           "\n"
           "exit status: 0 every run complete, 1 a record missing or repeated, a run without its\n"
           "final COM_ESTIMATE, or an undecodable record, 2 usage or an unreadable log\n");
@@ -215,19 +217,18 @@ int cmd_logcheck(int argc, char **argv) {
   static const struct option opts[] = {{"verbose", no_argument, NULL, 'v'},
                                        {"quiet", no_argument, NULL, 'q'},
                                        {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
                                        {NULL, 0, NULL, 0}};
   int verbose = 0, quiet = 0, o;
   opterr = 0;
   optind = 1;
-  while ((o = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
+  while ((o = getopt_long(argc, argv, "vqhV", opts, NULL)) != -1) {
     switch (o) {
       case 'v': verbose = 1; break;
       case 'q': quiet = 1; break;
       case 'h': usage(stdout); return 0;
-      default:
-        LOG_E("logcheck: unknown option '%s'", argv[optind - 1]);
-        usage(stderr);
-        return EXIT_USAGE;
+      case 'V': cli_version_print(stdout, "comlearn"); return 0;
+      default: cli_getopt_complain("comlearn logcheck", "vqhV", opts, argv); return EXIT_USAGE;
     }
   }
   if (optind >= argc) {

@@ -22,6 +22,7 @@
 #include <lcm/eventlog.h>
 #include <lcm/lcm.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_net.h"
 #include "comlearn/cli_stop.h"
@@ -50,6 +51,7 @@ static void usage(FILE *out) {
           "  -v, --verbose      log debug messages on stderr (default: info)\n"
           "  -q, --quiet        log errors only (default: info)\n"
           "  -h, --help         show this help\n"
+          "  -V, --version      print the version\n"
           "\n"
           "exit status: 0 stopped by a signal with everything written, 1 a write or LCM\n"
           "failure, 2 usage or bad input\n");
@@ -83,15 +85,19 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *us
 
 static int parse_args(int argc, char **argv, const char **url, const char **regex, int *force,
                       int *flush_ms, const char **path) {
-  static const struct option opts[] = {
-      {"lcm-url", required_argument, NULL, 'u'}, {"channel", required_argument, NULL, 'c'},
-      {"force", no_argument, NULL, 'f'},         {"flush-ms", required_argument, NULL, 'F'},
-      {"verbose", no_argument, NULL, 'v'},       {"quiet", no_argument, NULL, 'q'},
-      {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"lcm-url", required_argument, NULL, 'u'},
+                                       {"channel", required_argument, NULL, 'c'},
+                                       {"force", no_argument, NULL, 'f'},
+                                       {"flush-ms", required_argument, NULL, 'F'},
+                                       {"verbose", no_argument, NULL, 'v'},
+                                       {"quiet", no_argument, NULL, 'q'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
+                                       {NULL, 0, NULL, 0}};
   int o;
   opterr = 0;
   optind = 1;
-  while ((o = getopt_long(argc, argv, "c:fvqh", opts, NULL)) != -1) {
+  while ((o = getopt_long(argc, argv, "c:fvqhV", opts, NULL)) != -1) {
     switch (o) {
       case 'u': *url = optarg; break;
       case 'c': *regex = optarg; break;
@@ -110,12 +116,8 @@ static int parse_args(int argc, char **argv, const char **url, const char **rege
       case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
       case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return 0;
-      case '?':
-      case ':':
-      default:
-        LOG_E("record: bad option or missing value: '%s'", argv[optind - 1]);
-        usage(stderr);
-        return EXIT_USAGE;
+      case 'V': cli_version_print(stdout, "comlearn"); return 0;
+      default: cli_getopt_complain("comlearn record", "c:fvqhV", opts, argv); return EXIT_USAGE;
     }
   }
   if (optind != argc - 1) {

@@ -16,6 +16,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_paths.h"
@@ -68,6 +69,7 @@ static void usage(FILE *out) {
       "  -v, --verbose      log debug messages on stderr (default: info)\n"
       "  -q, --quiet        log errors only (default: info, progress lines on stderr)\n"
       "  -h, --help         show this help\n"
+      "  -V, --version      print the version\n"
       "\n"
       "exit status: 0 planned and simulated (standing or not), 1 runtime failure (e.g. no\n"
       "stable plan), 2 usage or bad input\n",
@@ -316,6 +318,7 @@ static int parse_args(int argc, char **argv, stack_args_t *a) {
                                        {"verbose", no_argument, NULL, 'v'},
                                        {"quiet", no_argument, NULL, 'q'},
                                        {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
                                        {NULL, 0, NULL, 0}};
   *a = (stack_args_t){.src = STACK_COM_LEARNED,
                       .policy = QLEARN_POLICY_BISECT,
@@ -326,7 +329,8 @@ static int parse_args(int argc, char **argv, stack_args_t *a) {
                       .rehearse = 1};
   int c;
   optind = 1;
-  while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "vqhV", opts, NULL)) != -1) {
     switch (c) {
       case 'c':
         if (com_parse(optarg, &a->src) != 0) {
@@ -369,7 +373,8 @@ static int parse_args(int argc, char **argv, stack_args_t *a) {
       case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
       case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
-      default: usage(stderr); return EXIT_USAGE;
+      case 'V': cli_version_print(stdout, "comlearn"); return EXIT_SUCCESS;
+      default: cli_getopt_complain("comlearn stack", "vqhV", opts, argv); return EXIT_USAGE;
     }
   }
   return -1;

@@ -18,6 +18,7 @@
 
 #include <lcm/lcm.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_net.h"
@@ -55,6 +56,7 @@ static void usage(FILE *out) {
           "  -v, --verbose      log debug messages on stderr (default: info)\n"
           "  -q, --quiet        log errors only (default: info)\n"
           "  -h, --help         show this help\n"
+          "  -V, --version      print the version\n"
           "\n"
           "exit status: 0 success (signal, or --once saw the final estimate), 1 runtime\n"
           "failure or --once timed out, 2 usage or bad input\n");
@@ -240,18 +242,16 @@ static void on_reject(const lcm_recv_buf_t *rbuf, const char *channel, comlearn_
 /* Options into *url, *timeout_s and w (defaults as usage() says). Returns -1 to go on, else the
  * exit status (0 after --help, EXIT_USAGE). */
 static int parse_args(int argc, char **argv, const char **url, double *timeout_s, watch_t *w) {
-  static const struct option opts[] = {{"lcm-url", required_argument, NULL, 'u'},
-                                       {"channel-prefix", required_argument, NULL, 'c'},
-                                       {"once", no_argument, NULL, 'o'},
-                                       {"timeout-s", required_argument, NULL, 't'},
-                                       {"json", no_argument, NULL, 'j'},
-                                       {"verbose", no_argument, NULL, 'v'},
-                                       {"quiet", no_argument, NULL, 'q'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {
+      {"lcm-url", required_argument, NULL, 'u'}, {"channel-prefix", required_argument, NULL, 'c'},
+      {"once", no_argument, NULL, 'o'},          {"timeout-s", required_argument, NULL, 't'},
+      {"json", no_argument, NULL, 'j'},          {"verbose", no_argument, NULL, 'v'},
+      {"quiet", no_argument, NULL, 'q'},         {"help", no_argument, NULL, 'h'},
+      {"version", no_argument, NULL, 'V'},       {NULL, 0, NULL, 0}};
   int c;
   optind = 1;
-  while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "vqhV", opts, NULL)) != -1) {
     switch (c) {
       case 'u':
         if (!optarg[0]) {
@@ -283,7 +283,8 @@ static int parse_args(int argc, char **argv, const char **url, double *timeout_s
       case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
       case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
-      default: usage(stderr); return EXIT_USAGE;
+      case 'V': cli_version_print(stdout, "comlearn"); return EXIT_SUCCESS;
+      default: cli_getopt_complain("comlearn watch", "vqhV", opts, argv); return EXIT_USAGE;
     }
   }
   if (optind != argc) {

@@ -27,6 +27,7 @@
 #include "cmd_record.h"
 #include "cmd_stack.h"
 #include "cmd_watch.h"
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/math3d.h"
@@ -49,6 +50,7 @@ typedef struct {
 static void usage(FILE *out) {
   fprintf(out,
           "usage: comlearn COMMAND [options] ...\n"
+          "       comlearn --help | --version\n"
           "\n"
           "commands:\n"
           "  inspect OBJECT.urdf...   geometry of each object as the estimator sees it:\n"
@@ -79,6 +81,7 @@ static void usage(FILE *out) {
           "  -v, --verbose    log debug messages on stderr (default: info)\n"
           "  -q, --quiet      log errors only (default: info)\n"
           "  -h, --help       show this help\n"
+          "  -V, --version    print the version\n"
           "\n"
           "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n");
 }
@@ -195,17 +198,16 @@ static void print_table(const inspect_result_t *results, size_t n, int truth) {
 }
 
 static int cmd_inspect(int argc, char **argv) {
-  static const struct option opts[] = {{"link", required_argument, NULL, 'l'},
-                                       {"json", no_argument, NULL, 'j'},
-                                       {"truth", no_argument, NULL, 't'},
-                                       {"verbose", no_argument, NULL, 'v'},
-                                       {"quiet", no_argument, NULL, 'q'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {
+      {"link", required_argument, NULL, 'l'}, {"json", no_argument, NULL, 'j'},
+      {"truth", no_argument, NULL, 't'},      {"verbose", no_argument, NULL, 'v'},
+      {"quiet", no_argument, NULL, 'q'},      {"help", no_argument, NULL, 'h'},
+      {"version", no_argument, NULL, 'V'},    {NULL, 0, NULL, 0}};
   const char *link = NULL;
   int json = 0, truth = 0, c;
   optind = 1;
-  while ((c = getopt_long(argc, argv, "vqh", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "vqhV", opts, NULL)) != -1) {
     switch (c) {
       case 'l': link = optarg; break;
       case 'j': json = 1; break;
@@ -213,7 +215,8 @@ static int cmd_inspect(int argc, char **argv) {
       case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
       case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
       case 'h': usage(stdout); return EXIT_SUCCESS;
-      default: usage(stderr); return EXIT_USAGE;
+      case 'V': cli_version_print(stdout, "comlearn"); return EXIT_SUCCESS;
+      default: cli_getopt_complain("comlearn inspect", "vqhV", opts, argv); return EXIT_USAGE;
     }
   }
   if (optind >= argc) {
@@ -259,6 +262,10 @@ int main(int argc, char **argv) {
     usage(stdout);
     return EXIT_SUCCESS;
   }
+  if (strcmp(cmd, "-V") == 0 || strcmp(cmd, "--version") == 0 || strcmp(cmd, "version") == 0) {
+    cli_version_print(stdout, "comlearn");
+    return EXIT_SUCCESS;
+  }
   if (strcmp(cmd, "inspect") == 0) return cmd_inspect(argc - 1, argv + 1);
   if (strcmp(cmd, "estimate") == 0) return cmd_estimate(argc - 1, argv + 1);
   if (strcmp(cmd, "watch") == 0) return cmd_watch(argc - 1, argv + 1);
@@ -266,7 +273,10 @@ int main(int argc, char **argv) {
   if (strcmp(cmd, "experiments") == 0) return cmd_experiments(argc - 1, argv + 1);
   if (strcmp(cmd, "logcheck") == 0) return cmd_logcheck(argc - 1, argv + 1);
   if (strcmp(cmd, "record") == 0) return cmd_record(argc - 1, argv + 1);
-  LOG_E("unknown command '%s'", cmd);
+  if (cmd[0] == '-')
+    LOG_E("unknown option '%s'", cmd);
+  else
+    LOG_E("unknown command '%s'", cmd);
   usage(stderr);
   return EXIT_USAGE;
 }

@@ -1,0 +1,46 @@
+/* args.c - the version and getopt's refusals (cli_args.h). */
+#include "comlearn/cli_args.h"
+
+#include <string.h>
+
+#ifndef COMLEARN_VERSION
+#error "COMLEARN_VERSION is set by apps/common/CMakeLists.txt"
+#endif
+
+const char *cli_version(void) { return COMLEARN_VERSION; }
+
+void cli_version_print(FILE *out, const char *prog) {
+  fprintf(out, "%s %s\n", prog, COMLEARN_VERSION);
+}
+
+void cli_getopt_complain(const char *prog, const char *optstring, const struct option *longopts,
+                         char **argv) {
+  /* getopt_long leaves optind past the word it refused (and past a missing value: the end) */
+  const char *word = optind > 0 && argv[optind - 1] ? argv[optind - 1] : "";
+  const struct option *o = NULL;
+  if (strncmp(word, "--", 2) == 0 && longopts) { /* --name or --name=value */
+    const char *name = word + 2;
+    const size_t n = strcspn(name, "=");
+    int prefixes = 0; /* getopt_long takes a unique abbreviation too */
+    const struct option *prefix = NULL;
+    for (const struct option *p = longopts; p->name; ++p) {
+      if (strncmp(p->name, name, n) != 0) continue;
+      if (strlen(p->name) == n) o = p;
+      prefix = p;
+      ++prefixes;
+    }
+    if (!o && prefixes == 1 && n > 0) o = prefix;
+  }
+  if (o && o->has_arg == required_argument)
+    fprintf(stderr, "%s: error: --%s needs a value\n", prog, o->name);
+  else if (o && o->has_arg == no_argument && strchr(word, '='))
+    fprintf(stderr, "%s: error: --%s takes no value: '%s'\n", prog, o->name, word);
+  else if (optopt > 0 && optopt < 128 && optopt != ':' && strncmp(word, "--", 2) != 0 &&
+           optstring && strchr(optstring, optopt) && strchr(optstring, optopt)[1] == ':')
+    fprintf(stderr, "%s: error: -%c needs a value\n", prog, optopt);
+  else if (optopt > 0 && optopt < 128 && strncmp(word, "--", 2) != 0)
+    fprintf(stderr, "%s: error: unknown option '-%c'\n", prog, optopt);
+  else
+    fprintf(stderr, "%s: error: unknown option '%s'\n", prog, word);
+  fprintf(stderr, "try '%s --help'\n", prog);
+}

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# The command-line surface every comlearn program and script shares (issue 16): --version prints
+# "NAME VERSION" and exits 0; --help exits 0 with text on stdout and does nothing else; an unknown
+# option exits 2 naming it; an option without its value says which. Scripts answer --help
+# without side effects.
+# usage: cli_surface.sh VERSION SOURCE_DIR PROGRAM...
+set -uo pipefail
+version=$1 src=$2
+shift 2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+fail() { echo "FAIL: $*" >&2; fails=$((fails + 1)); }
+
+# run CMD...: exit status into rc, stdout into $tmp/out, stderr into $tmp/err
+run() { (cd "$tmp/cwd" && timeout 20 "$@" >"$tmp/out" 2>"$tmp/err"); rc=$?; }
+mkdir -p "$tmp/cwd"
+
+for prog in "$@"; do
+  name=$(basename "$prog")
+  run "$prog" --version
+  [ "$rc" -eq 0 ] || fail "$name --version: exit $rc"
+  [ "$(cat "$tmp/out")" = "$name $version" ] || fail "$name --version printed '$(cat "$tmp/out")'"
+  run "$prog" --help
+  [ "$rc" -eq 0 ] || fail "$name --help: exit $rc"
+  [ -s "$tmp/out" ] || fail "$name --help: nothing on stdout"
+  grep -qi usage "$tmp/out" || fail "$name --help: no usage line"
+  run "$prog" --no-such-option
+  [ "$rc" -eq 2 ] || fail "$name --no-such-option: exit $rc"
+  grep -q "unknown option '--no-such-option'" "$tmp/err" ||
+    fail "$name --no-such-option said: $(head -n 1 "$tmp/err")"
+done
+
+# The comlearn commands, each on its own.
+comlearn=
+for prog in "$@"; do [ "$(basename "$prog")" = comlearn ] && comlearn=$prog; done
+if [ -n "$comlearn" ]; then
+  for cmd in inspect estimate watch stack experiments record logcheck; do
+    run "$comlearn" "$cmd" --version
+    [ "$rc" -eq 0 ] && [ "$(cat "$tmp/out")" = "comlearn $version" ] ||
+      fail "comlearn $cmd --version: exit $rc, '$(cat "$tmp/out")'"
+    run "$comlearn" "$cmd" --no-such-option
+    [ "$rc" -eq 2 ] && grep -q "^comlearn $cmd: error: unknown option '--no-such-option'" "$tmp/err" ||
+      fail "comlearn $cmd --no-such-option: exit $rc, $(head -n 1 "$tmp/err")"
+  done
+  run "$comlearn" estimate x.urdf --seed
+  grep -q "comlearn estimate: error: --seed needs a value" "$tmp/err" ||
+    fail "comlearn estimate --seed (no value) said: $(head -n 1 "$tmp/err")"
+  run "$comlearn" record -c
+  grep -q "comlearn record: error: -c needs a value" "$tmp/err" ||
+    fail "comlearn record -c (no value) said: $(head -n 1 "$tmp/err")"
+  run "$comlearn" --version
+  [ "$(cat "$tmp/out")" = "comlearn $version" ] || fail "comlearn --version: '$(cat "$tmp/out")'"
+fi
+for prog in "$@"; do
+  [ "$(basename "$prog")" = comlearn-sim ] || continue
+  run "$prog" --seed
+  grep -q "comlearn-sim: error: --seed needs a value" "$tmp/err" ||
+    fail "comlearn-sim --seed (no value) said: $(head -n 1 "$tmp/err")"
+  run "$prog" --lcm # an abbreviation getopt_long takes
+  grep -q "comlearn-sim: error: --lcm-url needs a value" "$tmp/err" ||
+    fail "comlearn-sim --lcm (no value) said: $(head -n 1 "$tmp/err")"
+done
+
+# Scripts: --help prints a usage and does nothing else (no out/, no build, no install).
+for s in "$src"/scripts/*.sh "$src"/bench/*.sh; do
+  name=${s#"$src"/}
+  before=$(ls -A "$src")
+  OUT="$tmp/cwd/job" run bash "$s" --help
+  [ "$rc" -eq 0 ] || fail "$name --help: exit $rc ($(head -n 1 "$tmp/err"))"
+  grep -qi usage "$tmp/out" || fail "$name --help: no usage on stdout"
+  [ -z "$(ls -A "$tmp/cwd")" ] || fail "$name --help wrote into the current folder: $(ls -A "$tmp/cwd")"
+  [ "$(ls -A "$src")" = "$before" ] || fail "$name --help changed the source tree's top level"
+  run bash "$s" --no-such-option
+  [ "$rc" -eq 2 ] || fail "$name --no-such-option: exit $rc"
+done
+
+[ "$fails" -eq 0 ] || { echo "$fails failures" >&2; exit 1; }
+echo "cli surface: $# programs and their commands, $(ls "$src"/scripts/*.sh "$src"/bench/*.sh | wc -l) scripts"
