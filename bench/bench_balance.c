@@ -9,6 +9,7 @@
  * near-threshold trials whose outcome contradicts the truth. BENCH_ONLY=substring selects cases.
  * Usage: bench_balance [--trials N] [--json] [--verbose] [--rock URDF] */
 #define _POSIX_C_SOURCE 200809L
+#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,6 +17,7 @@
 #include <time.h>
 
 #include "comlearn/balance.h"
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/model.h"
@@ -154,21 +156,35 @@ int main(int argc, char **argv) {
   cli_log_init("bench_balance");
   int ntrials = 400, json = 0, verbose = 0;
   const char *rock = COMLEARN_ASSETS_DIR "/rocks/rock_1_even.urdf";
-  for (int i = 1; i < argc; i++) {
-    if (!strcmp(argv[i], "--trials") && i + 1 < argc)
-      ntrials = atoi(argv[++i]);
-    else if (!strcmp(argv[i], "--json"))
-      json = 1;
-    else if (!strcmp(argv[i], "--verbose"))
-      verbose = 1;
-    else if (!strcmp(argv[i], "--rock") && i + 1 < argc)
-      rock = argv[++i];
-    else {
-      fprintf(stderr,
-              "usage: bench_balance [--trials N (400)] [--json] [--verbose] [--rock URDF (%s)]\n",
-              rock);
-      return 2;
+  static const struct option opts[] = {{"trials", required_argument, NULL, 'n'},
+                                       {"json", no_argument, NULL, 'j'},
+                                       {"verbose", no_argument, NULL, 'v'},
+                                       {"rock", required_argument, NULL, 'r'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
+                                       {NULL, 0, NULL, 0}};
+  int c;
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
+    switch (c) {
+      case 'n': ntrials = atoi(optarg); break;
+      case 'j': json = 1; break;
+      case 'v': verbose = 1; break;
+      case 'r': rock = optarg; break;
+      case 'h':
+        printf(
+            "usage: bench_balance [--trials N (400)] [--json] [--verbose] [--rock URDF (%s)]\n"
+            "                     [-h | --help] [-V | --version]\n",
+            rock);
+        return 0;
+      case 'V': cli_version_print(stdout, "bench_balance"); return 0;
+      default: cli_getopt_complain("bench_balance", "hV", opts, argv); return 2;
     }
+  }
+  if (optind != argc) {
+    fprintf(stderr, "bench_balance: error: unexpected argument '%s'\ntry 'bench_balance --help'\n",
+            argv[optind]);
+    return 2;
   }
   if (ntrials < 8) ntrials = 8;
   bench_case_t cases[3];

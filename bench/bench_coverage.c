@@ -33,6 +33,7 @@
 #include <unistd.h>
 
 #include "comlearn/balance_poses.h"
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_time.h"
@@ -526,7 +527,8 @@ static void usage(FILE *f) {
           "  --json FILE             every run as JSON (default: none)\n"
           "  --keep DIR              write the objects into DIR and keep them (default: a\n"
           "                          temporary folder, removed at the end)\n"
-          "  -h, --help              this text\n",
+          "  -h, --help              this text\n"
+          "  -V, --version           print the version\n",
           MAX_JOBS);
 }
 
@@ -564,9 +566,11 @@ static int parse_args(int argc, char **argv, opts_t *o) {
                                        {"json", required_argument, NULL, 'J'},
                                        {"keep", required_argument, NULL, 'K'},
                                        {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
                                        {NULL, 0, NULL, 0}};
   int c, bad = 0;
-  while (!bad && (c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+  opterr = 0;
+  while (!bad && (c = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
     switch (c) {
       case 'n': bad = tool_parse_int(optarg, 1, 2000, &o->objects); break;
       case 's': bad = tool_parse_u64(optarg, &o->seed); break;
@@ -580,7 +584,8 @@ static int parse_args(int argc, char **argv, opts_t *o) {
       case 'J': o->json = optarg; break;
       case 'K': o->keep = optarg; break;
       case 'h': usage(stdout); exit(0);
-      default: bad = 1;
+      case 'V': cli_version_print(stdout, "bench_coverage"); exit(0);
+      default: cli_getopt_complain("bench_coverage", "hV", opts, argv); exit(2);
     }
   }
   return bad || optind != argc ? -1 : 0;

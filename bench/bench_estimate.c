@@ -39,6 +39,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_net.h"
 #include "comlearn/cli_time.h"
@@ -316,7 +317,7 @@ static int concurrent_table(int reps) {
 static void usage(FILE *f) {
   fprintf(f,
           "usage: bench_estimate [--reps N (1-%d, default 3)] [--rock NAME] [--recv-buf BYTES]\n"
-          "                      [--concurrent] [--port P] [--help]\n"
+          "                      [--concurrent] [--port P] [-h | --help] [-V | --version]\n"
           "  --port P          the LCM URLs' first port, 1024..65000, one more per URL\n"
           "                    (default: 8700 + a number from the pid, 0..999)\n"
           "  --concurrent      instead: the throughput of 1, 2 and 4 estimates at once, each\n"
@@ -343,15 +344,14 @@ static int parse_long(const char *arg, long lo, long hi, long *out) {
 /* Options: --reps into *reps, --rock into *only, --concurrent into *concurrent. Returns -1 to go
  * on, else the exit status. */
 static int parse_args(int argc, char **argv, int *reps, const char **only, int *concurrent) {
-  static const struct option opts[] = {{"reps", required_argument, NULL, 'r'},
-                                       {"rock", required_argument, NULL, 'k'},
-                                       {"recv-buf", required_argument, NULL, 'b'},
-                                       {"concurrent", no_argument, NULL, 'c'},
-                                       {"port", required_argument, NULL, 'p'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {
+      {"reps", required_argument, NULL, 'r'},     {"rock", required_argument, NULL, 'k'},
+      {"recv-buf", required_argument, NULL, 'b'}, {"concurrent", no_argument, NULL, 'c'},
+      {"port", required_argument, NULL, 'p'},     {"help", no_argument, NULL, 'h'},
+      {"version", no_argument, NULL, 'V'},        {NULL, 0, NULL, 0}};
   int c;
-  while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
     switch (c) {
       case 'r':
         *reps = atoi(optarg);
@@ -369,7 +369,8 @@ static int parse_args(int argc, char **argv, int *reps, const char **only, int *
         if (parse_long(optarg, 4096, 67108864, &recv_buf) != 0) return 2;
         break;
       case 'h': usage(stdout); return 0;
-      default: usage(stderr); return 2;
+      case 'V': cli_version_print(stdout, "bench_estimate"); return 0;
+      default: cli_getopt_complain("bench_estimate", "hV", opts, argv); return 2;
     }
   }
   if (optind != argc) {

@@ -26,6 +26,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/model.h"
 #include "comlearn/model_support.h"
@@ -229,7 +230,8 @@ static void usage(FILE *f) {
           "  --repeat N   hull builds per row, the best one counts, 1..100 (default: 3)\n"
           "  --write DIR  also write seven objects of 20 480 - 128 000 triangles as\n"
           "               DIR/NAME.stl + DIR/NAME.urdf for `comlearn estimate` (default: none)\n"
-          "  -h, --help   this text\n");
+          "  -h, --help   this text\n"
+          "  -V, --version  print the version\n");
 }
 
 int main(int argc, char **argv) {
@@ -237,10 +239,12 @@ int main(int argc, char **argv) {
   static const struct option opts[] = {{"repeat", required_argument, NULL, 'r'},
                                        {"write", required_argument, NULL, 'w'},
                                        {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
                                        {NULL, 0, NULL, 0}};
   int c, repeat = 3;
   const char *dir = NULL;
-  while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
     switch (c) {
       case 'r': {
         char *end = NULL;
@@ -255,7 +259,8 @@ int main(int argc, char **argv) {
       }
       case 'w': dir = optarg; break;
       case 'h': usage(stdout); return 0;
-      default: usage(stderr); return 2;
+      case 'V': cli_version_print(stdout, "bench_hull"); return 0;
+      default: cli_getopt_complain("bench_hull", "hV", opts, argv); return 2;
     }
   }
   if (optind != argc) {

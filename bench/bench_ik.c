@@ -15,6 +15,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/math3d.h"
@@ -75,7 +76,8 @@ static void usage(FILE *f) {
           "  --seed S     random seed (default 1)\n"
           "  --urdf PATH  YuMi URDF (default %s/yumi/yumi.urdf)\n"
           "  --json       print JSON instead of text\n"
-          "  --help       this text\n",
+          "  -h, --help   this text\n"
+          "  -V, --version  print the version\n",
           COMLEARN_ASSETS_DIR);
 }
 
@@ -152,19 +154,24 @@ int main(int argc, char **argv) {
   uint64_t seed = 1;
   const char *urdf = COMLEARN_ASSETS_DIR "/yumi/yumi.urdf";
   int json = 0;
-  static const struct option opts[] = {
-      {"poses", required_argument, NULL, 'n'}, {"seed", required_argument, NULL, 's'},
-      {"urdf", required_argument, NULL, 'u'},  {"json", no_argument, NULL, 'j'},
-      {"help", no_argument, NULL, 'h'},        {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"poses", required_argument, NULL, 'n'},
+                                       {"seed", required_argument, NULL, 's'},
+                                       {"urdf", required_argument, NULL, 'u'},
+                                       {"json", no_argument, NULL, 'j'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
+                                       {NULL, 0, NULL, 0}};
   int c;
-  while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
     switch (c) {
       case 'n': poses = strtol(optarg, NULL, 10); break;
       case 's': seed = (uint64_t)strtoull(optarg, NULL, 10); break;
       case 'u': urdf = optarg; break;
       case 'j': json = 1; break;
       case 'h': usage(stdout); return 0;
-      default: usage(stderr); return 2;
+      case 'V': cli_version_print(stdout, "bench_ik"); return 0;
+      default: cli_getopt_complain("bench_ik", "hV", opts, argv); return 2;
     }
   }
   if (poses < 1 || poses > 10000000 || optind != argc) {

@@ -36,6 +36,7 @@
 #include <unistd.h>
 
 #include "comlearn/balance.h"
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/math3d.h"
 #include "comlearn/model.h"
@@ -689,7 +690,8 @@ static void usage(FILE *f) {
           "  --show D        disagreements listed per class (default 4)\n"
           "  --tol-um T      the model's support band, um (default: the library's)\n"
           "  --tilt A        the model's tilt, rad (default: the library's)\n"
-          "  -h, --help      this text\n");
+          "  -h, --help      this text\n"
+          "  -V, --version   print the version\n");
 }
 
 static int families_arg(const char *list, opts_t *o) {
@@ -710,19 +712,16 @@ static int families_arg(const char *list, opts_t *o) {
 }
 
 static int parse_args(int argc, char **argv, opts_t *o) {
-  static const struct option opts[] = {{"placements", required_argument, NULL, 'n'},
-                                       {"objects", required_argument, NULL, 'k'},
-                                       {"per-com", required_argument, NULL, 'm'},
-                                       {"lines", required_argument, NULL, 'l'},
-                                       {"seed", required_argument, NULL, 's'},
-                                       {"families", required_argument, NULL, 'f'},
-                                       {"show", required_argument, NULL, 'd'},
-                                       {"tol-um", required_argument, NULL, 't'},
-                                       {"tilt", required_argument, NULL, 'T'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {
+      {"placements", required_argument, NULL, 'n'}, {"objects", required_argument, NULL, 'k'},
+      {"per-com", required_argument, NULL, 'm'},    {"lines", required_argument, NULL, 'l'},
+      {"seed", required_argument, NULL, 's'},       {"families", required_argument, NULL, 'f'},
+      {"show", required_argument, NULL, 'd'},       {"tol-um", required_argument, NULL, 't'},
+      {"tilt", required_argument, NULL, 'T'},       {"help", no_argument, NULL, 'h'},
+      {"version", no_argument, NULL, 'V'},          {NULL, 0, NULL, 0}};
   int c, bad = families_arg("box,feet2,feet3,ring,rim,mug,pebble,lumpy,scanned,plate,rock", o);
-  while (!bad && (c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+  opterr = 0;
+  while (!bad && (c = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
     switch (c) {
       case 'n': bad = tool_parse_int(optarg, 1, 1000000, &o->placements); break;
       case 'k': bad = tool_parse_int(optarg, 1, 1000, &o->objects); break;
@@ -744,7 +743,8 @@ static int parse_args(int argc, char **argv, opts_t *o) {
         break;
       }
       case 'h': usage(stdout); exit(0);
-      default: bad = 1;
+      case 'V': cli_version_print(stdout, "bench_outcome"); exit(0);
+      default: cli_getopt_complain("bench_outcome", "hV", opts, argv); exit(2);
     }
   }
   return bad || optind != argc ? -1 : 0;

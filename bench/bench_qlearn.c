@@ -2,11 +2,13 @@
  * and with probit placement noise (0.1, 0.5, 1 mm), against the information limit
  * log2(range / resolution); plus the final error. Prints a markdown table. Not a test.
  * Usage: bench_qlearn [runs]   (default 1000) */
+#include <getopt.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/qlearn.h"
 
 #include "test_rng.h"
@@ -23,9 +25,22 @@ static double pct(double *v, int n, double p) {
 }
 
 int main(int argc, char **argv) {
-  int runs = argc > 1 ? atoi(argv[1]) : 1000;
-  if (runs < 1 || runs > 100000) {
-    fprintf(stderr, "usage: bench_qlearn [runs 1..100000]\n");
+  static const struct option opts[] = {
+      {"help", no_argument, NULL, 'h'}, {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
+  int opt;
+  opterr = 0;
+  while ((opt = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
+    switch (opt) {
+      case 'h':
+        printf("usage: bench_qlearn [RUNS (1..100000, default 1000)] [-h] [-V]\n");
+        return 0;
+      case 'V': cli_version_print(stdout, "bench_qlearn"); return 0;
+      default: cli_getopt_complain("bench_qlearn", "hV", opts, argv); return 2;
+    }
+  }
+  int runs = optind < argc ? atoi(argv[optind]) : 1000;
+  if (runs < 1 || runs > 100000 || argc - optind > 1) {
+    fprintf(stderr, "usage: bench_qlearn [RUNS (1..100000, default 1000)] [-h] [-V]\n");
     return 2;
   }
   const qlearn_policy_kind_t kinds[] = {QLEARN_POLICY_BISECT, QLEARN_POLICY_PBA,

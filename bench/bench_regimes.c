@@ -12,6 +12,7 @@
  * vertices, CoM >= 0.5 mm inside their support polygon, confirmed by balance_stable_confirm) at
  * four yaws (range +-15 mm); an ellipsoid on its pole. Placements whose support lies beyond the
  * edge are set down on B's edge line (balance_pose_over_edge touches B as a solid box). */
+#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,6 +20,7 @@
 
 #include "comlearn/balance.h"
 #include "comlearn/balance_poses.h"
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/math3d.h"
 #include "comlearn/model.h"
@@ -263,8 +265,29 @@ static int ellipsoid_row(const balance_config_t *cfg) {
   return 0;
 }
 
-int main(void) {
+int main(int argc, char **argv) {
   cli_log_init("bench_regimes");
+  static const struct option opts[] = {
+      {"help", no_argument, NULL, 'h'}, {"version", no_argument, NULL, 'V'}, {NULL, 0, NULL, 0}};
+  int c;
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
+    switch (c) {
+      case 'h':
+        printf(
+            "usage: bench_regimes [-h | --help] [-V | --version]\n"
+            "The threshold bias of an edge test in each regime, as a markdown table (about\n"
+            "a minute): see the comment at the top of bench/bench_regimes.c.\n");
+        return 0;
+      case 'V': cli_version_print(stdout, "bench_regimes"); return 0;
+      default: cli_getopt_complain("bench_regimes", "hV", opts, argv); return 2;
+    }
+  }
+  if (optind != argc) {
+    fprintf(stderr, "bench_regimes: error: unexpected argument '%s'\ntry 'bench_regimes --help'\n",
+            argv[optind]);
+    return 2;
+  }
   balance_config_t cfg;
   balance_config_default(&cfg);
   printf(

@@ -33,6 +33,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_time.h"
@@ -433,6 +434,7 @@ static void usage(FILE *f) {
           "  --parse FILE        parse one `comlearn stack --json` reply, print what was read\n"
           "  -v, --verbose       one line per call on stderr (default: progress on a terminal)\n"
           "  -h, --help          this text\n"
+          "  -V, --version       print the version\n"
           "Exit status: 0 done, 1 runtime failure, 2 usage.\n",
           MAX_TRIPLES, COMLEARN_BIN, COMLEARN_ROCKGEN);
 }
@@ -494,14 +496,21 @@ static int parse_sources(const char *arg, int use[SOURCES]) {
 /* Options into o (defaults as usage() says). Returns -1 to go on, else the exit status (--help,
  * --parse, usage errors). */
 static int parse_args(int argc, char **argv, opts_t *o) {
-  static const struct option opts[] = {
-      {"count", required_argument, NULL, 'n'},   {"seed-base", required_argument, NULL, 'b'},
-      {"com", required_argument, NULL, 'c'},     {"comlearn", required_argument, NULL, 'C'},
-      {"rockgen", required_argument, NULL, 'R'}, {"timeout", required_argument, NULL, 'T'},
-      {"svg-dir", required_argument, NULL, 's'}, {"json", no_argument, NULL, 'j'},
-      {"keep", no_argument, NULL, 'k'},          {"dry-run", no_argument, NULL, 'd'},
-      {"parse", required_argument, NULL, 'p'},   {"verbose", no_argument, NULL, 'v'},
-      {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"count", required_argument, NULL, 'n'},
+                                       {"seed-base", required_argument, NULL, 'b'},
+                                       {"com", required_argument, NULL, 'c'},
+                                       {"comlearn", required_argument, NULL, 'C'},
+                                       {"rockgen", required_argument, NULL, 'R'},
+                                       {"timeout", required_argument, NULL, 'T'},
+                                       {"svg-dir", required_argument, NULL, 's'},
+                                       {"json", no_argument, NULL, 'j'},
+                                       {"keep", no_argument, NULL, 'k'},
+                                       {"dry-run", no_argument, NULL, 'd'},
+                                       {"parse", required_argument, NULL, 'p'},
+                                       {"verbose", no_argument, NULL, 'v'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
+                                       {NULL, 0, NULL, 0}};
   *o = (opts_t){.n = 50,
                 .seed_base = 1000,
                 .timeout_s = 600.0,
@@ -511,7 +520,8 @@ static int parse_args(int argc, char **argv, opts_t *o) {
   long n_triples = 50;
   char *end = NULL;
   int c;
-  while ((c = getopt_long(argc, argv, "n:vh", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "n:vhV", opts, NULL)) != -1) {
     switch (c) {
       case 'n':
         n_triples = strtol(optarg, &end, 10);
@@ -547,7 +557,8 @@ static int parse_args(int argc, char **argv, opts_t *o) {
       case 'p': return parse_file(optarg);
       case 'v': o->verbose = 1; break;
       case 'h': usage(stdout); return 0;
-      default: usage(stderr); return 2;
+      case 'V': cli_version_print(stdout, "bench_stack"); return 0;
+      default: cli_getopt_complain("bench_stack", "n:vhV", opts, argv); return 2;
     }
   }
   if (optind != argc) {

@@ -30,6 +30,7 @@
 
 #include "comlearn/balance.h"
 #include "comlearn/balance_poses.h"
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_json.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/math3d.h"
@@ -340,25 +341,23 @@ static void usage(FILE *f) {
       "                   fast)\n"
       "  --seed S         seed of the uniform offsets (default 1)\n"
       "  -h, --help       this text\n"
+      "  -V, --version    print the version\n"
       "Exit status: 0 success, 1 runtime failure, 2 usage.\n",
       FACES_MAX, YAWS_MAX, UNIFORM_MAX);
 }
 
 /* Options into *opt; 0, or 2 for a usage error (1 with --help: exit 0). */
 static int parse_args(int argc, char **argv, dump_opts_t *opt) {
-  static const struct option lo[] = {{"faces", required_argument, NULL, 'f'},
-                                     {"yaws", required_argument, NULL, 'y'},
-                                     {"uniform", required_argument, NULL, 'u'},
-                                     {"range", required_argument, NULL, 'r'},
-                                     {"min-margin", required_argument, NULL, 'm'},
-                                     {"seed", required_argument, NULL, 's'},
-                                     {"resolution", required_argument, NULL, 'e'},
-                                     {"bracket", required_argument, NULL, 'b'},
-                                     {"contact", required_argument, NULL, 'c'},
-                                     {"help", no_argument, NULL, 'h'},
-                                     {NULL, 0, NULL, 0}};
+  static const struct option lo[] = {
+      {"faces", required_argument, NULL, 'f'},      {"yaws", required_argument, NULL, 'y'},
+      {"uniform", required_argument, NULL, 'u'},    {"range", required_argument, NULL, 'r'},
+      {"min-margin", required_argument, NULL, 'm'}, {"seed", required_argument, NULL, 's'},
+      {"resolution", required_argument, NULL, 'e'}, {"bracket", required_argument, NULL, 'b'},
+      {"contact", required_argument, NULL, 'c'},    {"help", no_argument, NULL, 'h'},
+      {"version", no_argument, NULL, 'V'},          {NULL, 0, NULL, 0}};
   int ch, bad = 0;
-  while ((ch = getopt_long(argc, argv, "h", lo, NULL)) != -1) {
+  opterr = 0;
+  while ((ch = getopt_long(argc, argv, "hV", lo, NULL)) != -1) {
     switch (ch) {
       case 'f': bad |= tool_parse_int(optarg, 1, FACES_MAX, &opt->faces); break;
       case 'y': bad |= tool_parse_int(optarg, 1, YAWS_MAX, &opt->yaws); break;
@@ -377,7 +376,8 @@ static int parse_args(int argc, char **argv, dump_opts_t *opt) {
       case 'e': bad |= tool_parse_double(optarg, 1e-9, 1e-3, &opt->resolution_m); break;
       case 's': bad |= tool_parse_u64(optarg, &opt->seed); break;
       case 'h': usage(stdout); return 1;
-      default: usage(stderr); return 2;
+      case 'V': cli_version_print(stdout, "placements_dump"); return 1;
+      default: cli_getopt_complain("placements_dump", "hV", lo, argv); return 2;
     }
   }
   if (bad || optind >= argc) {

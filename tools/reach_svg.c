@@ -17,6 +17,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_time.h"
 #include "comlearn/math3d.h"
@@ -53,7 +54,8 @@ static void usage(FILE *f) {
           "  --block-z M       ... z (default 0: B's top in the plane of yumi_body)\n"
           "  --max-joint-step R  placement_plan_config_t.max_joint_step_rad (default 0.5)\n"
           "  --quiet           no progress on stderr (shown only when stderr is a terminal)\n"
-          "  --help            this text\n",
+          "  -h, --help        this text\n"
+          "  -V, --version     print the version\n",
           COMLEARN_ASSETS_DIR);
 }
 
@@ -355,9 +357,11 @@ static int parse_args(int argc, char **argv, options_t *o) {
                                            {"quiet", no_argument, NULL, 'q'},
                                            {"max-joint-step", required_argument, NULL, 's'},
                                            {"help", no_argument, NULL, 'h'},
+                                           {"version", no_argument, NULL, 'V'},
                                            {NULL, 0, NULL, 0}};
   int c;
-  while ((c = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "hV", longopts, NULL)) != -1) {
     switch (c) {
       case 'u': o->urdf = optarg; break;
       case 'o': o->out = optarg; break;
@@ -377,7 +381,8 @@ static int parse_args(int argc, char **argv, options_t *o) {
       }
       case 'q': o->quiet = 1; break;
       case 'h': usage(stdout); return 0;
-      default: usage(stderr); return 2;
+      case 'V': cli_version_print(stdout, "comlearn-reach-svg"); return 0;
+      default: cli_getopt_complain("comlearn-reach-svg", "hV", longopts, argv); return 2;
     }
   }
   if (optind != argc) {

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/math3d.h"
 #include "comlearn/model.h"
@@ -325,6 +326,7 @@ static void usage(FILE *f) {
           "  --assets-dir DIR  assets to draw (default: %s)\n"
           "  --out FILE        SVG file to write (default: standard output)\n"
           "  -h, --help        this text\n"
+          "  -V, --version     print the version\n"
           "Exit status: 0 success, 1 runtime failure, 2 usage.\n",
           COMLEARN_ASSETS_DIR);
 }
@@ -334,15 +336,18 @@ int main(int argc, char **argv) {
   static const struct option opts[] = {{"assets-dir", required_argument, NULL, 'a'},
                                        {"out", required_argument, NULL, 'o'},
                                        {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
                                        {NULL, 0, NULL, 0}};
   const char *assets_dir = COMLEARN_ASSETS_DIR, *out = NULL;
   int c;
-  while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
     switch (c) {
       case 'a': assets_dir = optarg; break;
       case 'o': out = optarg; break;
       case 'h': usage(stdout); return 0;
-      default: usage(stderr); return 2;
+      case 'V': cli_version_print(stdout, "comlearn-rocks-svg"); return 0;
+      default: cli_getopt_complain("comlearn-rocks-svg", "hV", opts, argv); return 2;
     }
   }
   if (optind != argc) {

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_paths.h"
 #include "comlearn/math3d.h"
@@ -356,21 +357,27 @@ static void usage(FILE *f) {
       "                    --assets-dir (default: off)\n"
       "  --assets-dir DIR  assets to describe (default: %s)\n"
       "  -h, --help        this text\n"
+      "  -V, --version     print the version\n"
       "Exit status: 0 success, 1 runtime failure, 2 usage.\n",
       RANDOM_COUNT_MAX, cli_paths_assets_dir());
 }
 
 int main(int argc, char **argv) {
   cli_log_init("comlearn-rockgen");
-  static const struct option opts[] = {
-      {"out-dir", required_argument, NULL, 'o'}, {"out", required_argument, NULL, 'o'},
-      {"random", required_argument, NULL, 'r'},  {"count", required_argument, NULL, 'n'},
-      {"table", no_argument, NULL, 't'},         {"assets-dir", required_argument, NULL, 'a'},
-      {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"out-dir", required_argument, NULL, 'o'},
+                                       {"out", required_argument, NULL, 'o'},
+                                       {"random", required_argument, NULL, 'r'},
+                                       {"count", required_argument, NULL, 'n'},
+                                       {"table", no_argument, NULL, 't'},
+                                       {"assets-dir", required_argument, NULL, 'a'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {"version", no_argument, NULL, 'V'},
+                                       {NULL, 0, NULL, 0}};
   const char *out_dir = NULL, *assets_dir = cli_paths_assets_dir();
   int want_table = 0, want_random = 0, have_count = 0, c;
   uint64_t seed = 0, count = 1;
-  while ((c = getopt_long(argc, argv, "h", opts, NULL)) != -1) {
+  opterr = 0;
+  while ((c = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
     switch (c) {
       case 'o': out_dir = optarg; break;
       case 'r':
@@ -390,7 +397,8 @@ int main(int argc, char **argv) {
       case 't': want_table = 1; break;
       case 'a': assets_dir = optarg; break;
       case 'h': usage(stdout); return 0;
-      default: usage(stderr); return 2;
+      case 'V': cli_version_print(stdout, "comlearn-rockgen"); return 0;
+      default: cli_getopt_complain("comlearn-rockgen", "hV", opts, argv); return 2;
     }
   }
   if (optind != argc || (out_dir == NULL) == (want_table == 0) || (want_random && want_table) ||

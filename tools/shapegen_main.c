@@ -10,15 +10,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "comlearn/cli_args.h"
 #include "comlearn/cli_log.h"
 
 #include "objfile.h"
 #include "shapegen.h"
 #include "tool_args.h"
-
-#ifndef COMLEARN_VERSION
-#define COMLEARN_VERSION "unknown"
-#endif
 
 enum { COUNT_MAX = 100000 };
 
@@ -118,6 +115,7 @@ int main(int argc, char **argv) {
   int have_family = 0, have_seed = 0, all = 0, c;
   shapegen_family_t family = SHAPEGEN_BOX;
   uint64_t seed = 0, count = 1;
+  opterr = 0;
   while ((c = getopt_long(argc, argv, "hV", opts, NULL)) != -1) {
     switch (c) {
       case 'f':
@@ -143,8 +141,8 @@ int main(int argc, char **argv) {
         break;
       case 'o': out_dir = optarg; break;
       case 'h': usage(stdout); return 0;
-      case 'V': printf("comlearn-shapegen %s\n", COMLEARN_VERSION); return 0;
-      default: usage(stderr); return 2;
+      case 'V': cli_version_print(stdout, "comlearn-shapegen"); return 0;
+      default: cli_getopt_complain("comlearn-shapegen", "hV", opts, argv); return 2;
     }
   }
   if (optind != argc || !have_family || !have_seed || out_dir == NULL || out_dir[0] == '\0') {
