@@ -181,11 +181,7 @@ int main(int argc, char **argv) {
       default: cli_getopt_complain("bench_balance", "hV", opts, argv); return 2;
     }
   }
-  if (optind != argc) {
-    fprintf(stderr, "bench_balance: error: unexpected argument '%s'\ntry 'bench_balance --help'\n",
-            argv[optind]);
-    return 2;
-  }
+  if (cli_args_none_left("bench_balance", argc, argv)) return 2;
   if (ntrials < 8) ntrials = 8;
   bench_case_t cases[3];
   model_object_t obj;

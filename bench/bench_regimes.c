@@ -283,11 +283,7 @@ int main(int argc, char **argv) {
       default: cli_getopt_complain("bench_regimes", "hV", opts, argv); return 2;
     }
   }
-  if (optind != argc) {
-    fprintf(stderr, "bench_regimes: error: unexpected argument '%s'\ntry 'bench_regimes --help'\n",
-            argv[optind]);
-    return 2;
-  }
+  if (cli_args_none_left("bench_regimes", argc, argv)) return 2;
   balance_config_t cfg;
   balance_config_default(&cfg);
   printf(

@@ -159,12 +159,7 @@ static int parse_options(int argc, char **argv, options_t *o) {
       default: cli_getopt_complain("comlearn-sim", "vqhV", longopts, argv); return 2;
     }
   }
-  if (optind < argc) {
-    LOG_E("unexpected argument '%s'", argv[optind]);
-    fprintf(stderr, "try 'comlearn-sim --help'\n");
-    return 2;
-  }
-  return 0;
+  return cli_args_none_left("comlearn-sim", argc, argv);
 }
 
 /* ---- the LCM shell -------------------------------------------------------------------------- */

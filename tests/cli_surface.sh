@@ -57,6 +57,9 @@ for prog in "$@"; do
   run "$prog" --seed
   grep -q "comlearn-sim: error: --seed needs a value" "$tmp/err" ||
     fail "comlearn-sim --seed (no value) said: $(head -n 1 "$tmp/err")"
+  run "$prog" extra
+  [ "$rc" -eq 2 ] && grep -q "comlearn-sim: error: unexpected argument 'extra'" "$tmp/err" ||
+    fail "comlearn-sim extra: exit $rc, $(head -n 1 "$tmp/err")"
   run "$prog" --lcm # an abbreviation getopt_long takes
   grep -q "comlearn-sim: error: --lcm-url needs a value" "$tmp/err" ||
     fail "comlearn-sim --lcm (no value) said: $(head -n 1 "$tmp/err")"

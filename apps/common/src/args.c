@@ -44,3 +44,10 @@ void cli_getopt_complain(const char *prog, const char *optstring, const struct o
     fprintf(stderr, "%s: error: unknown option '%s'\n", prog, word);
   fprintf(stderr, "try '%s --help'\n", prog);
 }
+
+int cli_args_none_left(const char *prog, int argc, char **argv) {
+  if (optind >= argc) return 0;
+  fprintf(stderr, "%s: error: unexpected argument '%s'\ntry '%s --help'\n", prog, argv[optind],
+          prog);
+  return 2;
+}

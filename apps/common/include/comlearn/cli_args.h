@@ -21,4 +21,9 @@ void cli_version_print(FILE *out, const char *prog);
 void cli_getopt_complain(const char *prog, const char *optstring, const struct option *longopts,
                          char **argv);
 
+/* After the options, for a program that takes no arguments: 0 when argv[optind..argc) is empty,
+ * else "PROG: error: unexpected argument 'X'" and "try 'PROG --help'" on stderr, and 2 (the
+ * usage exit status). Reads getopt's optind. */
+int cli_args_none_left(const char *prog, int argc, char **argv);
+
 #endif
