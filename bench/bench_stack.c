@@ -583,6 +583,7 @@ typedef struct {
   char svg_saved[4096], svg_tmp[4096];
   size_t ok_calls, calls;
   double t_start;
+  cli_progress_t prog; /* over every call (triple x source asked for) */
 } bench_t;
 
 /* The scratch folder with the rocks (--dry-run: the command only). Returns 0 or 1 (logged). */
@@ -729,8 +730,9 @@ static int bench_call(bench_t *b, size_t i, int s, char urdf[3][4200]) {
             parsed ? (rep.stands ? "stands" : "falls") : "FAILED", r.wall_s, parsed ? "" : ": ",
             parsed ? "" : r.err_tail);
   } else if (b->progress) {
-    fprintf(stderr, "\rbench_stack: triple %zu/%zu, %.0f s", i + 1, o->n,
-            cli_time_now_s() - b->t_start);
+    char count[64];
+    fprintf(stderr, "\rbench_stack: triple %zu/%zu, call %s, %.0f s    ", i + 1, o->n,
+            cli_progress_step(&b->prog, count, sizeof count), cli_time_now_s() - b->t_start);
   }
   free(r.out);
   return 0;
@@ -855,6 +857,9 @@ int main(int argc, char **argv) {
   if (rocks_generate(&b) != 0 || bench_alloc(&b) != 0) return 1;
 
   b.t_start = cli_time_now_s();
+  size_t sources = 0;
+  for (int s = 0; s < SOURCES; ++s) sources += o.use[s] != 0;
+  cli_progress_start(&b.prog, o.n * sources);
   if (bench_run(&b) != 0) return 1;
   if (b.progress) fprintf(stderr, "\n");
   if (o.svg_dir != NULL && !o.dry) remove(b.svg_tmp);

@@ -93,7 +93,12 @@ sim=$bin/daemon/comlearn-sim
 stack_rocks=(assets/rocks/rock_1_uneven.urdf assets/rocks/rock_2_uneven.urdf
              assets/rocks/rock_3_uneven.urdf)
 
-step() { printf '\n== %s\n' "$*" >&2; }
+# The job's steps, counted, with the time since the start: 9 of them (the stack is three).
+steps=9 stepno=0
+step() {
+  stepno=$((stepno + 1))
+  printf '\n== [%d/%d, %d s] %s\n' "$stepno" "$steps" "$(($(date +%s) - started))" "$*" >&2
+}
 
 rm -rf "$out"
 mkdir -p "$out/lcm" "$out/experiments"

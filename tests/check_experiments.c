@@ -437,6 +437,33 @@ START_TEST(cli_experiments_sims) {
 }
 END_TEST
 
+/* Progress: one line per run with its count and the time left, on a terminal or with -v; none
+ * when stderr is not a terminal (a log, a pipe). Here stderr is a pipe: nothing without -v; with
+ * -v, runs 1/4 .. 4/4 of one rock, bisect and PBA, noiseless (mesh prior and Table I), the last
+ * without an ETA. */
+START_TEST(cli_experiments_progress) {
+  static char out[1 << 16];
+  char cmd[2048], r1[512];
+  rock_path("rock_1_even", r1, sizeof r1);
+  snprintf(cmd, sizeof cmd, "'%s' experiments '%s' --seeds 0 --policies bisect,pba 2>&1 >/dev/null",
+           COMLEARN_BIN, r1);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert_msg(strstr(out, "[1/4") == NULL, "progress in a pipe: %s", out);
+  snprintf(cmd, sizeof cmd,
+           "'%s' experiments '%s' --seeds 0 --policies bisect,pba -v 2>&1 >/dev/null", COMLEARN_BIN,
+           r1);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  const char *want[4] = {"[1/4, ETA ", "[2/4, ETA ", "[3/4, ETA ", "[4/4]"};
+  const char *at = out;
+  for (int i = 0; i < 4; ++i) {
+    const char *p = strstr(at, want[i]);
+    ck_assert_msg(p != NULL, "no '%s' (in order) in: %s", want[i], out);
+    at = p;
+  }
+  ck_assert_ptr_null(strstr(out, "[5/"));
+}
+END_TEST
+
 START_TEST(cli_bad_input) {
   char cmd[2048], out[8192], urdf[512];
   rock_path("rock_1_even", urdf, sizeof urdf);
@@ -489,6 +516,7 @@ static Suite *suite(void) {
   tcase_set_timeout(tc, 300);
   tcase_add_test(tc, cli_experiments_outputs);
   tcase_add_test(tc, cli_experiments_sims);
+  tcase_add_test(tc, cli_experiments_progress);
   tcase_add_test(tc, cli_bad_input);
   suite_add_tcase(s, tc);
   return s;

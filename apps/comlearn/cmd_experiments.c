@@ -170,7 +170,9 @@ static void usage(FILE *out) {
       "                           DIR/fig2_<object>.svg (default: no files)\n"
       "  --json                   print the JSON on stdout instead of the table (default: off)\n"
       "  -v, --verbose            log debug messages on stderr (default: info)\n"
-      "  -q, --quiet              log errors only; no progress (default: one line per run)\n"
+      "  -q, --quiet              log errors only; no progress (default: one line per run\n"
+      "                           with its count and the time left, when stderr is a\n"
+      "                           terminal or with -v)\n"
       "  -h, --help               show this help\n"
       "  -V, --version            print the version\n"
       "\n"
@@ -989,18 +991,29 @@ static int inputs_check(char *const *paths, size_t n, const char *out_dir) {
   return EXIT_SUCCESS;
 }
 
-/* The progress line of one run on stderr (unless --quiet). s: -1 mesh prior, 0 noiseless, else
- * the noise seed. */
-static void progress_line(const exp_rock_t *rk, const exp_run_t *run, int s) {
-  char what[32];
+/* This process's runs (all of them, or a --sims worker's share), for the progress lines. */
+static cli_progress_t progress;
+
+/* Progress lines go to stderr when it is a terminal or with --verbose, never with --quiet. */
+static int progress_shown(const exp_opts_t *o) {
+  return !o->quiet && (isatty(STDERR_FILENO) || cli_log_enabled(CLI_LOG_DEBUG));
+}
+
+/* The progress line of one run on stderr: the worker's robot with --sims, the run's count and the
+ * time left. s: -1 mesh prior, 0 noiseless, else the noise seed. */
+static void progress_line(const exp_opts_t *o, const exp_rock_t *rk, const exp_run_t *run, int s) {
+  char what[32], count[64];
+  cli_progress_step(&progress, count, sizeof count);
+  if (!progress_shown(o)) return;
   if (run->noisy)
     snprintf(what, sizeof what, "seed %d", s);
   else
     snprintf(what, sizeof what, s < 0 ? "mesh prior" : "noiseless");
   int all = run->found[0] && run->found[1] && run->found[2];
-  fprintf(stderr, "comlearn experiments: %-16s %-12s %-9s %3zu trials  %.3f s  %s%s\n", rk->stem,
-          estimate_policy_name(run->policy), what, run->trials, run->wall_s,
-          estimate_status_str(run->status), all ? "" : " (not all found)");
+  fprintf(stderr, "comlearn experiments: %s%-16s %-12s %-9s %3zu trials  %.3f s  %s%s  [%s]\n",
+          o->channel_prefix ? o->channel_prefix : "", rk->stem, estimate_policy_name(run->policy),
+          what, run->trials, run->wall_s, estimate_status_str(run->status),
+          all ? "" : " (not all found)", count);
 }
 
 /* The truth, read after this object's estimates are final, for the report only: the errors of
@@ -1054,7 +1067,7 @@ static int rock_runs(const exp_opts_t *o, exp_rock_t *rk, size_t ri, recorder_t 
       rc = run_one(o, rk, &obj, rec, res, run);
       if (rc != 0) break;
       if (s == 0) memcpy(rk->uniform_com_m, res->uniform_com_m, sizeof rk->uniform_com_m);
-      if (!o->quiet) progress_line(rk, run, s);
+      progress_line(o, rk, run, s);
     }
   }
   model_object_free(&obj);
@@ -1183,6 +1196,8 @@ static void sims_worker(int w, int nw, exp_opts_t o, char *const *paths, size_t 
   recorder_t *rec = malloc(sizeof *rec);
   estimate_result_t *res = malloc(sizeof *res);
   int rc = runs && rec && res ? EXIT_SUCCESS : EXIT_FAILURE;
+  const size_t mine = (size_t)w < nrocks ? (nrocks - (size_t)w + (size_t)nw - 1) / (size_t)nw : 0;
+  cli_progress_start(&progress, per_rock * mine); /* objects w, w + nw, ... */
   for (size_t ri = (size_t)w; ri < nrocks && rc == EXIT_SUCCESS; ri += (size_t)nw) {
     exp_rock_t rk = {.path = paths[ri]};
     size_t n = 0;
@@ -1295,6 +1310,7 @@ int cmd_experiments(int argc, char **argv) {
   }
   if (rc == EXIT_SUCCESS && o.sims > 0)
     rc = sims_run(&o, o.lcm_url, paths, nrocks, rocks, runs, &nruns);
+  if (o.sims == 0) cli_progress_start(&progress, runs_per_object(&o) * nrocks);
   for (size_t ri = 0; ri < nrocks && rc == EXIT_SUCCESS && o.sims == 0; ++ri)
     rc = rock_runs(&o, &rocks[ri], ri, rec, res, runs, &nruns);
   const double wall = cli_time_now_s() - t_all;
