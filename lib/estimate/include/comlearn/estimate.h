@@ -24,7 +24,10 @@
  * Memory: estimate_create makes one allocation of estimate_size(mesh) bytes (or estimate_init uses
  * the caller's); nothing is allocated per trial after that (the planning geometry runs in a work
  * area inside that memory). The first estimate_next finds the mesh's hull faces, which allocates
- * temporary memory once and frees it; the hull itself stays in the work area. The mesh is the
+ * temporary memory once and frees it; the hull itself stays in the work area. Objects without
+ * flat faces allocate temporary memory too (docs/estimate.md): listing closed patches and rough
+ * faces, a face from a settled pose, and at the end a reason that names a support point leaving B
+ * (the outcome model's work area, per such component). The mesh is the
  * caller's and must outlive the estimate. Nothing here prints or does I/O. One thread per estimate;
  * separate estimates are independent.
  */
