@@ -1,6 +1,7 @@
 #define _POSIX_C_SOURCE 200809L
 /* check_cli: the comlearn program as a user runs it: output values and exit codes (inspect,
- * `estimate --direct` refusing an implausible truth, logcheck on logs written here). */
+ * `estimate --direct` refusing an implausible truth, `plan` against the geometry and lib/balance,
+ * logcheck on logs written here). */
 #include <check.h>
 #include <lcm/eventlog.h>
 #include <stdio.h>
@@ -280,6 +281,75 @@ START_TEST(logcheck_finds_what_is_missing) {
 }
 END_TEST
 
+/* `comlearn plan`: the box's true CoM (0.013, -0.021, 0.004) is 3 mm inside the point placed over
+ * B's +x edge (x = 16 mm), so lib/balance keeps it on B; 3 mm past it (x = 10 mm) it tips. The
+ * release pose follows from the geometry alone: the point on the edge line x = 0.15 m (B is 0.3 m
+ * wide), over y = 0, and the box's underside (link z = -5 mm) 1e-6 m into B's top (z = 0). */
+START_TEST(plan_box_release_and_outcome) {
+  char urdf[512], cmd[1024], out[16384];
+  snprintf(urdf, sizeof urdf, "%s/box.urdf", tmpdir);
+  write_box_urdf(urdf);
+  const struct {
+    const char *point;
+    double x_m;
+    const char *outcome;
+  } cases[] = {{"16,-21,-5", 0.134, "stays"}, {"10,-21,-5", 0.140, "tips"}};
+  for (int c = 0; c < 2; ++c) {
+    snprintf(cmd, sizeof cmd, "'%s' plan '%s' --point-mm %s --simulate --json", COMLEARN_BIN, urdf,
+             cases[c].point);
+    ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+    double rel[3], settled[3];
+    json_vec(out, "release_in_block\": {\"position_m", rel);
+    ck_assert_double_eq_tol(rel[0], cases[c].x_m, 1e-9);
+    ck_assert_double_eq_tol(rel[1], 0.021, 1e-9);
+    ck_assert_double_eq_tol(rel[2], 0.005 - 1e-6, 1e-9);
+    char want[64];
+    snprintf(want, sizeof want, "\"simulated\": {\"outcome\": \"%s\"", cases[c].outcome);
+    ck_assert_msg(strstr(out, want) != NULL, "%s: want %s in %s", cases[c].point, want, out);
+    json_vec(out, "settled_in_block\": {\"position_m", settled);
+    if (c == 0) /* stays: where it was released */
+      ck_assert_double_eq_tol(settled[0], cases[c].x_m, 1e-4);
+    for (int k = 0; k < 4; ++k) { /* four waypoints of seven joints */
+      char kind[64];
+      snprintf(kind, sizeof kind, "\"kind\": \"%s\"",
+               (const char *[]){"preplace", "place", "release", "retreat"}[k]);
+      ck_assert_msg(strstr(out, kind) != NULL, "waypoint %s missing", kind);
+    }
+  }
+}
+END_TEST
+
+/* `comlearn plan` refuses bad values with exit 2 and names the option (or joint) at fault. */
+START_TEST(plan_bad_input) {
+  char urdf[512], cmd[1024], out[8192];
+  snprintf(urdf, sizeof urdf, "%s/box.urdf", tmpdir);
+  write_box_urdf(urdf);
+  const struct {
+    const char *args, *says;
+  } cases[] = {
+      {"--point-mm 1,2", "--point-mm: '1,2' is not three finite numbers"},
+      {"--point-mm 1,2,nan", "--point-mm: '1,2,nan' is not three"},
+      {"--point-mm 1,2,3,4", "is not three finite numbers"},
+      {"--orientation 1,0,0,0.1", "--orientation: '1,0,0,0.1' is not a unit quaternion"},
+      {"--orientation 1,0,0", "is not a unit quaternion"},
+      {"--q-start 0,0,0,0,0,0,0,0,0,0,0,0,0", "--q-start: '0,0,0,0,0,0,0,0,0,0,0,0,0' is not 14"},
+      {"--q-start 9,0,0,0,0,0,0,0,0,0,0,0,0,0", "yumi_joint_1_l is 9 rad, outside its limits"},
+      {"--q-start 0,0,0,0,0,0,0,0,0,0,0,0,0,-4", "yumi_joint_6_r is -4 rad, outside its limits"},
+      {"--edge +z", "--edge: '+z' is not one of +x, -x, +y, -y"},
+      {"--along-mm 151", "--along-mm: '151' is not a number in [-150, 150]"},
+  };
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    snprintf(cmd, sizeof cmd, "'%s' plan '%s' %s 2>&1", COMLEARN_BIN, urdf, cases[c].args);
+    ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+    ck_assert_msg(strstr(out, cases[c].says) != NULL, "%s: want '%s' in: %s", cases[c].args,
+                  cases[c].says, out);
+  }
+  snprintf(cmd, sizeof cmd, "'%s' plan '%s/missing.urdf' 2>&1", COMLEARN_BIN, tmpdir);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 2);
+  ck_assert_msg(strstr(out, "missing.urdf") != NULL, "%s", out);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("cli");
   TCase *tc = tcase_create("inspect");
@@ -294,6 +364,8 @@ int main(void) {
   tcase_add_checked_fixture(est, setup, teardown);
   tcase_set_timeout(est, 120);
   tcase_add_test(est, estimate_direct_implausible_truth);
+  tcase_add_test(est, plan_box_release_and_outcome);
+  tcase_add_test(est, plan_bad_input);
   suite_add_tcase(s, est);
   SRunner *r = srunner_create(s);
   srunner_run_all(r, CK_NORMAL);

@@ -35,7 +35,7 @@ done
 comlearn=
 for prog in "$@"; do [ "$(basename "$prog")" = comlearn ] && comlearn=$prog; done
 if [ -n "$comlearn" ]; then
-  for cmd in inspect estimate watch stack experiments record logcheck; do
+  for cmd in inspect estimate watch stack experiments record logcheck plan; do
     run "$comlearn" "$cmd" --version
     [ "$rc" -eq 0 ] && [ "$(cat "$tmp/out")" = "comlearn $version" ] ||
       fail "comlearn $cmd --version: exit $rc, '$(cat "$tmp/out")'"

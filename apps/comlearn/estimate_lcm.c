@@ -645,6 +645,12 @@ void estimate_lcm_config_default(estimate_lcm_config_t *cfg) {
   cfg->publish_records = 1;
 }
 
+void estimate_lcm_plan_config(placement_plan_config_t *cfg) {
+  placement_plan_config_default(cfg);
+  /* the estimator's trials are 1 um pre-penetrated; plan the same touching depth */
+  cfg->touch_depth_m = 1e-6;
+}
+
 /* The backend's names: its copy of the settings, the LCM URL, the URDF's absolute path, the
  * object id (the option, or the URDF's file name without .urdf), the policy label, the run id,
  * and the placement plan settings. */
@@ -671,9 +677,7 @@ static void lcm_identity(estimate_lcm_t *l, const estimate_lcm_config_t *cfg) {
   l->seq = 0;
   l->sc_seq = 0;
   l->run_id = wall_us();
-  placement_plan_config_default(&l->plan_cfg);
-  /* the estimator's trials are 1 um pre-penetrated; plan the same touching depth */
-  l->plan_cfg.touch_depth_m = 1e-6;
+  estimate_lcm_plan_config(&l->plan_cfg);
   model_rot_to_quat((const double(*)[3])l->plan_cfg.block_in_base.rot, l->bib_wxyz);
 }
 

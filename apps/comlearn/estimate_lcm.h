@@ -35,6 +35,7 @@
 #include <sys/types.h>
 
 #include "comlearn/model.h"
+#include "comlearn/placement_plan.h"
 #include "estimate_backend.h"
 
 typedef struct estimate_lcm estimate_lcm_t;
@@ -59,6 +60,10 @@ typedef struct {
 } estimate_lcm_config_t;
 
 void estimate_lcm_config_default(estimate_lcm_config_t *cfg);
+
+/* The placement settings this backend plans every trial with: placement_plan_config_default(),
+ * touching B 1 um deep as the estimator's release poses are (`comlearn plan` plans with them). */
+void estimate_lcm_plan_config(placement_plan_config_t *cfg);
 
 /* Connect to LCM, subscribe to YUMI_STATUS and OBJECT_STATE, load both YuMi arms and wait
  * (cfg->startup_timeout_s) for the controller's first status. Fills *backend (ctx = handle,

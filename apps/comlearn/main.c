@@ -11,6 +11,7 @@
  *   stack OBJECT.urdf...     plan and simulate a stack on the objects' CoMs (cmd_stack.c).
  *   experiments OBJECT.urdf... the paper's Table I and Fig. 2 (cmd_experiments.c).
  *   record FILE              record LCM traffic, losing nothing that arrived (cmd_record.c).
+ *   plan OBJECT.urdf         one placement planned for a client to execute (cmd_plan.c).
  *   logcheck LOG...          an LCM log's channels, and whether every trial record is in it
  *                            (cmd_logcheck.c).
  */
@@ -24,6 +25,7 @@
 #include "cmd_estimate.h"
 #include "cmd_experiments.h"
 #include "cmd_logcheck.h"
+#include "cmd_plan.h"
 #include "cmd_record.h"
 #include "cmd_stack.h"
 #include "cmd_watch.h"
@@ -71,6 +73,9 @@ static void usage(FILE *out) {
           "  logcheck LOG...          the events per channel of LCM logs, and whether they hold\n"
           "                           every trial record of every run; see\n"
           "                           `comlearn logcheck --help`\n"
+          "  plan OBJECT.urdf         one placement on B's edge planned as estimate plans a\n"
+          "                           trial (grasp, YuMi waypoints) for a client to execute;\n"
+          "                           see `comlearn plan --help`\n"
           "\n"
           "inspect options:\n"
           "  --link NAME      URDF link to read (default: the root link)\n"
@@ -273,6 +278,7 @@ int main(int argc, char **argv) {
   if (strcmp(cmd, "experiments") == 0) return cmd_experiments(argc - 1, argv + 1);
   if (strcmp(cmd, "logcheck") == 0) return cmd_logcheck(argc - 1, argv + 1);
   if (strcmp(cmd, "record") == 0) return cmd_record(argc - 1, argv + 1);
+  if (strcmp(cmd, "plan") == 0) return cmd_plan(argc - 1, argv + 1);
   if (cmd[0] == '-')
     LOG_E("unknown option '%s'", cmd);
   else

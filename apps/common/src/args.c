@@ -1,6 +1,9 @@
 /* args.c - the version and getopt's refusals (cli_args.h). */
 #include "comlearn/cli_args.h"
 
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #ifndef COMLEARN_VERSION
@@ -50,4 +53,25 @@ int cli_args_none_left(const char *prog, int argc, char **argv) {
   fprintf(stderr, "%s: error: unexpected argument '%s'\ntry '%s --help'\n", prog, argv[optind],
           prog);
   return 2;
+}
+
+int cli_args_numbers(const char *text, double *out, size_t n) {
+  if (!text || !out || n == 0 || n > 64) return -1;
+  double v[64];
+  const char *p = text;
+  for (size_t k = 0; k < n; ++k) {
+    char *end;
+    errno = 0;
+    v[k] = strtod(p, &end);
+    if (end == p || errno != 0 || !isfinite(v[k])) return -1;
+    while (*end == ' ') ++end;
+    if (k + 1 < n) {
+      if (*end != ',') return -1;
+      p = end + 1;
+    } else if (*end != '\0') {
+      return -1;
+    }
+  }
+  memcpy(out, v, n * sizeof *out);
+  return 0;
 }

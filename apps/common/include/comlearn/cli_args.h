@@ -4,6 +4,7 @@
 #define COMLEARN_CLI_ARGS_H
 
 #include <getopt.h>
+#include <stddef.h>
 #include <stdio.h>
 
 /* The comlearn version, the CMake project's ("0.1.0"). */
@@ -25,5 +26,10 @@ void cli_getopt_complain(const char *prog, const char *optstring, const struct o
  * else "PROG: error: unexpected argument 'X'" and "try 'PROG --help'" on stderr, and 2 (the
  * usage exit status). Reads getopt's optind. */
 int cli_args_none_left(const char *prog, int argc, char **argv);
+
+/* Exactly n finite numbers separated by commas (spaces around them allowed) into out[0..n):
+ * 0, or -1 when text has fewer, more, an empty or non-numeric item, or a non-finite value
+ * (out unchanged then). The caller names the option in its message. */
+int cli_args_numbers(const char *text, double *out, size_t n);
 
 #endif
