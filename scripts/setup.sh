@@ -25,8 +25,9 @@ case "$preset" in
 esac
 
 # Build tools and libraries, all from Debian 12. libjchart2d-java feeds lcm-spy's message viewer;
-# a JDK builds the Java jar of our message types for lcm-spy, and a JRE with AWT runs lcm-spy.
-pkgs=(gcc g++ make cmake pkg-config git
+# a JDK builds the Java jar of our message types for lcm-spy, and a JRE with AWT runs lcm-spy;
+# python3 runs the tests of the Python package comlearn and its example client.
+pkgs=(gcc g++ make cmake pkg-config git python3
       libode-dev liblcm-dev liblcm-bin liblcm-java libccd-dev libassimp-dev
       liburdfdom-dev liburdfdom-tools check libglib2.0-dev libjchart2d-java
       default-jdk-headless default-jre iproute2 binutils clang-format)

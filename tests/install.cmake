@@ -14,7 +14,9 @@
 #      set); mesh_info and estimate_balance print known numbers for rock_1_even (the shared
 #      estimate_balance loads libcomlearn_qlearn.so through libcomlearn_estimate.so's RUNPATH);
 #   4. the pkg-config route: cc examples/mesh_info.c $(pkg-config --cflags --libs comlearn-model)
-#      with PKG_CONFIG_PATH into the prefix, same numbers.
+#      with PKG_CONFIG_PATH into the prefix, same numbers;
+#   5. with -DPYTHON=python3 -DPYTHON_DIR=dir: the Python package comlearn imported from
+#      PREFIX/PYTHON_DIR (not from the build tree), a yumi_status_t round trip and comlearn.udpm.
 cmake_minimum_required(VERSION 3.20)
 foreach(var BUILD_DIR SOURCE_DIR WORK_DIR LIBDIR CC CXX GENERATOR LCM_URL PKG_CONFIG)
   if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
@@ -146,5 +148,18 @@ run(${WORK_DIR}/mesh_info_pkg_config ${data}/rocks/rock_1_even.urdf)
 if(NOT run_out STREQUAL mesh_info_expected)
   message(FATAL_ERROR "mesh_info (pkg-config) printed:\n${run_out}\nexpected:\n${mesh_info_expected}")
 endif()
+# 5. Python.
+if(DEFINED PYTHON AND NOT PYTHON STREQUAL "")
+  set(ENV{PYTHONPATH} ${prefix}/${PYTHON_DIR})
+  # no ';' in the script: run() passes its arguments on as a CMake list
+  run(${PYTHON} -c "import comlearn, comlearn.udpm as u
+m = comlearn.yumi_status_t()
+m.utime = 7
+assert comlearn.yumi_status_t.decode(m.encode()).utime == 7
+assert u.parse_url(u.DEFAULT_URL)[1] == 7667
+print(comlearn.__file__)")
+  expect_match("${run_out}" "^${prefix}/${PYTHON_DIR}/comlearn/__init__.py" "import comlearn")
+endif()
+
 message(STATUS "installed into ${prefix}; mesh_info (find_package shared and static, pkg-config):\n"
                "${run_out}")

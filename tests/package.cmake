@@ -32,5 +32,6 @@ add_test(NAME package_install
                  -DCC=${CMAKE_C_COMPILER} -DCXX=${CMAKE_CXX_COMPILER}
                  -DGENERATOR=${CMAKE_GENERATOR} -DPKG_CONFIG=${PKG_CONFIG_EXECUTABLE}
                  "-DLCM_URL=udpm://239.255.76.67:7690?ttl=0"
+                 -DPYTHON=${Python3_EXECUTABLE} -DPYTHON_DIR=${COMLEARN_PYTHON_DIR}
                  -P ${CMAKE_CURRENT_SOURCE_DIR}/install.cmake)
 set_tests_properties(package_install PROPERTIES TIMEOUT 300)
