@@ -17,3 +17,10 @@ add_test(NAME cli_surface
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/cli_surface.sh ${PROJECT_VERSION}
                  ${PROJECT_SOURCE_DIR} ${comlearn_cli_program_files})
 set_tests_properties(cli_surface PROPERTIES TIMEOUT 300)
+# readme_commands: README.md's "Using it" block, read at test time and run line by line (made
+# small and private where a line is slow or a daemon), each line's output checked; a line
+# without a rule fails (tests/readme_commands.sh).
+add_test(NAME readme_commands
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/readme_commands.sh ${PROJECT_SOURCE_DIR}
+                 ${PROJECT_BINARY_DIR})
+set_tests_properties(readme_commands PROPERTIES TIMEOUT 180)
