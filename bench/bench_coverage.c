@@ -18,7 +18,7 @@
  * Goals (issue 11): noiseless coverage 100 %, noisy coverage >= 95 % at the stated 95 % level.
  *
  * Usage: bench_coverage [--objects N] [--seed S] [--policies LIST] [--seeds K]
- *                       [--placement-noise-mm P] [--pose-noise-mm Q] [--jobs J] [--json FILE]
+ *                       [--placement-noise-mm P] [--pose-noise-mm Q] [--jobs J] [--json-file FILE]
  *                       [--keep DIR] [--help]
  * Wall time: a few minutes for the defaults on two cores. */
 #define _GNU_SOURCE
@@ -524,7 +524,8 @@ static void usage(FILE *f) {
           "                          width is T mm, 0..10; 0: no refinement (default: the\n"
           "                          estimator's, 0.5)\n"
           "  --jobs J                worker processes, 1..%d (default: 2)\n"
-          "  --json FILE             every run as JSON (default: none)\n"
+          "  --json-file FILE        every run as JSON into FILE (default: none); --json FILE\n"
+          "                          is the same (its old name)\n"
           "  --keep DIR              write the objects into DIR and keep them (default: a\n"
           "                          temporary folder, removed at the end)\n"
           "  -h, --help              this text\n"
@@ -563,6 +564,7 @@ static int parse_args(int argc, char **argv, opts_t *o) {
                                        {"noise-stop-mm", required_argument, NULL, 'W'},
                                        {"noise-target-mm", required_argument, NULL, 'T'},
                                        {"jobs", required_argument, NULL, 'j'},
+                                       {"json-file", required_argument, NULL, 'J'},
                                        {"json", required_argument, NULL, 'J'},
                                        {"keep", required_argument, NULL, 'K'},
                                        {"help", no_argument, NULL, 'h'},

@@ -47,8 +47,8 @@ static void usage(FILE *f) {
   fprintf(f,
           "usage: comlearn-reach-svg [options]\n"
           "  --urdf PATH       YuMi URDF (default %s/yumi/yumi.urdf)\n"
-          "  --out PATH        write the SVG here, with a sweep of B's x (default: no picture,\n"
-          "                    summary only)\n"
+          "  --svg PATH        write the SVG here, with a sweep of B's x; --out is the same\n"
+          "                    (default: no picture, summary only)\n"
           "  --block-x M       B's top-face centre x in yumi_body (default 0.40, the plan's)\n"
           "  --block-y M       ... y (default 0)\n"
           "  --block-z M       ... z (default 0: B's top in the plane of yumi_body)\n"
@@ -351,6 +351,7 @@ static int write_svg(const char *path, const placement_plan_config_t *cfg, const
 static int parse_args(int argc, char **argv, options_t *o) {
   static const struct option longopts[] = {{"urdf", required_argument, NULL, 'u'},
                                            {"out", required_argument, NULL, 'o'},
+                                           {"svg", required_argument, NULL, 'o'},
                                            {"block-x", required_argument, NULL, 'x'},
                                            {"block-y", required_argument, NULL, 'y'},
                                            {"block-z", required_argument, NULL, 'z'},

@@ -321,10 +321,10 @@ static int render(const char *assets_dir, FILE *f) {
 
 static void usage(FILE *f) {
   fprintf(f,
-          "usage: comlearn-rocks-svg [--assets-dir DIR] [--out FILE]\n"
+          "usage: comlearn-rocks-svg [--assets-dir DIR] [--svg FILE]\n"
           "Draws the bundled rocks (two views each, CoMs marked) as SVG.\n"
           "  --assets-dir DIR  assets to draw (default: %s)\n"
-          "  --out FILE        SVG file to write (default: standard output)\n"
+          "  --svg FILE        SVG file to write (default: standard output); --out is the same\n"
           "  -h, --help        this text\n"
           "  -V, --version     print the version\n"
           "Exit status: 0 success, 1 runtime failure, 2 usage.\n",
@@ -333,11 +333,10 @@ static void usage(FILE *f) {
 
 int main(int argc, char **argv) {
   cli_log_init("comlearn-rocks-svg");
-  static const struct option opts[] = {{"assets-dir", required_argument, NULL, 'a'},
-                                       {"out", required_argument, NULL, 'o'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {"version", no_argument, NULL, 'V'},
-                                       {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {
+      {"assets-dir", required_argument, NULL, 'a'}, {"out", required_argument, NULL, 'o'},
+      {"svg", required_argument, NULL, 'o'},        {"help", no_argument, NULL, 'h'},
+      {"version", no_argument, NULL, 'V'},          {NULL, 0, NULL, 0}};
   const char *assets_dir = COMLEARN_ASSETS_DIR, *out = NULL;
   int c;
   opterr = 0;
