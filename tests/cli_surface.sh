@@ -65,6 +65,24 @@ for prog in "$@"; do
     fail "comlearn-sim --lcm (no value) said: $(head -n 1 "$tmp/err")"
 done
 
+# One name per kind of output (docs/design.md, "Command-line contracts"): --out DIR for a folder,
+# --svg FILE for one picture; the older spellings still do the same.
+for prog in "$@"; do
+  case "$(basename "$prog")" in
+    comlearn-shapegen)
+      run "$prog" --family box --seed 3 --count 1 --out "$tmp/a" &&
+        run "$prog" --family box --seed 3 --count 1 --out-dir "$tmp/b"
+      [ "$rc" -eq 0 ] && diff -r "$tmp/a" "$tmp/b" >/dev/null && [ -n "$(ls "$tmp/a")" ] ||
+        fail "comlearn-shapegen --out and --out-dir differ"
+      rm -rf "$tmp/a" "$tmp/b" ;;
+    comlearn-rocks-svg)
+      run "$prog" --svg "$tmp/a.svg" && run "$prog" --out "$tmp/b.svg"
+      [ "$rc" -eq 0 ] && grep -q '<svg' "$tmp/a.svg" && cmp -s "$tmp/a.svg" "$tmp/b.svg" ||
+        fail "comlearn-rocks-svg --svg and --out differ"
+      rm -f "$tmp/a.svg" "$tmp/b.svg" ;;
+  esac
+done
+
 # Scripts: --help prints a usage and does nothing else (no out/, no build, no install).
 for s in "$src"/scripts/*.sh "$src"/bench/*.sh; do
   name=${s#"$src"/}

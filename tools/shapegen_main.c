@@ -95,7 +95,8 @@ static void usage(FILE *f) {
           "\n"
           "  --seed S        required (default: none); first seed, 0 .. 2^64-1, decimal or 0x hex\n"
           "  --count N       number of objects, 1 .. %d (default: 1)\n"
-          "  --out-dir DIR   required (default: none); folder to write, created if missing\n"
+          "  --out-dir DIR   required (default: none); folder to write, created if missing;\n"
+          "                  --out is the same\n"
           "  -h, --help      this text\n"
           "  -V, --version   print the version\n"
           "Exit status: 0 success, 1 runtime failure, 2 usage.\n",
@@ -104,13 +105,11 @@ static void usage(FILE *f) {
 
 int main(int argc, char **argv) {
   cli_log_init("comlearn-shapegen");
-  static const struct option opts[] = {{"family", required_argument, NULL, 'f'},
-                                       {"seed", required_argument, NULL, 's'},
-                                       {"count", required_argument, NULL, 'n'},
-                                       {"out-dir", required_argument, NULL, 'o'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {"version", no_argument, NULL, 'V'},
-                                       {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {
+      {"family", required_argument, NULL, 'f'}, {"seed", required_argument, NULL, 's'},
+      {"count", required_argument, NULL, 'n'},  {"out-dir", required_argument, NULL, 'o'},
+      {"out", required_argument, NULL, 'o'},    {"help", no_argument, NULL, 'h'},
+      {"version", no_argument, NULL, 'V'},      {NULL, 0, NULL, 0}};
   const char *out_dir = NULL;
   int have_family = 0, have_seed = 0, all = 0, c;
   shapegen_family_t family = SHAPEGEN_BOX;
