@@ -276,8 +276,8 @@ int main(int argc, char **argv) {
       case 'h':
         printf(
             "usage: bench_regimes [-h | --help] [-V | --version]\n"
-            "The threshold bias of an edge test in each regime, as a markdown table (about\n"
-            "a minute): see the comment at the top of bench/bench_regimes.c.\n");
+            "The threshold bias of an edge test in each regime, as a markdown table (a few\n"
+            "seconds): see the comment at the top of bench/bench_regimes.c.\n");
         return 0;
       case 'V': cli_version_print(stdout, "bench_regimes"); return 0;
       default: cli_getopt_complain("bench_regimes", "hV", opts, argv); return 2;
