@@ -3,7 +3,7 @@
 # so the normal and the sanitizer build write the same bytes).
 #   cmake -DROCKGEN=... -DSVG=... -DASSETS=... -DDOCS=... -DTABLE_SCRIPT=... -DOUT=... -P this
 set(expected
-  base/base.urdf
+  base/base.urdf package.xml
   rocks/meshes/rock_1.stl rocks/meshes/rock_2.stl rocks/meshes/rock_3.stl
   rocks/rock_1_even.urdf rocks/rock_1_uneven.urdf
   rocks/rock_2_even.urdf rocks/rock_2_uneven.urdf
@@ -17,7 +17,8 @@ endif()
 
 # The generator writes exactly the expected files, and the committed folders hold nothing else.
 file(GLOB_RECURSE generated RELATIVE ${OUT} ${OUT}/*)
-file(GLOB_RECURSE committed RELATIVE ${ASSETS} ${ASSETS}/rocks/* ${ASSETS}/base/*)
+file(GLOB_RECURSE committed RELATIVE ${ASSETS} ${ASSETS}/rocks/* ${ASSETS}/base/*
+     ${ASSETS}/package.xml)
 list(SORT generated)
 list(SORT committed)
 if(NOT generated STREQUAL expected)

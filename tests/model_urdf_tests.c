@@ -4,9 +4,11 @@
 #include <limits.h>
 #include <stdlib.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "comlearn/math3d.h"
 #include "comlearn/model_inertial.h"
+#include "model_internal.h"
 #include "model_suites.h"
 #include "model_test_util.h"
 
@@ -224,87 +226,362 @@ START_TEST(test_urdf_sphere_cylinder) {
 }
 END_TEST
 
-/* package://NAME/rest: under the URDF's folder and its parents, a folder named NAME among them,
- * NAME as a subfolder of one of them, or rest directly under one of them. */
+/* ---- mesh file names: package://NAME/REST, relative, absolute, file:// ------------------------
+ */
+
+/* A scratch tree of packages (docs/model.md, "URDF objects"):
+ *   ws/mypkg       package.xml <name>mypkg</name> (after a comment naming another), urdf/obj.urdf,
+ *                  urdf/here.stl, meshes/t.stl, meshes/out.stl -> ws/other/meshes/o.stl (symlink)
+ *   ws/other       package.xml <name>other_pkg</name> (the folder's name is not the package's)
+ *   rpp/a/b/third  package.xml <name>third</name>, meshes/th.stl (two levels below the entry)
+ *   rpp/a/skip     CATKIN_IGNORE, and skip/ign holding package.xml <name>ign</name>
+ *   rpp/.hid       package.xml <name>hid</name> (hidden: not crawled)
+ *   dup1/dup, dup2/dup  package.xml <name>dup</name>, meshes/d.stl of 1 and of 2 tetrahedra */
+static const char *const kPkgDirs[] = {"ws",
+                                       "ws/mypkg",
+                                       "ws/mypkg/urdf",
+                                       "ws/mypkg/meshes",
+                                       "ws/other",
+                                       "ws/other/meshes",
+                                       "rpp",
+                                       "rpp/a",
+                                       "rpp/a/b",
+                                       "rpp/a/b/third",
+                                       "rpp/a/b/third/meshes",
+                                       "rpp/a/skip",
+                                       "rpp/a/skip/ign",
+                                       "rpp/.hid",
+                                       "dup1",
+                                       "dup1/dup",
+                                       "dup1/dup/meshes",
+                                       "dup2",
+                                       "dup2/dup",
+                                       "dup2/dup/meshes"};
+static const char *const kPkgFiles[] = {
+    "ws/mypkg/package.xml",     "ws/mypkg/meshes/t.stl",      "ws/mypkg/meshes/out.stl",
+    "ws/mypkg/urdf/here.stl",   "ws/mypkg/urdf/obj.urdf",     "ws/other/package.xml",
+    "ws/other/meshes/o.stl",    "rpp/a/b/third/package.xml",  "rpp/a/b/third/meshes/th.stl",
+    "rpp/a/skip/CATKIN_IGNORE", "rpp/a/skip/ign/package.xml", "rpp/.hid/package.xml",
+    "dup1/dup/package.xml",     "dup1/dup/meshes/d.stl",      "dup2/dup/package.xml",
+    "dup2/dup/meshes/d.stl"};
+enum {
+  PKG_DIRS = sizeof kPkgDirs / sizeof kPkgDirs[0],
+  PKG_FILES = sizeof kPkgFiles / sizeof kPkgFiles[0]
+};
+
+static void package_xml(const mt_tmpdir_t *d, const char *where, const char *name) {
+  char p[512], text[512];
+  snprintf(
+      text, sizeof text,
+      "<?xml version=\"1.0\"?>\n<?xml-model href=\"x\"?>\n<!-- not this: <name>decoy</name> -->\n"
+      "<package format=\"3\">\n  <name>\n    %s\n  </name>\n  <version>1.0.0</version>\n"
+      "</package>\n",
+      name);
+  char rel[256];
+  snprintf(rel, sizeof rel, "%s/package.xml", where);
+  mt_write_text(mt_join(d, rel, p, sizeof p), text);
+}
+
+static void package_tree_make(mt_tmpdir_t *d) {
+  mt_tmpdir_make(d);
+  char p[512], q[512];
+  for (size_t i = 0; i < PKG_DIRS; ++i) {
+    ck_assert_int_eq(mkdir(mt_join(d, kPkgDirs[i], p, sizeof p), 0700), 0);
+  }
+  package_xml(d, "ws/mypkg", "mypkg");
+  package_xml(d, "ws/other", "other_pkg");
+  package_xml(d, "rpp/a/b/third", "third");
+  package_xml(d, "rpp/a/skip/ign", "ign");
+  package_xml(d, "rpp/.hid", "hid");
+  package_xml(d, "dup1/dup", "dup");
+  package_xml(d, "dup2/dup", "dup");
+  mt_write_text(mt_join(d, "rpp/a/skip/CATKIN_IGNORE", p, sizeof p), "");
+  save_tetra(mt_join(d, "ws/mypkg/meshes/t.stl", p, sizeof p));
+  save_tetra(mt_join(d, "ws/other/meshes/o.stl", p, sizeof p));
+  save_tetra(mt_join(d, "ws/mypkg/urdf/here.stl", p, sizeof p));
+  save_tetra(mt_join(d, "rpp/a/b/third/meshes/th.stl", p, sizeof p));
+  save_tetra(mt_join(d, "dup1/dup/meshes/d.stl", p, sizeof p));
+  /* dup2's mesh: two tetrahedra apart, so which package was taken shows in the triangle count */
+  model_mesh_t a, b, two;
+  tetra(&a);
+  tetra(&b);
+  ck_assert_int_eq(model_mesh_alloc(&two, 8, 8), MODEL_OK);
+  memcpy(two.vertices_m, a.vertices_m, 4 * sizeof a.vertices_m[0]);
+  for (int i = 0; i < 4; ++i) {
+    memcpy(two.vertices_m[4 + i], b.vertices_m[i], sizeof b.vertices_m[0]);
+    two.vertices_m[4 + i][0] += 10.0;
+    for (int k = 0; k < 3; ++k) {
+      two.triangles[i][k] = a.triangles[i][k];
+      two.triangles[4 + i][k] = b.triangles[i][k] + 4;
+    }
+  }
+  model_error_t err;
+  ck_assert_msg(model_mesh_save(&two, mt_join(d, "dup2/dup/meshes/d.stl", p, sizeof p), "stlb",
+                                &err) == MODEL_OK,
+                "%s", err.msg);
+  model_mesh_free(&a);
+  model_mesh_free(&b);
+  model_mesh_free(&two);
+  ck_assert_int_eq(symlink(mt_join(d, "ws/other/meshes/o.stl", q, sizeof q),
+                           mt_join(d, "ws/mypkg/meshes/out.stl", p, sizeof p)),
+                   0);
+}
+
+static void package_tree_remove(mt_tmpdir_t *d) {
+  const char *names[PKG_FILES + PKG_DIRS];
+  for (size_t i = 0; i < PKG_FILES; ++i) names[i] = kPkgFiles[i];
+  for (size_t i = 0; i < PKG_DIRS; ++i) names[PKG_FILES + i] = kPkgDirs[PKG_DIRS - 1 - i];
+  mt_tmpdir_remove(d, names, PKG_FILES + PKG_DIRS);
+}
+
+/* ws/mypkg/urdf/obj.urdf with one collision mesh named uri; returns its path in urdf. */
+static void package_urdf(const mt_tmpdir_t *d, const char *uri, char *urdf, size_t size) {
+  char body[1024];
+  snprintf(body, sizeof body, "<collision><geometry><mesh filename=\"%s\"/></geometry></collision>",
+           uri);
+  write_urdf(mt_join(d, "ws/mypkg/urdf/obj.urdf", urdf, size), "rock", body);
+}
+
+/* Load uri with model_object_load (dirs NULL) or model_object_load_within: the status, and on
+ * success the tail of the resolved path and the triangle count. */
+static model_status_t package_load(const mt_tmpdir_t *d, const char *uri, const char *const *dirs,
+                                   size_t dir_count, const char *tail, size_t triangles,
+                                   model_error_t *err) {
+  char urdf[512];
+  package_urdf(d, uri, urdf, sizeof urdf);
+  model_object_t obj;
+  model_status_t st = dirs == NULL
+                          ? model_object_load(urdf, NULL, &obj, err)
+                          : model_object_load_within(urdf, NULL, dirs, dir_count, &obj, err);
+  if (st == MODEL_OK) {
+    size_t len = strlen(obj.mesh_path), n = strlen(tail);
+    ck_assert_msg(len >= n && strcmp(obj.mesh_path + len - n, tail) == 0, "%s -> %s (want %s)", uri,
+                  obj.mesh_path, tail);
+    ck_assert_uint_eq(obj.mesh.triangle_count, triangles);
+    ck_assert_double_eq_tol(mt_volume(&obj.mesh), (double)triangles / 4.0, 1e-12);
+    model_object_free(&obj);
+  } else {
+    ck_assert_ptr_null(obj.mesh.vertices_m);
+  }
+  return st;
+}
+
+/* Resolving: package://NAME from the URDF's folder up (by package.xml <name>, not folder name),
+ * then ROS_PACKAGE_PATH (crawled, hidden and CATKIN_IGNORE folders skipped, first entry wins);
+ * relative, absolute and file:// paths as before. */
 START_TEST(test_urdf_package_and_relative_paths) {
   mt_tmpdir_t d;
-  mt_tmpdir_make(&d);
-  const char *dirs[] = {"ws",       "ws/mypkg",       "ws/mypkg/urdf", "ws/mypkg/meshes",
-                        "ws/other", "ws/other/meshes"};
-  char p[512], urdf[512], body[1024];
-  for (int i = 0; i < 6; ++i) {
-    ck_assert_int_eq(mkdir(mt_join(&d, dirs[i], p, sizeof p), 0700), 0);
-  }
-  save_tetra(mt_join(&d, "ws/mypkg/meshes/t.stl", p, sizeof p));
-  save_tetra(mt_join(&d, "ws/other/meshes/o.stl", p, sizeof p));
-  save_tetra(mt_join(&d, "ws/mypkg/urdf/here.stl", p, sizeof p));
-  mt_join(&d, "ws/mypkg/urdf/obj.urdf", urdf, sizeof urdf);
-  char abs_mesh[512];
+  package_tree_make(&d);
+  char abs_mesh[512], file_uri[600], rpp[2048], p[512], q[512], r[512];
   mt_join(&d, "ws/mypkg/meshes/t.stl", abs_mesh, sizeof abs_mesh);
-  char file_uri[600];
   snprintf(file_uri, sizeof file_uri, "file://%s", abs_mesh);
-
-  struct {
-    const char *uri;
-    const char *found; /* expected tail of the resolved path */
+  model_error_t err;
+  ck_assert_int_eq(unsetenv("ROS_PACKAGE_PATH"), 0);
+  const struct {
+    const char *uri, *found;
   } cases[] = {
-      {"package://mypkg/meshes/t.stl", "ws/mypkg/meshes/t.stl"},   /* folder named mypkg */
-      {"package://other/meshes/o.stl", "ws/other/meshes/o.stl"},   /* ws/other, a sibling */
-      {"package://renamed/meshes/t.stl", "ws/mypkg/meshes/t.stl"}, /* rest under a parent */
-      {"model://mypkg/meshes/t.stl", "ws/mypkg/meshes/t.stl"},     /* Gazebo's spelling */
+      {"package://mypkg/meshes/t.stl", "ws/mypkg/meshes/t.stl"},
+      {"package://mypkg/./urdf/../meshes//t.stl", "ws/mypkg/meshes/t.stl"}, /* stays inside */
+      {"package://mypkg/urdf/here.stl", "ws/mypkg/urdf/here.stl"},
       {"../meshes/t.stl", "ws/mypkg/meshes/t.stl"},
       {"here.stl", "ws/mypkg/urdf/here.stl"},
       {abs_mesh, "ws/mypkg/meshes/t.stl"},
       {file_uri, "ws/mypkg/meshes/t.stl"},
   };
   for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-    snprintf(body, sizeof body,
-             "<collision><geometry><mesh filename=\"%s\"/></geometry></collision>", cases[i].uri);
-    write_urdf(urdf, "rock", body);
-    model_object_t obj;
-    model_error_t err;
-    ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s: %s", cases[i].uri,
-                  err.msg);
-    size_t len = strlen(obj.mesh_path), tail = strlen(cases[i].found);
-    ck_assert_uint_ge(len, tail);
-    ck_assert_msg(strcmp(obj.mesh_path + len - tail, cases[i].found) == 0, "%s -> %s", cases[i].uri,
-                  obj.mesh_path);
-    ck_assert_double_eq_tol(mt_volume(&obj.mesh), 1.0, 1e-12);
-    model_object_free(&obj);
+    ck_assert_msg(package_load(&d, cases[i].uri, NULL, 0, cases[i].found, 4, &err) == MODEL_OK,
+                  "%s: %s", cases[i].uri, err.msg);
   }
+  /* a sibling package is not found by walking up, only through ROS_PACKAGE_PATH */
+  ck_assert_int_eq(package_load(&d, "package://other_pkg/meshes/o.stl", NULL, 0, "", 0, &err),
+                   MODEL_E_NOFILE);
+  ck_assert_msg(strstr(err.msg, "unknown package 'other_pkg'") && strstr(err.msg, "'rock'"), "%s",
+                err.msg);
+  ck_assert_int_eq(package_load(&d, "package://other/meshes/o.stl", NULL, 0, "", 0, &err),
+                   MODEL_E_NOFILE); /* the folder's name is not the package's */
+  snprintf(rpp, sizeof rpp, ":%s:/nonexistent::%s:%s:%s", mt_join(&d, "ws", p, sizeof p),
+           mt_join(&d, "rpp", q, sizeof q), mt_join(&d, "dup2", r, sizeof r), d.path);
+  ck_assert_int_eq(setenv("ROS_PACKAGE_PATH", rpp, 1), 0);
+  const struct {
+    const char *uri, *found;
+    size_t triangles;
+  } env_cases[] = {
+      {"package://other_pkg/meshes/o.stl", "ws/other/meshes/o.stl", 4},
+      {"package://third/meshes/th.stl", "rpp/a/b/third/meshes/th.stl", 4}, /* two levels down */
+      {"package://dup/meshes/d.stl", "dup2/dup/meshes/d.stl", 8},   /* dup2 is listed before d */
+      {"package://mypkg/meshes/t.stl", "ws/mypkg/meshes/t.stl", 4}, /* the URDF's own first */
+  };
+  for (size_t i = 0; i < sizeof env_cases / sizeof env_cases[0]; ++i) {
+    ck_assert_msg(package_load(&d, env_cases[i].uri, NULL, 0, env_cases[i].found,
+                               env_cases[i].triangles, &err) == MODEL_OK,
+                  "%s: %s", env_cases[i].uri, err.msg);
+  }
+  const char *skipped[] = {"package://ign/x.stl", "package://hid/x.stl"};
+  for (size_t i = 0; i < 2; ++i) {
+    ck_assert_int_eq(package_load(&d, skipped[i], NULL, 0, "", 0, &err), MODEL_E_NOFILE);
+    ck_assert_msg(strstr(err.msg, "unknown package"), "%s", err.msg);
+  }
+  ck_assert_int_eq(unsetenv("ROS_PACKAGE_PATH"), 0);
+  package_tree_remove(&d);
+}
+END_TEST
 
-  struct {
+/* Hostile or broken mesh names: each refused with its reason, by model_object_load and by
+ * model_object_load_within (what comlearn-sim calls), the same way. */
+START_TEST(test_urdf_package_refused) {
+  mt_tmpdir_t d;
+  package_tree_make(&d);
+  char real[PATH_MAX];
+  ck_assert_ptr_nonnull(realpath(d.path, real));
+  const char *all[] = {real};
+  ck_assert_int_eq(unsetenv("ROS_PACKAGE_PATH"), 0);
+  const struct {
     const char *uri;
     model_status_t status;
+    const char *why;
   } bad[] = {
-      {"package://nopkg/meshes/none.stl", MODEL_E_NOFILE},
-      {"../meshes/none.stl", MODEL_E_NOFILE},
-      {"package://mypkg", MODEL_E_PARSE},
-      {"package:///meshes/t.stl", MODEL_E_PARSE},
-      {"http://example.com/t.stl", MODEL_E_UNSUPPORTED},
+      {"package://nopkg/meshes/none.stl", MODEL_E_NOFILE, "unknown package 'nopkg'"},
+      {"package://mypkg/meshes/none.stl", MODEL_E_NOFILE, "not found"},
+      {"package://mypkg", MODEL_E_PARSE, "no path after the package name"},
+      {"package://mypkg/", MODEL_E_PARSE, "no path after the package name"},
+      {"package:///meshes/t.stl", MODEL_E_PARSE, "empty package name"},
+      {"package://mypkg/../other/meshes/o.stl", MODEL_E_PARSE, "climbs out of the package root"},
+      {"package://mypkg/meshes/../../../../etc/passwd", MODEL_E_PARSE, "climbs out"},
+      {"package://mypkg/meshes/../..", MODEL_E_PARSE, "climbs out"},
+      {"package://../ws/mypkg/meshes/t.stl", MODEL_E_PARSE, "not a ROS package name"},
+      {"package://my.pkg/meshes/t.stl", MODEL_E_PARSE, "not a ROS package name"},
+      {"package://my pkg/meshes/t.stl", MODEL_E_PARSE, "not a ROS package name"},
+      {"model://mypkg/meshes/t.stl", MODEL_E_UNSUPPORTED, "scheme"},
+      {"http://example.com/t.stl", MODEL_E_UNSUPPORTED, "scheme"},
+      {"PACKAGE://mypkg/meshes/t.stl", MODEL_E_UNSUPPORTED, "scheme"},
+      {"../meshes/none.stl", MODEL_E_NOFILE, "not found"},
   };
   for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-    snprintf(body, sizeof body,
-             "<collision><geometry><mesh filename=\"%s\"/></geometry></collision>", bad[i].uri);
-    write_urdf(urdf, "rock", body);
-    model_object_t obj;
-    model_error_t err;
-    ck_assert_int_eq(model_object_load(urdf, NULL, &obj, &err), bad[i].status);
-    ck_assert_msg(strstr(err.msg, bad[i].uri) != NULL, "%s", err.msg);
-    ck_assert_ptr_nonnull(strstr(err.msg, "'rock'"));
-    ck_assert_ptr_null(obj.mesh.vertices_m);
+    for (int within = 0; within < 2; ++within) {
+      model_error_t err;
+      ck_assert_int_eq(package_load(&d, bad[i].uri, within ? all : NULL, 1, "", 0, &err),
+                       bad[i].status);
+      ck_assert_msg(strstr(err.msg, bad[i].uri) && strstr(err.msg, bad[i].why) &&
+                        strstr(err.msg, "'rock'") && strstr(err.msg, "obj.urdf"),
+                    "%s: %s", bad[i].uri, err.msg);
+    }
   }
-  const char *names[] = {"ws/mypkg/meshes/t.stl",
-                         "ws/other/meshes/o.stl",
-                         "ws/mypkg/urdf/here.stl",
-                         "ws/mypkg/urdf/obj.urdf",
-                         "ws/other/meshes",
-                         "ws/other",
-                         "ws/mypkg/meshes",
-                         "ws/mypkg/urdf",
-                         "ws/mypkg",
-                         "ws"};
-  mt_tmpdir_remove(&d, names, 10);
+  package_tree_remove(&d);
+}
+END_TEST
+
+/* comlearn-sim's --object-dir rule holds for package:// too: a package.xml outside the allowed
+ * folders is not read (so its package is unknown), ROS_PACKAGE_PATH finds nothing outside them,
+ * and a mesh reached through a symlink out of the package is refused as outside. */
+START_TEST(test_urdf_package_within) {
+  mt_tmpdir_t d;
+  package_tree_make(&d);
+  char pkg[PATH_MAX], urdf_dir[PATH_MAX], root[PATH_MAX], p[512];
+  ck_assert_ptr_nonnull(realpath(mt_join(&d, "ws/mypkg", p, sizeof p), pkg));
+  ck_assert_ptr_nonnull(realpath(mt_join(&d, "ws/mypkg/urdf", p, sizeof p), urdf_dir));
+  ck_assert_ptr_nonnull(realpath(d.path, root));
+  const char *in_pkg[] = {pkg}, *in_urdf[] = {urdf_dir}, *in_root[] = {root};
+  model_error_t err;
+  ck_assert_int_eq(unsetenv("ROS_PACKAGE_PATH"), 0);
+  ck_assert_msg(package_load(&d, "package://mypkg/meshes/t.stl", in_pkg, 1, "ws/mypkg/meshes/t.stl",
+                             4, &err) == MODEL_OK,
+                "%s", err.msg);
+  /* the URDF is inside, its package.xml one folder above is not: not read */
+  ck_assert_int_eq(package_load(&d, "package://mypkg/urdf/here.stl", in_urdf, 1, "", 0, &err),
+                   MODEL_E_NOFILE);
+  ck_assert_msg(strstr(err.msg, "unknown package 'mypkg'") &&
+                    strstr(err.msg, "inside the folders this program may read"),
+                "%s", err.msg);
+  ck_assert_msg(
+      package_load(&d, "here.stl", in_urdf, 1, "ws/mypkg/urdf/here.stl", 4, &err) == MODEL_OK, "%s",
+      err.msg);
+  /* a symlink in the package to a mesh outside the folders */
+  ck_assert_int_eq(package_load(&d, "package://mypkg/meshes/out.stl", in_pkg, 1, "", 0, &err),
+                   MODEL_E_NOFILE);
+  ck_assert_msg(strstr(err.msg, "outside the folders") && strstr(err.msg, "ws/other/meshes/o.stl"),
+                "%s", err.msg);
+  ck_assert_msg(package_load(&d, "package://mypkg/meshes/out.stl", in_root, 1,
+                             "ws/other/meshes/o.stl", 4, &err) == MODEL_OK,
+                "%s", err.msg);
+  /* ROS_PACKAGE_PATH: the sibling package is found without folders, and not from inside mypkg */
+  ck_assert_int_eq(setenv("ROS_PACKAGE_PATH", d.path, 1), 0);
+  ck_assert_msg(package_load(&d, "package://other_pkg/meshes/o.stl", NULL, 0,
+                             "ws/other/meshes/o.stl", 4, &err) == MODEL_OK,
+                "%s", err.msg);
+  ck_assert_int_eq(package_load(&d, "package://other_pkg/meshes/o.stl", in_pkg, 1, "", 0, &err),
+                   MODEL_E_NOFILE);
+  ck_assert_msg(strstr(err.msg, "unknown package 'other_pkg'"), "%s", err.msg);
+  ck_assert_msg(package_load(&d, "package://other_pkg/meshes/o.stl", in_root, 1,
+                             "ws/other/meshes/o.stl", 4, &err) == MODEL_OK,
+                "%s", err.msg);
+  ck_assert_int_eq(unsetenv("ROS_PACKAGE_PATH"), 0);
+  package_tree_remove(&d);
+}
+END_TEST
+
+/* The bundled rocks name their mesh as package://comlearn/rocks/meshes/NAME.stl and resolve in
+ * the source tree through assets/package.xml; the same text in a folder outside the package
+ * resolves through ROS_PACKAGE_PATH only, as for a ROS user's own URDF. */
+START_TEST(test_urdf_package_bundled) {
+  const char *urdf = COMLEARN_ASSETS_DIR "/rocks/rock_1_even.urdf";
+  char want[PATH_MAX], text[8192];
+  ck_assert_ptr_nonnull(realpath(COMLEARN_ASSETS_DIR "/rocks/meshes/rock_1.stl", want));
+  FILE *f = fopen(urdf, "rb");
+  ck_assert_ptr_nonnull(f);
+  size_t n = fread(text, 1, sizeof text - 1, f);
+  fclose(f);
+  text[n] = '\0';
+  ck_assert_ptr_nonnull(strstr(text, "filename=\"package://comlearn/rocks/meshes/rock_1.stl\""));
+  ck_assert_ptr_null(strstr(text, "filename=\"meshes/"));
+  ck_assert_int_eq(unsetenv("ROS_PACKAGE_PATH"), 0);
+  model_object_t obj;
+  model_error_t err;
+  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_str_eq(obj.mesh_path, want);
+  ck_assert_uint_eq(obj.mesh.triangle_count, 2000);
+  model_object_free(&obj);
+
+  mt_tmpdir_t d;
+  mt_tmpdir_make(&d);
+  char copy[512], assets[PATH_MAX];
+  mt_write_text(mt_join(&d, "rock.urdf", copy, sizeof copy), text);
+  ck_assert_int_eq(model_object_load(copy, NULL, &obj, &err), MODEL_E_NOFILE);
+  ck_assert_msg(strstr(err.msg, "unknown package 'comlearn'"), "%s", err.msg);
+  ck_assert_ptr_nonnull(realpath(COMLEARN_ASSETS_DIR, assets));
+  ck_assert_int_eq(setenv("ROS_PACKAGE_PATH", assets, 1), 0);
+  ck_assert_msg(model_object_load(copy, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_str_eq(obj.mesh_path, want);
+  model_object_free(&obj);
+  ck_assert_int_eq(unsetenv("ROS_PACKAGE_PATH"), 0);
+  const char *names[] = {"rock.urdf"};
+  mt_tmpdir_remove(&d, names, 1);
+}
+END_TEST
+
+/* package.xml <name>: comments and processing instructions skipped, white space trimmed. */
+START_TEST(test_urdf_package_xml_name) {
+  char name[16];
+  const char *ok = "<?xml version=\"1.0\"?><!-- <name>no</name> --><package><name> a_b </name>";
+  ck_assert_int_eq(model_package_xml_name(ok, strlen(ok), name, sizeof name), 0);
+  ck_assert_str_eq(name, "a_b");
+  const char *bad[] = {"<package/>", "<name></name>",       "<name>  </name>",
+                       "<name>abc",  "<!-- <name>x</name>", "<name>0123456789abcdef</name>"};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+    ck_assert_msg(model_package_xml_name(bad[i], strlen(bad[i]), name, sizeof name) == -1, "%s",
+                  bad[i]);
+  }
+}
+END_TEST
+
+/* The YuMi's visual shapes are not mass: its links carry no <inertial>. */
+START_TEST(test_urdf_yumi_visual_no_mass) {
+  const char *urdf = COMLEARN_ASSETS_DIR "/yumi/yumi.urdf";
+  const char *links[] = {"yumi_body", "yumi_link_1_r", "yumi_link_7_l", "yumi_finger_a_r"};
+  for (size_t i = 0; i < sizeof links / sizeof links[0]; ++i) {
+    model_mass_t m;
+    model_error_t err;
+    ck_assert_int_eq(model_inertial_load(urdf, links[i], &m, &err), MODEL_E_INERTIAL);
+  }
 }
 END_TEST
 
@@ -787,6 +1064,11 @@ Suite *model_urdf_suite(void) {
   tcase_add_test(geo, test_urdf_box_and_merge);
   tcase_add_test(geo, test_urdf_sphere_cylinder);
   tcase_add_test(geo, test_urdf_package_and_relative_paths);
+  tcase_add_test(geo, test_urdf_package_refused);
+  tcase_add_test(geo, test_urdf_package_within);
+  tcase_add_test(geo, test_urdf_package_bundled);
+  tcase_add_test(geo, test_urdf_package_xml_name);
+  tcase_add_test(geo, test_urdf_yumi_visual_no_mass);
   tcase_add_test(geo, test_urdf_links);
   tcase_add_test(geo, test_urdf_bad_files);
   tcase_add_test(geo, test_urdf_hostile_files);

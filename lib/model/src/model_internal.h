@@ -74,6 +74,34 @@ model_status_t model_mesh_parse_isolated(const char *path, const double scale[3]
                                          size_t file_bytes, model_mesh_parse_fn parse,
                                          model_mesh_t *out, model_error_t *err);
 
+/* ---- package.c: package://NAME/REST mesh URIs ------------------------------------------------ */
+
+enum {
+  MODEL_PACKAGE_NAME_MAX = 255,            /* bytes of NAME */
+  MODEL_PACKAGE_XML_MAX_BYTES = 64 * 1024, /* a package.xml larger than this is not read */
+  MODEL_PACKAGE_PARENT_LEVELS = 64,        /* folders walked up from the URDF's */
+  MODEL_PACKAGE_CRAWL_DEPTH = 8,           /* levels searched below a ROS_PACKAGE_PATH entry */
+  MODEL_PACKAGE_CRAWL_FOLDERS = 10000      /* folders listed per URI, all entries together */
+};
+
+/* The text of the first <name> element of a package.xml (comments and processing instructions
+ * skipped, surrounding white space trimmed) into name: 0, or -1 when there is none, it is empty,
+ * or it does not fit name_size. No allocation. */
+int model_package_xml_name(const char *text, size_t n, char *name, size_t name_size);
+
+/* Resolve uri, which starts with "package://", for a URDF in the canonical folder urdf_dir, into
+ * the canonical path of an existing regular file (out). NAME is letters, digits, '_' and '-'; REST
+ * is not empty and no ".." in it climbs above the package root (else MODEL_E_PARSE naming why).
+ * The package root is the nearest of urdf_dir and its parents that holds a package.xml whose
+ * <name> is NAME, else the first found in ROS_PACKAGE_PATH (colon-separated; each entry crawled
+ * as rospack does, see package.c); none: MODEL_E_NOFILE "unknown package". With dir_count > 0,
+ * only package.xml files inside dirs (canonical) are read, and only folders inside them or on the
+ * way down to them are listed. The caller still checks out against dirs. Messages name the URI;
+ * the caller prefixes the URDF and link. Allocates (scandir, realpath). */
+model_status_t model_package_resolve(const char *uri, const char *urdf_dir, const char *const *dirs,
+                                     size_t dir_count, char *out, size_t out_size,
+                                     model_error_t *err);
+
 /* ---- urdf.cpp, geometry side (comlearn_model) ------------------------------------------------ */
 
 typedef enum {

@@ -10,13 +10,7 @@
 #include "comlearn/math3d.h"
 #include "model_internal.h"
 
-enum {
-  PATH_BUF = 4096,
-  MAX_PARENT_LEVELS = 64,
-  SPHERE_SEGMENTS = 32,
-  SPHERE_RINGS = 16,
-  CYLINDER_SEGMENTS = 64
-};
+enum { PATH_BUF = 4096, SPHERE_SEGMENTS = 32, SPHERE_RINGS = 16, CYLINDER_SEGMENTS = 64 };
 
 static int file_exists(const char *path) {
   FILE *f = fopen(path, "rb");
@@ -25,17 +19,6 @@ static int file_exists(const char *path) {
   }
   fclose(f);
   return 1;
-}
-
-/* Append "  candidate" to a bounded list of tried paths for the error message. */
-static void note_tried(char *tried, size_t size, const char *candidate) {
-  size_t len = strlen(tried);
-  if (len + 4 < size) {
-    int n = snprintf(tried + len, size - len, "%s%s", len > 0 ? ", " : "", candidate);
-    if (n < 0 || (size_t)n >= size - len) {
-      memcpy(tried + size - 4, "...", 4); /* truncated */
-    }
-  }
 }
 
 /* Copy the canonical form of an existing path (no "..", no symlinks) into out. */
@@ -53,23 +36,11 @@ static int canonical(const char *path, char *out, size_t out_size) {
   return fits;
 }
 
-static int try_candidate(char *out, size_t out_size, char *tried, size_t tried_size,
-                         const char *dir, const char *sub1, const char *sub2) {
-  char buf[PATH_BUF];
-  int n = sub1 != NULL ? snprintf(buf, sizeof buf, "%s/%s/%s", dir, sub1, sub2)
-                       : snprintf(buf, sizeof buf, "%s/%s", dir, sub2);
-  if (n < 0 || (size_t)n >= sizeof buf) {
-    return 0;
-  }
-  note_tried(tried, tried_size, buf);
-  return file_exists(buf) && canonical(buf, out, out_size);
-}
-
 /* Resolve a URDF mesh reference (see model_object_load in model.h for the rule). */
 static model_status_t resolve_mesh_path(const char *urdf_path, const char *link, const char *uri,
-                                        char *out, size_t out_size, model_error_t *err) {
+                                        const char *const *dirs, size_t dir_count, char *out,
+                                        size_t out_size, model_error_t *err) {
   char dir[PATH_BUF];
-  char tried[768] = "";
   /* The URDF's folder, absolute so that its parents can be walked. */
   char *real = realpath(urdf_path, NULL);
   if (real == NULL) {
@@ -87,45 +58,12 @@ static model_status_t resolve_mesh_path(const char *urdf_path, const char *link,
     return model_fail(err, MODEL_E_ARG, "URDF path %s is too long", urdf_path);
   }
 
-  const char *pkg = NULL;
   if (strncmp(uri, "package://", 10) == 0) {
-    pkg = uri + 10;
-  } else if (strncmp(uri, "model://", 8) == 0) {
-    pkg = uri + 8;
-  }
-  if (pkg != NULL) {
-    const char *rest = strchr(pkg, '/');
-    size_t name_len = rest != NULL ? (size_t)(rest - pkg) : 0;
-    if (rest == NULL || name_len == 0 || rest[1] == '\0' || name_len >= 256) {
-      return model_fail(err, MODEL_E_PARSE, "URDF %s: link '%s': bad package URI '%s'", urdf_path,
-                        link, uri);
+    model_status_t st = model_package_resolve(uri, dir, dirs, dir_count, out, out_size, err);
+    if (st != MODEL_OK) {
+      model_error_prefix(err, "URDF %s: link '%s': ", urdf_path, link);
     }
-    char name[256];
-    memcpy(name, pkg, name_len);
-    name[name_len] = '\0';
-    ++rest;
-    for (int level = 0; level < MAX_PARENT_LEVELS; ++level) {
-      const char *base = strrchr(dir, '/');
-      base = base != NULL ? base + 1 : dir;
-      const char *top = strcmp(dir, "/") == 0 ? "" : dir;
-      if ((strcmp(base, name) == 0 &&
-           try_candidate(out, out_size, tried, sizeof tried, top, NULL, rest)) ||
-          try_candidate(out, out_size, tried, sizeof tried, top, name, rest) ||
-          try_candidate(out, out_size, tried, sizeof tried, top, NULL, rest)) {
-        return MODEL_OK;
-      }
-      char *cut = strrchr(dir, '/');
-      if (cut == NULL || strcmp(dir, "/") == 0) {
-        break;
-      }
-      if (cut == dir) {
-        dir[1] = '\0';
-      } else {
-        *cut = '\0';
-      }
-    }
-    return model_fail(err, MODEL_E_NOFILE, "URDF %s: link '%s': mesh '%s' not found (tried %s)",
-                      urdf_path, link, uri, tried);
+    return st;
   }
 
   const char *path = uri;
@@ -133,8 +71,9 @@ static model_status_t resolve_mesh_path(const char *urdf_path, const char *link,
     path = uri + 7;
   } else if (strstr(uri, "://") != NULL) {
     return model_fail(err, MODEL_E_UNSUPPORTED,
-                      "URDF %s: link '%s': mesh URI scheme of '%s' is not supported", urdf_path,
-                      link, uri);
+                      "URDF %s: link '%s': mesh URI scheme of '%s' is not supported (package://, "
+                      "file:// or a path)",
+                      urdf_path, link, uri);
   }
   char buf[PATH_BUF];
   if (path[0] == '/') {
@@ -319,7 +258,8 @@ static model_status_t load_geom(const char *urdf_path, const model_urdf_link_t *
   switch (g->shape) {
     case MODEL_URDF_MESH: {
       char path[PATH_BUF];
-      st = resolve_mesh_path(urdf_path, ln, g->filename, path, sizeof path, err);
+      st = resolve_mesh_path(urdf_path, ln, g->filename, dirs->dirs, dirs->count, path, sizeof path,
+                             err);
       if (st != MODEL_OK) {
         return st;
       }
