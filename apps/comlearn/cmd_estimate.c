@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -30,6 +31,7 @@
 #include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_lcm.h"
+#include "estimate_svg.h"
 
 enum { EXIT_USAGE = 2 };
 
@@ -76,12 +78,17 @@ static void usage(FILE *out) {
           "  --json             print one JSON object on stdout (default: a table)\n"
           "  --truth            after the estimate, read the URDF <inertial> and report the\n"
           "                     error; for reporting only (default: off)\n"
+          "  --svg FILE         also write a picture of the estimate: three views of the mesh\n"
+          "                     with the CoM, its interval box, the truth with --truth, the\n"
+          "                     resting faces and edge lines, and the first %d trials' poses\n"
+          "                     (default: none)\n"
           "  -v, --verbose      log debug messages on stderr (default: info)\n"
           "  -q, --quiet        log errors only; no progress (default: info, progress on a tty)\n"
           "  -h, --help         show this help\n"
           "  -V, --version      print the version\n"
           "\n"
-          "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n");
+          "exit status: 0 success, 1 runtime failure, 2 usage or bad input\n",
+          (int)ESTIMATE_SVG_TRIAL_PANELS);
 }
 
 static const char *outcome_name(estimate_outcome_t o) {
@@ -274,10 +281,41 @@ static int parse_mm(const char *opt, const char *text, double min_mm, double max
   return 0;
 }
 
+/* --svg FILE before any trial: its folder exists and is writable, FILE is not a folder. 0, or -1
+ * (message logged, naming the path): bad input, found before the trials are spent. */
+static int svg_path_check(const char *path) {
+  char dir[PATH_MAX];
+  const char *slash = strrchr(path, '/');
+  const size_t n = slash ? (size_t)(slash - path) : 0;
+  if (n >= sizeof dir) {
+    LOG_E("--svg %s: %s", path, strerror(ENAMETOOLONG));
+    return -1;
+  }
+  if (slash) {
+    memcpy(dir, path, n);
+    dir[n] = '\0';
+  }
+  if (!slash || n == 0) snprintf(dir, sizeof dir, "%s", slash ? "/" : ".");
+  struct stat st;
+  if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
+    LOG_E("--svg %s: the folder '%s' does not exist", path, dir);
+    return -1;
+  }
+  if (access(dir, W_OK | X_OK) != 0) {
+    LOG_E("--svg %s: cannot write in the folder '%s': %s", path, dir, strerror(errno));
+    return -1;
+  }
+  if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+    LOG_E("--svg %s: is a folder", path);
+    return -1;
+  }
+  return 0;
+}
+
 /* What the command line asks for. */
 typedef struct {
   estimate_config_t cfg;
-  const char *urdf, *link, *lcm_url, *channel_prefix;
+  const char *urdf, *link, *lcm_url, *channel_prefix, *svg;
   int direct, spawn, json, truth, quiet, noise_given, sim_noise;
   double placement_noise_m, pose_noise_m;
   uint64_t seed;
@@ -351,6 +389,13 @@ static int parse_option(int c, est_args_t *a) {
     case 'l': a->link = optarg; return 0;
     case 'j': a->json = 1; return 0;
     case 't': a->truth = 1; return 0;
+    case 'g':
+      if (optarg[0]) {
+        a->svg = optarg;
+        return 0;
+      }
+      LOG_E("--svg: empty file name");
+      return EXIT_USAGE;
     case 'v': cli_log_set_level(CLI_LOG_DEBUG); return 0;
     case 'q':
       a->quiet = 1;
@@ -373,6 +418,7 @@ static int parse_args(int argc, char **argv, est_args_t *a) {
                                        {"link", required_argument, NULL, 'l'},
                                        {"json", no_argument, NULL, 'j'},
                                        {"truth", no_argument, NULL, 't'},
+                                       {"svg", required_argument, NULL, 'g'},
                                        {"verbose", no_argument, NULL, 'v'},
                                        {"quiet", no_argument, NULL, 'q'},
                                        {"start", required_argument, NULL, 'S'},
@@ -413,6 +459,7 @@ static int parse_args(int argc, char **argv, est_args_t *a) {
         "the simulator's own options set the noise (comlearn-sim --placement-noise-mm ...)");
     return EXIT_USAGE;
   }
+  if (a->svg && svg_path_check(a->svg) != 0) return EXIT_USAGE;
   if (!a->noise_given) a->cfg.noise_sigma_m = a->placement_noise_m; /* the trials' noise */
   a->cfg.pose_noise_sigma_m = a->pose_noise_m; /* --direct: the perception's noise is known */
   return 0;
@@ -520,9 +567,29 @@ static void lcm_report(estimate_lcm_t *lcmb, estimate_status_t es, const estimat
       (unsigned long long)ls.refused);
 }
 
-/* Print the result (the truth read now, after the estimate, when asked): the exit status. */
+/* --svg: the picture of the estimate (the truth only when read for --truth). 0, or -1 (logged). */
+static int write_picture(const est_args_t *a, const char *backend_name, const model_mesh_t *mesh,
+                         const double base_size_m[3], const estimate_result_t *res,
+                         const model_mass_t *truth) {
+  estimate_svg_input_t in = {.object = a->urdf,
+                             .policy = estimate_policy_name(a->cfg.policy),
+                             .backend = backend_name,
+                             .mesh_link = mesh,
+                             .result = res,
+                             .truth_com_m = truth ? truth->com_m : NULL};
+  memcpy(in.base_size_m, base_size_m, sizeof in.base_size_m);
+  if (estimate_svg_write(a->svg, &in) != 0) {
+    LOG_E("--svg %s: %s", a->svg, strerror(errno));
+    return -1;
+  }
+  LOG_D("wrote %s", a->svg);
+  return 0;
+}
+
+/* Print the result (the truth read now, after the estimate, when asked), and with --svg draw it:
+ * the exit status. */
 static int report(const est_args_t *a, const char *backend_name, const estimate_result_t *res,
-                  double wall_s) {
+                  double wall_s, const model_mesh_t *mesh, const double base_size_m[3]) {
   int found = 0;
   for (int k = 0; k < 3; ++k) {
     if (res->found[k])
@@ -545,6 +612,8 @@ static int report(const est_args_t *a, const char *backend_name, const estimate_
     print_json(a->urdf, a->cfg.policy, a->cfg.resolution_m, backend_name, res, wall_s, tp);
   else
     print_table(a->urdf, a->cfg.policy, res, wall_s, tp);
+  if (a->svg && write_picture(a, backend_name, mesh, base_size_m, res, tp) != 0)
+    return EXIT_FAILURE;
   if (found == 0) {
     LOG_E("%s: no component could be estimated", a->urdf);
     return EXIT_FAILURE;
@@ -582,14 +651,15 @@ int cmd_estimate(int argc, char **argv) {
   if (b.lcm) lcm_report(b.lcm, es, res, a.cfg.resolution_m);
   const char *name = b.backend.name;
   backend_close(&b);
-  model_object_free(&obj);
   if (es != ESTIMATE_OK) {
     LOG_E("%s: %s%s%s", a.urdf, estimate_status_str(es), res->msg[0] ? ": " : "", res->msg);
     free(res);
+    model_object_free(&obj);
     /* geometry that gives no flat face or no stable pose: the object does not suit the method */
     return es == ESTIMATE_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
   }
-  rc = report(&a, name, res, wall);
+  rc = report(&a, name, res, wall, &obj.mesh, b.backend.base_size_m);
   free(res);
+  model_object_free(&obj);
   return rc;
 }
