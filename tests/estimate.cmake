@@ -27,3 +27,13 @@ comlearn_add_check(check_estimate_noalloc SOURCES check_estimate_noalloc.c
   LIBS comlearn_estimate_direct comlearn_estimate comlearn_model_sim)
 target_link_options(check_estimate_noalloc PRIVATE
   -Wl,--wrap=malloc -Wl,--wrap=calloc -Wl,--wrap=realloc)
+# `comlearn estimate --svg`: the picture parsed through the projection it publishes, against the
+# --json estimate (direct and over LCM), a component not found as a band, bad paths; and
+# estimate_svg_write on hand-made results (apps/comlearn/estimate_svg.c compiled in).
+comlearn_add_check(check_estimate_svg
+  SOURCES check_estimate_svg.c ${PROJECT_SOURCE_DIR}/apps/comlearn/estimate_svg.c
+  LIBS comlearn_estimate comlearn_model TIMEOUT 300)
+target_include_directories(check_estimate_svg PRIVATE ${PROJECT_SOURCE_DIR}/apps/comlearn)
+target_compile_definitions(check_estimate_svg PRIVATE COMLEARN_BIN="$<TARGET_FILE:comlearn>"
+                           COMLEARN_SHAPEGEN_BIN="$<TARGET_FILE:comlearn-shapegen>")
+add_dependencies(check_estimate_svg comlearn comlearn-shapegen comlearn-sim)
