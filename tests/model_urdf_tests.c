@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include "comlearn/math3d.h"
+#include "comlearn/model_chain.h"
 #include "comlearn/model_inertial.h"
 #include "model_internal.h"
 #include "model_suites.h"
@@ -573,13 +574,59 @@ START_TEST(test_urdf_package_xml_name) {
 }
 END_TEST
 
-/* The YuMi's visual shapes are not mass: its links carry no <inertial>. */
-START_TEST(test_urdf_yumi_visual_no_mass) {
+/* The YuMi's visual shapes (assets/yumi/README.md, "Visual geometry"): each arm link's shapes
+ * reach from its joint to the next one (chain origins, model_chain_load), the fingers are the
+ * reference's finger box, and no link carries mass (no <inertial>). The chain's kinematics are
+ * checked against RobotStudio in check_placement. */
+START_TEST(test_urdf_yumi_visuals) {
   const char *urdf = COMLEARN_ASSETS_DIR "/yumi/yumi.urdf";
-  const char *links[] = {"yumi_body", "yumi_link_1_r", "yumi_link_7_l", "yumi_finger_a_r"};
+  const char *arms[] = {"r", "l"};
+  model_error_t err;
+  for (int a = 0; a < 2; ++a) {
+    char tip[64];
+    snprintf(tip, sizeof tip, "yumi_tool0_%s", arms[a]);
+    model_chain_t chain;
+    ck_assert_msg(model_chain_load(urdf, "yumi_body", tip, &chain, &err) == MODEL_OK, "%s",
+                  err.msg);
+    ck_assert_uint_eq(chain.joint_count, 8);
+    for (size_t j = 0; j + 1 < chain.joint_count; ++j) {
+      model_object_t obj;
+      const char *link = chain.joints[j].child_link;
+      ck_assert_msg(model_object_load(urdf, link, &obj, &err) == MODEL_OK, "%s: %s", link, err.msg);
+      const double *next = chain.joints[j + 1].origin_xyz_m;
+      for (int k = 0; k < 3; ++k) {
+        ck_assert_msg(obj.aabb.min_m[k] <= fmin(0.0, next[k]) - 0.02 + 1e-12 &&
+                          obj.aabb.max_m[k] >= fmax(0.0, next[k]) + 0.02 - 1e-12,
+                      "%s: axis %d [%g, %g] does not hold 0 and %g with 20 mm around", link, k,
+                      obj.aabb.min_m[k], obj.aabb.max_m[k], next[k]);
+        ck_assert_double_le(obj.aabb.max_m[k] - obj.aabb.min_m[k], 0.25);
+      }
+      model_object_free(&obj);
+    }
+    char finger[64];
+    snprintf(finger, sizeof finger, "yumi_finger_b_%s", arms[a]);
+    model_object_t obj;
+    ck_assert_msg(model_object_load(urdf, finger, &obj, &err) == MODEL_OK, "%s", err.msg);
+    const double lo[3] = {-0.01089, -0.0045, 0.0}, hi[3] = {0.0, 0.0167, 0.05218};
+    for (int k = 0; k < 3; ++k) {
+      ck_assert_double_eq_tol(obj.aabb.min_m[k], lo[k], 1e-12);
+      ck_assert_double_eq_tol(obj.aabb.max_m[k], hi[k], 1e-12);
+    }
+    model_object_free(&obj);
+  }
+  model_object_t body;
+  ck_assert_msg(model_object_load(urdf, NULL, &body, &err) == MODEL_OK, "%s", err.msg);
+  ck_assert_str_eq(body.link_name, "yumi_body");
+  const double body_lo[3] = {-0.3607, -0.1997, -0.1}, body_hi[3] = {0.1349, 0.1997, 0.47085};
+  for (int k = 0; k < 3; ++k) {
+    ck_assert_double_eq_tol(body.aabb.min_m[k], body_lo[k], 1e-12);
+    ck_assert_double_eq_tol(body.aabb.max_m[k], body_hi[k], 1e-12);
+  }
+  model_object_free(&body);
+  const char *links[] = {"yumi_body", "yumi_link_1_r", "yumi_link_7_l", "yumi_tool0_r",
+                         "yumi_finger_a_r"};
   for (size_t i = 0; i < sizeof links / sizeof links[0]; ++i) {
     model_mass_t m;
-    model_error_t err;
     ck_assert_int_eq(model_inertial_load(urdf, links[i], &m, &err), MODEL_E_INERTIAL);
   }
 }
@@ -1068,7 +1115,7 @@ Suite *model_urdf_suite(void) {
   tcase_add_test(geo, test_urdf_package_within);
   tcase_add_test(geo, test_urdf_package_bundled);
   tcase_add_test(geo, test_urdf_package_xml_name);
-  tcase_add_test(geo, test_urdf_yumi_visual_no_mass);
+  tcase_add_test(geo, test_urdf_yumi_visuals);
   tcase_add_test(geo, test_urdf_links);
   tcase_add_test(geo, test_urdf_bad_files);
   tcase_add_test(geo, test_urdf_hostile_files);
