@@ -12,7 +12,8 @@
 #   4. `comlearn stack`: the three uneven rocks stacked on their CoMs learned over LCM, then on
 #      bounding-box centers and on the true CoMs, each simulated for 5 s; side views under out/;
 #   5. stop the loggers and the simulator, check that both logs hold every trial record
-#      (`comlearn logcheck`, out/lcm/logcheck_*.txt), write out/report.md.
+#      (`comlearn logcheck`, out/lcm/logcheck_*.txt), write out/report.md (with one in-process
+#      estimate of rock_1_uneven drawn: `comlearn estimate --svg`).
 #
 # Options (scripts/main.sh --help) or the environment: SEEDS (noisy runs per rock and policy,
 # default 5), SIMS (simulators for the experiments, default 2: one per core here; 0 = the one of
@@ -192,6 +193,19 @@ commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
     echo "![stack, $src](stack_$src.svg)"
     echo
   done
+  echo "## One estimate, drawn (rock_1_uneven, in-process trials)"
+  echo
+  "$comlearn" estimate assets/rocks/rock_1_uneven.urdf --direct --truth -q \
+    --svg "$out/estimate_rock_1_uneven.svg" > "$out/estimate_rock_1_uneven.txt"
+  echo '```'
+  cat "$out/estimate_rock_1_uneven.txt"
+  echo '```'
+  echo
+  echo "The views, the interval box, the truth, the faces and edge lines, the first trials' poses"
+  echo "(docs/estimate.md, \"Picture\"):"
+  echo
+  echo "![estimate, rock_1_uneven](estimate_rock_1_uneven.svg)"
+  echo
   echo "## Recording"
   echo
   echo "\`lcm/results.lcmlog\` (every robot's COM_TRIAL, COM_ESTIMATE) and \`lcm/all.lcmlog\`"
