@@ -390,6 +390,269 @@ START_TEST(cli_experiments_outputs) {
 }
 END_TEST
 
+/* ---- reading the figures back: the SVG's own axis mapping, the JSON's numbers ---- */
+
+/* The number in attribute name="..." of the element text at p (up to its '>'). */
+static double svg_attr(const char *p, const char *name) {
+  char pat[64];
+  snprintf(pat, sizeof pat, " %s=\"", name);
+  const char *end = strchr(p, '>');
+  const char *a = strstr(p, pat);
+  ck_assert_msg(a != NULL && (!end || a < end), "no %s in %.80s", name, p);
+  return strtod(a + strlen(pat), NULL);
+}
+
+/* A JSON number or null (NAN) at p; *next after it. */
+static double js_num_or_null(const char *p, const char **next) {
+  p = js_ws(p);
+  if (strncmp(p, "null", 4) == 0) {
+    *next = p + 4;
+    return NAN;
+  }
+  char *end;
+  const double v = strtod(p, &end);
+  ck_assert_msg(end != p, "not a number: %.40s", p);
+  *next = end;
+  return v;
+}
+
+/* The three numbers (or nulls) of "key": [a, b, c] after p. */
+static void js_vec3(const char *p, const char *key, double v[3]) {
+  char pat[64];
+  snprintf(pat, sizeof pat, "\"%s\": [", key);
+  const char *q = strstr(p, pat);
+  ck_assert_msg(q != NULL, "no %s", key);
+  q += strlen(pat);
+  for (int k = 0; k < 3; ++k) {
+    v[k] = js_num_or_null(q, &q);
+    q = js_ws(q);
+    if (*q == ',') ++q;
+  }
+}
+
+/* "key": [[a, b, c], ...] after p into out (at most cap); returns the count. */
+static size_t js_triples(const char *p, const char *key, double (*out)[3], size_t cap) {
+  char pat[64];
+  snprintf(pat, sizeof pat, "\"%s\": [", key);
+  const char *q = strstr(p, pat);
+  ck_assert_msg(q != NULL, "no %s", key);
+  q = js_ws(q + strlen(pat));
+  size_t n = 0;
+  while (*q == '[') {
+    ck_assert_uint_lt(n, cap);
+    ++q;
+    for (int k = 0; k < 3; ++k) {
+      out[n][k] = js_num_or_null(q, &q);
+      q = js_ws(q);
+      if (*q == ',') ++q;
+    }
+    ck_assert_int_eq(*q, ']');
+    ++n;
+    q = js_ws(q + 1);
+    if (*q == ',') q = js_ws(q + 1);
+  }
+  return n;
+}
+
+/* The JSON run of object, policy, noiseless Table I (seed 0) or noisy seed s. */
+static const char *js_run(const char *js, const char *object, const char *policy, int seed) {
+  char pat[256];
+  if (seed == 0)
+    snprintf(pat, sizeof pat,
+             "{\"object\": \"%s\", \"policy\": \"%s\", \"noisy\": false, \"start\": \"bbox\"",
+             object, policy);
+  else
+    snprintf(pat, sizeof pat,
+             "{\"object\": \"%s\", \"policy\": \"%s\", \"noisy\": true, \"start\": \"bbox\", "
+             "\"seed\": %d,",
+             object, policy, seed);
+  const char *p = strstr(js, pat);
+  ck_assert_msg(p != NULL, "no run %s", pat);
+  return p;
+}
+
+/* The k-th <g class="panel" of an SVG (k from 0). */
+static const char *svg_panel(const char *svg, int k) {
+  const char *p = svg;
+  for (int i = 0; i <= k; ++i) {
+    p = strstr(i ? p + 1 : p, "<g class=\"panel\"");
+    ck_assert_ptr_nonnull(p);
+  }
+  return p;
+}
+
+enum { FIG_POLICIES = 4 };
+static const char *const fig_policy[FIG_POLICIES] = {"paper-qtable", "paper-mlp", "bisect", "pba"};
+
+/* Fig. 2 of rock_1_uneven read back: per panel and policy a polyline with its own colour and dash
+ * pattern whose step points are the JSON trace (edge trials: the point set over the edge; stable
+ * checks: the running estimate; last: the final estimate; mm from the bbox center), the trial
+ * axis cut below PBA's long run, with the note saying where it goes on. */
+static void check_fig2(const char *svg, const char *js, const char *object) {
+  const char *obj = strstr(js, "\"objects\": [");
+  ck_assert_ptr_nonnull(obj);
+  char pat[128];
+  snprintf(pat, sizeof pat, "{\"name\": \"%s\"", object);
+  obj = strstr(obj, pat);
+  ck_assert_ptr_nonnull(obj);
+  double bbox[3];
+  js_vec3(obj, "bbox_center_m", bbox);
+  static double target[ESTIMATE_MAX_TRIALS][3], before[ESTIMATE_MAX_TRIALS][3];
+  size_t trials[FIG_POLICIES];
+  for (int p = 0; p < FIG_POLICIES; ++p)
+    trials[p] = (size_t)json_num(js_run(js, object, fig_policy[p], 0), "trials");
+  /* PBA's noiseless run is the long one here (114 trials vs 34-43): the axis stops before it */
+  ck_assert_uint_gt(trials[3], 2 * trials[0]);
+  double xtick_max = 0.0;
+  for (const char *t = strstr(svg, "class=\"xtick\""); t; t = strstr(t + 1, "class=\"xtick\""))
+    xtick_max = fmax(xtick_max, strtod(strchr(t, '>') + 1, NULL));
+  ck_assert_double_lt(xtick_max, (double)trials[3]);
+  char note[96];
+  snprintf(note, sizeof note, "pba continues to %zu trials", trials[3]);
+  ck_assert_uint_eq(count_of(svg, note), 3);
+  ck_assert_ptr_nonnull(strstr(svg, "paper-mlp (43 trials) = paper-qtable (same walk)"));
+  char styles[FIG_POLICIES][96];
+  for (int k = 0; k < 3; ++k) {
+    const char *g = svg_panel(svg, k);
+    const double x0 = svg_attr(g, "data-x0"), y0 = svg_attr(g, "data-y0");
+    const double w = svg_attr(g, "data-w"), h = svg_attr(g, "data-h");
+    const double tmax = svg_attr(g, "data-tmax"), vlo = svg_attr(g, "data-vlo");
+    const double vhi = svg_attr(g, "data-vhi");
+    ck_assert_double_lt(tmax, (double)trials[3]);
+    const double tol_mm = 0.006 * (vhi - vlo) / h + 1e-6, tol_t = 0.06 * tmax / w;
+    for (int p = 0; p < FIG_POLICIES; ++p) {
+      const char *run = js_run(js, object, fig_policy[p], 0);
+      const char *kinds = strstr(run, "\"kind\": [");
+      const size_t n = js_triples(run, "target_link_m", target, ESTIMATE_MAX_TRIALS);
+      ck_assert_uint_eq(js_triples(run, "com_before_m", before, ESTIMATE_MAX_TRIALS), n);
+      ck_assert_uint_eq(n, trials[p]);
+      double com[3];
+      js_vec3(run, "com_m", com);
+      snprintf(pat, sizeof pat, "<polyline class=\"series\" data-series=\"%d\"", p);
+      const char *pl = strstr(g, pat);
+      ck_assert_msg(pl != NULL, "panel %d: no line of %s", k, fig_policy[p]);
+      const char *st = strstr(pl, "stroke=\""), *da = strstr(pl, "stroke-dasharray=\"");
+      char style[96];
+      snprintf(style, sizeof style, "%.8s|%.12s", st + 8, da + 18);
+      if (k == 0) {
+        memcpy(styles[p], style, sizeof style);
+        for (int e = 0; e < p; ++e)
+          ck_assert_msg(strcmp(styles[e], style) != 0, "%s styled as %s", fig_policy[p],
+                        fig_policy[e]);
+      }
+      const char *q = strstr(pl, "points=\"") + 8;
+      size_t i = 0;
+      for (; (double)(i + 1) <= tmax + 1e-9 && i <= n; ++i) {
+        double want;
+        if (i == n) {
+          want = 1e3 * (com[k] - bbox[k]);
+        } else {
+          /* the i-th entry of "kind" */
+          const char *kk = kinds + 9;
+          for (size_t j = 0; j < i; ++j) kk = strchr(kk, ',') + 1;
+          const int is_edge = strncmp(js_ws(kk), "\"edge\"", 6) == 0;
+          want = 1e3 * ((is_edge ? target[i][k] : before[i][k]) - bbox[k]);
+        }
+        char *e;
+        const double xa = strtod(q, &e), ya = strtod(e + 1, &e);
+        const double xb = strtod(e + 1, &e), yb = strtod(e + 1, &e);
+        q = e;
+        const double t = (xa - x0) * tmax / w, v = vlo + (1.0 - (ya - y0) / h) * (vhi - vlo);
+        ck_assert_msg(fabs(t - (double)(i + 1)) <= tol_t, "%s %c point %zu at trial %g",
+                      fig_policy[p], "xyz"[k], i, t);
+        ck_assert_msg(fabs(v - want) <= tol_mm, "%s %c point %zu: %.4f mm drawn, %.4f in the JSON",
+                      fig_policy[p], "xyz"[k], i, v, want);
+        ck_assert_double_eq(ya, yb); /* a step: level until the next trial */
+        ck_assert_double_ge(xb, xa);
+      }
+      ck_assert_int_eq(*q, '"'); /* nothing past the axis end */
+      ck_assert_uint_eq(i, p == 3 ? (size_t)tmax : n + 1);
+    }
+  }
+}
+
+/* The noisy plot read back: one row per noisy run in the JSON's order, each found component's bar
+ * spanning error -+ half width and its point at the error (mm, through the panel's mapping), the
+ * count of intervals that hold the truth as the JSON's numbers give it. */
+static void check_noisy(const char *svg, const char *js, const char *object, int seeds) {
+  for (int k = 0; k < 3; ++k) {
+    const char *g = svg_panel(svg, k);
+    const double x0 = svg_attr(g, "data-x0"), w = svg_attr(g, "data-w");
+    const double vlo = svg_attr(g, "data-vlo"), vhi = svg_attr(g, "data-vhi");
+    const double tol_mm = 0.006 * (vhi - vlo) / w + 1e-6;
+    size_t row = 0, found = 0, hold = 0;
+    for (int p = 0; p < FIG_POLICIES; ++p)
+      for (int s = 1; s <= seeds; ++s, ++row) {
+        const char *run = js_run(js, object, fig_policy[p], s);
+        double err[3], hw[3];
+        js_vec3(run, "error_m", err);
+        js_vec3(run, "halfwidth_m", hw);
+        char pat[64];
+        snprintf(pat, sizeof pat, "<line class=\"bar\" data-row=\"%zu\"", row);
+        const char *bar = strstr(g, pat);
+        const char *next = strstr(g + 1, "<g class=\"panel\"");
+        if (next && bar > next) bar = NULL;
+        if (!isfinite(err[k]) || !isfinite(hw[k])) {
+          ck_assert_msg(bar == NULL, "row %zu %c: a bar for a component not found", row, "xyz"[k]);
+          continue;
+        }
+        ck_assert_msg(bar != NULL, "row %zu %c: no bar", row, "xyz"[k]);
+        ++found;
+        hold += fabs(err[k]) <= hw[k];
+        const double lo = vlo + (svg_attr(bar, "x1") - x0) / w * (vhi - vlo);
+        const double hi = vlo + (svg_attr(bar, "x2") - x0) / w * (vhi - vlo);
+        ck_assert_msg(fabs(lo - 1e3 * (err[k] - hw[k])) <= tol_mm && lo < 1e3 * err[k],
+                      "row %zu %c: bar from %.4f, JSON %.4f", row, "xyz"[k], lo,
+                      1e3 * (err[k] - hw[k]));
+        ck_assert_msg(fabs(hi - 1e3 * (err[k] + hw[k])) <= tol_mm && hi > 1e3 * err[k],
+                      "row %zu %c: bar to %.4f, JSON %.4f", row, "xyz"[k], hi,
+                      1e3 * (err[k] + hw[k]));
+        snprintf(pat, sizeof pat, "<circle class=\"pt\" data-row=\"%zu\"", row);
+        const char *pt = strstr(bar, pat);
+        ck_assert_ptr_nonnull(pt);
+        const double e = vlo + (svg_attr(pt, "cx") - x0) / w * (vhi - vlo);
+        ck_assert_double_eq_tol(e, 1e3 * err[k], tol_mm);
+      }
+    ck_assert_uint_gt(found, 0);
+    ck_assert_double_eq(svg_attr(g, "data-found"), (double)found);
+    ck_assert_double_eq(svg_attr(g, "data-hold"), (double)hold);
+    char head[96];
+    snprintf(head, sizeof head, "%c: %zu of %zu intervals hold the truth", "xyz"[k], hold, found);
+    ck_assert_msg(strstr(svg, head) != NULL, "no '%s'", head);
+  }
+  ck_assert_ptr_nonnull(strstr(svg, "seeds 1..2"));
+}
+
+/* One rock, every policy, two seeds: Fig. 2 and the noisy plot checked against the JSON. */
+START_TEST(cli_experiments_figures) {
+  static char out[1 << 16];
+  char cmd[2048], dir[512], r1[512], path[1024];
+  snprintf(dir, sizeof dir, "%s/out", tmpdir);
+  rock_path("rock_1_uneven", r1, sizeof r1);
+  snprintf(cmd, sizeof cmd, "'%s' experiments '%s' --seeds 2 --out '%s' -q", COMLEARN_BIN, r1, dir);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  snprintf(path, sizeof path, "%s/experiments.json", dir);
+  char *js = test_slurp(path, NULL);
+  snprintf(path, sizeof path, "%s/fig2_rock_1_uneven.svg", dir);
+  char *svg = test_slurp(path, NULL);
+  check_fig2(svg, js, "rock_1_uneven");
+  free(svg);
+  snprintf(path, sizeof path, "%s/noisy.svg", dir);
+  svg = test_slurp(path, NULL);
+  ck_assert_uint_eq(count_of(svg, "<g class=\"panel\""), 3);
+  check_noisy(svg, js, "rock_1_uneven", 2);
+  free(svg);
+  free(js);
+  /* --seeds 0: no noisy runs, no noisy plot */
+  snprintf(dir, sizeof dir, "%s/out0", tmpdir);
+  snprintf(cmd, sizeof cmd, "'%s' experiments '%s' --seeds 0 --policies bisect --out '%s' -q",
+           COMLEARN_BIN, r1, dir);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  snprintf(path, sizeof path, "%s/noisy.svg", dir);
+  ck_assert_int_ne(access(path, F_OK), 0);
+}
+END_TEST
+
 /* --sims 2: two comlearn-sims (channel prefixes R0_, R1_) on one URL, one worker process each,
  * the objects spread over them. Every noiseless run goes over LCM and gives what the serial
  * in-process run gives: the same trials, components found, and CoM (to the 9 printed digits,
@@ -515,6 +778,7 @@ static Suite *suite(void) {
   tcase_add_checked_fixture(tc, setup, teardown);
   tcase_set_timeout(tc, 300);
   tcase_add_test(tc, cli_experiments_outputs);
+  tcase_add_test(tc, cli_experiments_figures);
   tcase_add_test(tc, cli_experiments_sims);
   tcase_add_test(tc, cli_experiments_progress);
   tcase_add_test(tc, cli_bad_input);

@@ -166,8 +166,9 @@ static void usage(FILE *out) {
       "                           per sim: the noiseless runs over LCM, the noisy ones\n"
       "                           in-process; the same results as one sim, 1..16 (default:\n"
       "                           none: --lcm-url's running sim, or in-process)\n"
-      "  --out DIR                write DIR/table.md, DIR/experiments.json and\n"
-      "                           DIR/fig2_<object>.svg (default: no files)\n"
+      "  --out DIR                write DIR/table.md, DIR/experiments.json,\n"
+      "                           DIR/fig2_<object>.svg and, with --seeds > 0, DIR/noisy.svg\n"
+      "                           (default: no files)\n"
       "  --json                   print the JSON on stdout instead of the table (default: off)\n"
       "  -v, --verbose            log debug messages on stderr (default: info)\n"
       "  -q, --quiet              log errors only; no progress (default: one line per run\n"
@@ -819,6 +820,7 @@ static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *r
     snprintf(labels[ns], sizeof labels[ns], "%s (%zu trials)", estimate_policy_name(r->policy),
              r->trials);
     ser[ns].label = labels[ns];
+    ser[ns].name = estimate_policy_name(r->policy);
     ser[ns].n = n;
     ++ns;
   }
@@ -845,6 +847,50 @@ static int write_fig2(const char *path, const exp_opts_t *o, const exp_rock_t *r
   }
   for (size_t s = 0; s < ns; ++s)
     for (int k = 0; k < 3; ++k) free(vals[s][k]);
+  return rc;
+}
+
+/* ---- the noisy runs as a plot ---------------------------------------------------------------- */
+
+/* DIR/noisy.svg: every noisy run's error and 95 % half width per component, in the order of the
+ * JSON's runs (object, policy, seed). Returns 0, or -1 (logged). */
+static int write_noisy(const char *path, const exp_opts_t *o, const exp_rock_t *rocks,
+                       const exp_run_t *runs, size_t nruns) {
+  experiments_svg_interval_t *rows = malloc((nruns ? nruns : 1) * sizeof *rows);
+  if (!rows) {
+    LOG_E("out of memory");
+    return -1;
+  }
+  const char *names[MAX_POLICIES];
+  for (int p = 0; p < o->npolicies; ++p) names[p] = estimate_policy_name(o->policy[p]);
+  size_t n = 0;
+  for (size_t i = 0; i < nruns; ++i) {
+    const exp_run_t *r = &runs[i];
+    if (r->kind != RUN_NOISY) continue;
+    experiments_svg_interval_t *w = &rows[n++];
+    w->group = rocks[r->rock].stem;
+    w->series = 0;
+    for (int p = 0; p < o->npolicies; ++p)
+      if (o->policy[p] == r->policy) w->series = (size_t)p;
+    for (int k = 0; k < 3; ++k) {
+      w->found[k] = r->found[k];
+      w->error_mm[k] = 1e3 * r->error_m[k];
+      w->halfwidth_mm[k] = 1e3 * r->halfwidth_m[k];
+    }
+  }
+  char title[256];
+  snprintf(title, sizeof title,
+           "Noisy runs (placement %.3g mm, pose %.3g mm, seeds 1..%d): error and 95 %% interval "
+           "per component, one row per run",
+           1e3 * o->placement_noise_m, 1e3 * o->pose_noise_m, o->seeds);
+  int rc = -1;
+  FILE *f = fopen(path, "w");
+  if (f) {
+    rc = experiments_svg_intervals(f, title, names, (size_t)o->npolicies, rows, n);
+    if (fclose(f) != 0) rc = -1;
+  }
+  if (rc) LOG_E("%s: %s", path, f ? "write failed" : strerror(errno));
+  free(rows);
   return rc;
 }
 
@@ -1075,7 +1121,8 @@ static int rock_runs(const exp_opts_t *o, exp_rock_t *rk, size_t ri, recorder_t 
   return rc;
 }
 
-/* The report on stdout, then with --out the table, the JSON and one Fig. 2 per object there.
+/* The report on stdout, then with --out the table, the JSON, one Fig. 2 per object and the noisy
+ * plot there.
  * Returns an exit status. */
 static int report_write(const exp_opts_t *o, const exp_rock_t *rocks, size_t nrocks,
                         const exp_run_t *runs, size_t nruns, double *scratch, double wall) {
@@ -1094,6 +1141,10 @@ static int report_write(const exp_opts_t *o, const exp_rock_t *rocks, size_t nro
     snprintf(path, sizeof path, "%s/fig2_%s.svg", o->out_dir, rocks[ri].stem);
     if (write_fig2(path, o, &rocks[ri], ri, runs, nruns) != 0) rc = EXIT_FAILURE;
   }
+  char path[4096];
+  snprintf(path, sizeof path, "%s/noisy.svg", o->out_dir);
+  if (rc == EXIT_SUCCESS && o->seeds > 0 && write_noisy(path, o, rocks, runs, nruns) != 0)
+    rc = EXIT_FAILURE;
   return rc;
 }
 
