@@ -15,6 +15,7 @@
 #include "comlearn/model.h"
 #include "comlearn/model_inertial.h"
 #include "comlearn/stack.h"
+#include "file_test_util.h"
 
 #ifndef COMLEARN_BIN
 #error "COMLEARN_BIN must name the comlearn executable"
@@ -385,18 +386,229 @@ START_TEST(cli_low_max_tilt_plans) {
 }
 END_TEST
 
+/* ---- the --svg picture read back ---- */
+
+/* The number in attribute name="..." of the element at p (before its '>'). */
+static double svg_attr(const char *p, const char *name) {
+  char pat[64];
+  snprintf(pat, sizeof pat, " %s=\"", name);
+  const char *a = strstr(p, pat), *end = strchr(p, '>');
+  ck_assert_msg(a != NULL && a < end, "no %s in %.80s", name, p);
+  return strtod(a + strlen(pat), NULL);
+}
+
+/* The element <TAG class="cls" data-object="i" (or data-level) of an SVG, or NULL. */
+static const char *svg_elem(const char *svg, const char *head, size_t i) {
+  char pat[128];
+  snprintf(pat, sizeof pat, "%s=\"%zu\"", head, i);
+  return strstr(svg, pat);
+}
+
+/* The y range (px) of a polygon element's points; *n the number of points. */
+static void polygon_range(const char *el, double lo[2], double hi[2], size_t *n) {
+  const char *q = strstr(el, "points=\"");
+  ck_assert_ptr_nonnull(q);
+  q += 8;
+  lo[0] = lo[1] = HUGE_VAL;
+  hi[0] = hi[1] = -HUGE_VAL;
+  *n = 0;
+  while (*q != '"') {
+    char *e;
+    const double x = strtod(q, &e), y = strtod(e + 1, &e);
+    lo[0] = fmin(lo[0], x);
+    hi[0] = fmax(hi[0], x);
+    lo[1] = fmin(lo[1], y);
+    hi[1] = fmax(hi[1], y);
+    ++*n;
+    q = *e == ' ' ? e + 1 : e;
+  }
+}
+
+/* n numbers after "key": [ at p (or its first occurrence after p). */
+static void js_nums(const char *p, const char *key, double *v, int n) {
+  char pat[64];
+  snprintf(pat, sizeof pat, "\"%s\": [", key);
+  const char *q = strstr(p, pat);
+  ck_assert_msg(q != NULL, "no %s", key);
+  q += strlen(pat);
+  for (int k = 0; k < n; ++k) {
+    char *e;
+    v[k] = strtod(q, &e);
+    ck_assert_msg(e != q, "bad %s", key);
+    q = e + 1;
+  }
+}
+
+/* What a picture says of one object, checked against the JSON and the URDF. */
+typedef struct {
+  double true_px[2];             /* the true-CoM marker */
+  double plan_lo[2], plan_hi[2]; /* the planned outline's px box */
+  double moved_at_s, displacement_m;
+} pic_object_t;
+
+/* The stack picture at svg against the JSON of the same run (out) for the three uneven rocks:
+ * the title says what the JSON says; every rock named; its true-CoM marker where the final pose
+ * (JSON) puts the URDF CoM, through the picture's own frame; its CoM-used cross where the final
+ * pose puts the believed CoM; its planned outline spanning the planned pose's mesh in x; three
+ * support polygons (B and two contacts). */
+static void check_stack_picture(const char *svg, const char *out, const char *source,
+                                pic_object_t *po) {
+  char want[160];
+  const int stands = json_bool(out, "stands");
+  if (stands)
+    snprintf(want, sizeof want, "%s CoMs: stood %.2f s (drawn: the poses at %.2f s)", source,
+             json_num(out, "seconds_standing"), json_num(out, "sim_time_s"));
+  else
+    snprintf(want, sizeof want, "%s CoMs: fell after %.3f s (drawn: the poses at %.2f s)", source,
+             json_num(out, "seconds_standing"), json_num(out, "sim_time_s"));
+  ck_assert_msg(strstr(svg, want) != NULL, "no caption '%s'", want);
+  ck_assert_double_eq_tol(json_num(out, "sim_time_s"), atof(STACK_TEST_ROCK_SECONDS), 1e-6);
+  const char *fr = strstr(svg, "<g class=\"frame\"");
+  ck_assert_ptr_nonnull(fr);
+  const double sc = svg_attr(fr, "data-scale-px-m"), x0 = svg_attr(fr, "data-x0-m");
+  const double z0 = svg_attr(fr, "data-z0-m"), ox = svg_attr(fr, "data-ox-px");
+  const double oy = svg_attr(fr, "data-oy-px");
+  const char *obj = strstr(out, "\"objects\": [");
+  for (size_t i = 0; i < 3; ++i) {
+    obj = strstr(obj + 1, "{\"urdf\": ");
+    ck_assert_ptr_nonnull(obj);
+    char urdf[512], name[64];
+    snprintf(name, sizeof name, "rock_%zu_uneven", i + 1);
+    snprintf(urdf, sizeof urdf, "%s/rocks/%s.urdf", COMLEARN_ASSETS_DIR, name);
+    double pos[3], q[4], fpos[3], fq[4], used[3];
+    js_nums(obj, "position_m", pos, 3);
+    js_nums(obj, "orientation_wxyz", q, 4);
+    const char *fin = strstr(obj, "\"final_pose\": ");
+    ck_assert_ptr_nonnull(fin);
+    js_nums(fin, "position_m", fpos, 3);
+    js_nums(fin, "orientation_wxyz", fq, 4);
+    js_nums(obj, "com_m", used, 3);
+    po[i].moved_at_s = json_num(obj, "moved_at_s");
+    po[i].displacement_m = json_num(obj, "displacement_m");
+    /* the name */
+    char label[160];
+    snprintf(label, sizeof label, "data-object=\"%zu\"", i);
+    const char *nm = strstr(svg, "<text class=\"name\" ");
+    for (; nm && strncmp(strstr(nm, "data-object=\""), label, strlen(label)) != 0;
+         nm = strstr(nm + 1, "<text class=\"name\" "))
+      ;
+    ck_assert_msg(nm != NULL, "no name label of object %zu", i);
+    ck_assert_msg(strncmp(strchr(nm, '>') + 1, name, strlen(name)) == 0, "object %zu named %.20s",
+                  i, strchr(nm, '>') + 1);
+    /* the true CoM at the final pose, and the CoM used */
+    model_mass_t truth;
+    ck_assert_int_eq(model_inertial_load(urdf, NULL, &truth, NULL), MODEL_OK);
+    const char *marks[2] = {"<circle class=\"com-true\" ", "<path class=\"com-used\" "};
+    const double *link[2] = {truth.com_m, used};
+    for (int m = 0; m < 2; ++m) {
+      double w[3], d[3];
+      cl_quat_rotate(fq, link[m], w);
+      for (int k = 0; k < 3; ++k) w[k] += fpos[k];
+      const char *el = strstr(svg, marks[m]);
+      while (el && strncmp(strstr(el, "data-object=\""), label, strlen(label)) != 0)
+        el = strstr(el + 1, marks[m]);
+      ck_assert_msg(el != NULL, "object %zu: no %s", i, marks[m]);
+      sscanf(strstr(el, "data-world-m=\"") + 14, "%lf %lf %lf", &d[0], &d[1], &d[2]);
+      for (int k = 0; k < 3; ++k)
+        ck_assert_msg(fabs(d[k] - w[k]) <= 2e-6, "object %zu %s %c: %.6f drawn, %.6f from the JSON",
+                      i, marks[m], "xyz"[k], d[k], w[k]);
+      if (m == 0) {
+        po[i].true_px[0] = svg_attr(el, "cx");
+        po[i].true_px[1] = svg_attr(el, "cy");
+        ck_assert_double_eq_tol(po[i].true_px[0], ox + sc * (w[0] - x0), 0.02);
+        ck_assert_double_eq_tol(po[i].true_px[1], oy - sc * (w[2] - z0), 0.02);
+      }
+    }
+    /* the planned outline spans the planned pose's mesh */
+    model_object_t geo = {0};
+    ck_assert_int_eq(model_object_load(urdf, NULL, &geo, NULL), MODEL_OK);
+    double xlo = HUGE_VAL, xhi = -HUGE_VAL;
+    for (size_t v = 0; v < geo.mesh.vertex_count; ++v) {
+      double w[3];
+      cl_quat_rotate(q, geo.mesh.vertices_m[v], w);
+      xlo = fmin(xlo, w[0] + pos[0]);
+      xhi = fmax(xhi, w[0] + pos[0]);
+    }
+    model_object_free(&geo);
+    const char *pl = strstr(svg, "<polygon class=\"planned\" ");
+    while (pl && strncmp(strstr(pl, "data-object=\""), label, strlen(label)) != 0)
+      pl = strstr(pl + 1, "<polygon class=\"planned\" ");
+    ck_assert_msg(pl != NULL, "object %zu: no planned outline", i);
+    size_t np = 0;
+    polygon_range(pl, po[i].plan_lo, po[i].plan_hi, &np);
+    ck_assert_uint_ge(np, 8);
+    ck_assert_double_eq_tol(po[i].plan_lo[0], ox + sc * (xlo - x0), 0.06);
+    ck_assert_double_eq_tol(po[i].plan_hi[0], ox + sc * (xhi - x0), 0.06);
+  }
+  for (size_t k = 0; k < 3; ++k) {
+    const char *sp = svg_elem(svg, "class=\"support\" data-level", k);
+    ck_assert_msg(sp != NULL, "no support polygon at level %zu", k);
+    ck_assert_double_ge(svg_attr(sp, "data-points"), 3.0);
+  }
+  ck_assert_ptr_null(svg_elem(svg, "class=\"support\" data-level", 3));
+}
+
+/* --com bbox on the uneven rocks: the stack falls (docs/stack.md, 0.061 s); the picture is the
+ * end of the run, so the rock that fell is drawn lower than planned: its true CoM below its whole
+ * planned outline; the bottom rock, which did not move, inside its own. */
+START_TEST(cli_stack_picture_bbox_falls) {
+  char cmd[2048], svg_path[512];
+  static char out[65536];
+  snprintf(svg_path, sizeof svg_path, "%s/bbox.svg", tmpdir);
+  snprintf(cmd, sizeof cmd,
+           "'%s' stack -q --json --com bbox --duration-s %s --svg '%s' "
+           "'%s/rocks/rock_1_uneven.urdf' '%s/rocks/rock_2_uneven.urdf' "
+           "'%s/rocks/rock_3_uneven.urdf'",
+           COMLEARN_BIN, STACK_TEST_ROCK_SECONDS, svg_path, COMLEARN_ASSETS_DIR,
+           COMLEARN_ASSETS_DIR, COMLEARN_ASSETS_DIR);
+  ck_assert_int_eq(run(cmd, out, sizeof out), 0);
+  ck_assert(!json_bool(out, "stands"));
+  char *svg = test_slurp(svg_path, NULL);
+  pic_object_t po[3];
+  check_stack_picture(svg, out, "bbox", po);
+  size_t fell = 0, still = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (po[i].moved_at_s >= 0.0 && po[i].displacement_m > 0.03) {
+      ck_assert_msg(po[i].true_px[1] > po[i].plan_hi[1],
+                    "object %d fell but is drawn at %.1f px, "
+                    "its plan down to %.1f px",
+                    i, po[i].true_px[1], po[i].plan_hi[1]);
+      ++fell;
+    }
+    if (po[i].moved_at_s < 0.0) {
+      ck_assert(po[i].true_px[1] > po[i].plan_lo[1] && po[i].true_px[1] < po[i].plan_hi[1]);
+      ++still;
+    }
+  }
+  ck_assert_uint_ge(fell, 1);
+  ck_assert_uint_ge(still, 1);
+  free(svg);
+}
+END_TEST
+
 START_TEST(cli_rocks_true_and_learned_stand) {
   char cmd[2048];
   static char out[65536];
   const char *src[2] = {"true", "learned"};
   for (int s = 0; s < 2; ++s) {
+    char svg_path[512];
+    snprintf(svg_path, sizeof svg_path, "%s/%s.svg", tmpdir, src[s]);
     snprintf(cmd, sizeof cmd,
-             "'%s' stack -q --json --com %s --duration-s %s '%s/rocks/rock_1_uneven.urdf' "
-             "'%s/rocks/rock_2_uneven.urdf' '%s/rocks/rock_3_uneven.urdf'",
-             COMLEARN_BIN, src[s], STACK_TEST_ROCK_SECONDS, COMLEARN_ASSETS_DIR,
+             "'%s' stack -q --json --com %s --duration-s %s --svg '%s' "
+             "'%s/rocks/rock_1_uneven.urdf' '%s/rocks/rock_2_uneven.urdf' "
+             "'%s/rocks/rock_3_uneven.urdf'",
+             COMLEARN_BIN, src[s], STACK_TEST_ROCK_SECONDS, svg_path, COMLEARN_ASSETS_DIR,
              COMLEARN_ASSETS_DIR, COMLEARN_ASSETS_DIR);
     ck_assert_int_eq(run(cmd, out, sizeof out), 0);
     check_rock_stack_json(out, src[s]);
+    /* the picture of a stack that stood: every true CoM inside its planned outline */
+    char *svg = test_slurp(svg_path, NULL);
+    pic_object_t po[3];
+    check_stack_picture(svg, out, src[s], po);
+    for (int i = 0; i < 3; ++i)
+      ck_assert(po[i].true_px[1] > po[i].plan_lo[1] && po[i].true_px[1] < po[i].plan_hi[1] &&
+                po[i].true_px[0] > po[i].plan_lo[0] && po[i].true_px[0] < po[i].plan_hi[0]);
+    free(svg);
     if (s == 0) {
       /* the oracle's half widths are 0; the learned ones below 1 mm and not 0 */
       ck_assert(json_bool(out, "oracle"));
@@ -485,6 +697,7 @@ int main(void) {
   tcase_add_test(cli, cli_bad_input);
   tcase_add_test(cli, cli_boxes_table_and_bbox);
   tcase_add_test(cli, cli_rocks_true_and_learned_stand);
+  tcase_add_test(cli, cli_stack_picture_bbox_falls);
   tcase_add_test(cli, cli_random_triple_twist_regression);
   tcase_add_test(cli, cli_low_max_tilt_plans);
   tcase_add_test(cli, rehearse_exact_beliefs_is_the_truth);

@@ -64,7 +64,8 @@ static void usage(FILE *out) {
       "                     (default: rehearse each plan in simulation on the believed\n"
       "                     CoMs and mass guesses before the real run)\n"
       "  --duration-s S     simulated time the stack must stand, 0.01..600 (default: 5)\n"
-      "  --svg FILE         write a side view of the stack after the simulation\n"
+      "  --svg FILE         write a side view of the stack as the simulation left it, over\n"
+      "                     the planned poses (default: none)\n"
       "  --json             print one JSON object on stdout (default: a table)\n"
       "  -v, --verbose      log debug messages on stderr (default: info)\n"
       "  -q, --quiet        log errors only (default: info, progress lines on stderr)\n"
@@ -231,6 +232,10 @@ static void print_json(const belief_t *bel, size_t n, stack_com_source_t src,
     cli_json_array(stdout, plan->pose[i].position_m, 3);
     printf(", \"orientation_wxyz\": ");
     cli_json_array(stdout, plan->pose[i].orientation_wxyz, 4);
+    printf("}, \"final_pose\": {\"position_m\": ");
+    cli_json_array(stdout, sim->object[i].final_pose.position_m, 3);
+    printf(", \"orientation_wxyz\": ");
+    cli_json_array(stdout, sim->object[i].final_pose.orientation_wxyz, 4);
     printf("}, \"moved_at_s\": ");
     cli_json_number(stdout, sim->object[i].moved_at_s);
     printf(", \"displacement_m\": ");
@@ -559,6 +564,7 @@ static int simulate_truth(const belief_t *bel, size_t n, double duration_s,
   balance_stack_config_t sc;
   balance_stack_config_default(&sc);
   sc.duration_s = duration_s;
+  sc.run_to_end = 1; /* a fallen stack runs on too: the picture and final_pose show the end */
   LOG_I("simulating the stack for %.2f s with the true mass properties", duration_s);
   const double t0 = cli_time_now_s();
   const stack_status_t st = stack_simulate(paths, n, plan, NULL, &sc, sim);
@@ -570,23 +576,46 @@ static int simulate_truth(const belief_t *bel, size_t n, double duration_s,
   return 0;
 }
 
-/* --svg: the side view of the planned poses with the believed CoMs. Returns 0, or -1 (logged). */
+/* The name of a URDF for the picture: its file name without ".urdf". */
+static void urdf_stem(const char *path, char *out, size_t size) {
+  const char *b = strrchr(path, '/');
+  b = b ? b + 1 : path;
+  size_t n = strlen(b);
+  if (n > 5 && strcmp(b + n - 5, ".urdf") == 0) n -= 5;
+  snprintf(out, size, "%.*s", (int)n, b);
+}
+
+/* --svg: the stack as the simulation left it over the planned poses, each object named with its
+ * true CoM (the URDF <inertial>, read here for the picture only, as stack_simulate reads it) and
+ * the CoM the plan used, and the plan's support polygons. Returns 0, or -1 (logged). */
 static int write_picture(const stack_args_t *a, const belief_t *bel, size_t n,
                          const stack_plan_t *plan, const stack_sim_result_t *sim) {
-  const model_mesh_t *meshes[STACK_MAX_OBJECTS];
-  double coms[STACK_MAX_OBJECTS][3];
+  stack_svg_object_t obj[STACK_MAX_OBJECTS];
+  char names[STACK_MAX_OBJECTS][128];
   for (size_t i = 0; i < n; ++i) {
-    meshes[i] = &bel[i].geo.mesh;
-    memcpy(coms[i], bel[i].com_m, sizeof coms[i]);
+    model_error_t merr = {{0}};
+    model_mass_t truth;
+    const model_status_t ms = model_inertial_load(bel[i].urdf, NULL, &truth, &merr);
+    if (ms != MODEL_OK) {
+      LOG_E("--svg: %s (%s)", merr.msg[0] ? merr.msg : bel[i].urdf, model_status_str(ms));
+      return -1;
+    }
+    urdf_stem(bel[i].urdf, names[i], sizeof names[i]);
+    obj[i] = (stack_svg_object_t){.mesh_link = &bel[i].geo.mesh,
+                                  .name = names[i],
+                                  .planned = plan->pose[i],
+                                  .final = sim->object[i].final_pose};
+    memcpy(obj[i].com_used_m, bel[i].com_m, sizeof obj[i].com_used_m);
+    memcpy(obj[i].com_true_m, truth.com_m, sizeof obj[i].com_true_m);
   }
-  char title[160];
+  char title[200];
   if (sim->run.stands)
-    snprintf(title, sizeof title, "%s CoMs: stands %.1f s", stack_com_source_str(a->src),
-             a->duration_s);
+    snprintf(title, sizeof title, "%s CoMs: stood %.2f s (drawn: the poses at %.2f s)",
+             stack_com_source_str(a->src), sim->run.seconds_standing, sim->run.sim_time_s);
   else
-    snprintf(title, sizeof title, "%s CoMs: fell after %.2f s", stack_com_source_str(a->src),
-             sim->run.seconds_standing);
-  if (stack_svg_write(a->svg, meshes, plan->pose, (const double(*)[3])coms, n, title) != 0) {
+    snprintf(title, sizeof title, "%s CoMs: fell after %.3f s (drawn: the poses at %.2f s)",
+             stack_com_source_str(a->src), sim->run.seconds_standing, sim->run.sim_time_s);
+  if (stack_svg_write_run(a->svg, obj, n, plan->order, stack_com_source_str(a->src), title) != 0) {
     LOG_E("--svg %s: %s", a->svg, strerror(errno));
     return -1;
   }

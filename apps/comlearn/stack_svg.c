@@ -150,7 +150,7 @@ static int face_of(const double *a, const double *b, const double *c, size_t i, 
 /* World vertices, visible faces (sorted far to near), bounds. Returns 0 or -1 (ENOMEM; s is
  * freed). */
 static int scene_build(const model_mesh_t *const *meshes, const model_pose_t *poses, size_t count,
-                       double (*rot)[3][3], scene_t *s) {
+                       double (*rot)[3][3], const unsigned char *skip, scene_t *s) {
   size_t total_v = 0, total_t = 0;
   for (size_t i = 0; i < count; ++i) {
     total_v += meshes[i]->vertex_count;
@@ -173,6 +173,10 @@ static int scene_build(const model_mesh_t *const *meshes, const model_pose_t *po
   for (size_t i = 0; i < count; ++i) {
     const model_mesh_t *m = meshes[i];
     s->first[i] = base;
+    if (skip != NULL && skip[i]) { /* not drawn: no faces, no bounds */
+      base += m->vertex_count;
+      continue;
+    }
     for (size_t v = 0; v < m->vertex_count; ++v) {
       double *w = s->world[base + v];
       to_world((const double(*)[3])rot[i], poses[i].position_m, m->vertices_m[v], w);
@@ -198,7 +202,7 @@ static int scene_build(const model_mesh_t *const *meshes, const model_pose_t *po
 
 /* Frame: fit the objects (and B's top) into the width; z = 0 at a fixed distance above the
  * bottom band. *height_px: the picture's height. */
-static void frame_fit(const scene_t *s, frame_t *fr, double *height_px) {
+static void frame_fit(const scene_t *s, double extra_below_px, frame_t *fr, double *height_px) {
   double span_x = s->hi[0] - s->lo[0], span_z = s->hi[1] - s->lo[1];
   if (!(span_x >= kMinSpanX_m)) span_x = kMinSpanX_m;
   if (!(span_z > 0.01)) span_z = 0.01;
@@ -209,7 +213,7 @@ static void frame_fit(const scene_t *s, frame_t *fr, double *height_px) {
   fr->ox_px = 0.5 * kWidth_px;
   const double draw_h = fr->scale_px_m * (s->hi[1] - s->lo[1]);
   fr->oy_px = kTitle_px + kMargin_px * 0.5 + draw_h;
-  *height_px = fr->oy_px + kBelow_px + 20.0;
+  *height_px = fr->oy_px + kBelow_px + 20.0 + extra_below_px;
 }
 
 /* The XML and svg headers, one CSS class per (tint, shade) used, background and title. */
@@ -303,10 +307,10 @@ static int render(FILE *f, const model_mesh_t *const *meshes, const model_pose_t
                   const double (*com_link_m)[3], size_t count, const char *title,
                   double (*rot)[3][3]) {
   scene_t s;
-  if (scene_build(meshes, poses, count, rot, &s) != 0) return -1;
+  if (scene_build(meshes, poses, count, rot, NULL, &s) != 0) return -1;
   frame_t fr;
   double height;
-  frame_fit(&s, &fr, &height);
+  frame_fit(&s, 0.0, &fr, &height);
   svg_head(f, height, (const unsigned char(*)[SHADE_LEVELS])s.used, title);
   const double top_px = px_y(&fr, 0.0);
   svg_support(f, top_px);
@@ -326,38 +330,22 @@ static int render(FILE *f, const model_mesh_t *const *meshes, const model_pose_t
   return 0;
 }
 
-int stack_svg_write(const char *path, const model_mesh_t *const *meshes_link,
-                    const model_pose_t *poses, const double (*com_link_m)[3], size_t count,
-                    const char *title) {
-  if (path == NULL || path[0] == '\0' || meshes_link == NULL || poses == NULL || count == 0 ||
-      count > STACK_MAX_OBJECTS) {
-    errno = EINVAL;
-    return -1;
-  }
-  double rot[STACK_MAX_OBJECTS][3][3];
-  for (size_t i = 0; i < count; ++i) {
-    const model_mesh_t *m = meshes_link[i];
-    if (m == NULL || m->vertices_m == NULL || m->triangles == NULL || m->vertex_count == 0 ||
-        m->triangle_count == 0 || !pose_rot(&poses[i], rot[i]) ||
-        (com_link_m != NULL && !finite3(com_link_m[i]))) {
-      errno = EINVAL;
-      return -1;
-    }
-    for (size_t v = 0; v < m->vertex_count; ++v) {
-      if (!finite3(m->vertices_m[v])) {
-        errno = EINVAL;
-        return -1;
-      }
-    }
-    for (size_t t = 0; t < m->triangle_count; ++t) {
-      for (int k = 0; k < 3; ++k) {
-        if (m->triangles[t][k] >= m->vertex_count) {
-          errno = EINVAL;
-          return -1;
-        }
-      }
-    }
-  }
+/* A mesh the picture can draw: vertices finite, triangle indices in range. */
+static int mesh_ok(const model_mesh_t *m) {
+  if (m == NULL || m->vertices_m == NULL || m->triangles == NULL || m->vertex_count == 0 ||
+      m->triangle_count == 0)
+    return 0;
+  for (size_t v = 0; v < m->vertex_count; ++v)
+    if (!finite3(m->vertices_m[v])) return 0;
+  for (size_t t = 0; t < m->triangle_count; ++t)
+    for (int k = 0; k < 3; ++k)
+      if (m->triangles[t][k] >= m->vertex_count) return 0;
+  return 1;
+}
+
+/* The picture as body(f, ctx) writes it, into PATH.tmp, then renamed over path. Returns 0 or -1
+ * with errno (PATH.tmp removed). */
+static int write_via_tmp(const char *path, int (*body)(FILE *, const void *), const void *ctx) {
   char tmp[4096];
   if ((size_t)snprintf(tmp, sizeof tmp, "%s.tmp", path) >= sizeof tmp) {
     errno = ENAMETOOLONG;
@@ -366,7 +354,7 @@ int stack_svg_write(const char *path, const model_mesh_t *const *meshes_link,
   FILE *f = fopen(tmp, "w");
   if (f == NULL) return -1;
   errno = 0;
-  int rc = render(f, meshes_link, poses, com_link_m, count, title, rot);
+  int rc = body(f, ctx);
   int err = errno;
   if (rc == 0 && ferror(f)) {
     rc = -1;
@@ -385,4 +373,403 @@ int stack_svg_write(const char *path, const model_mesh_t *const *meshes_link,
     errno = err != 0 ? err : EIO;
   }
   return rc;
+}
+
+typedef struct {
+  const model_mesh_t *const *meshes;
+  const model_pose_t *poses;
+  const double (*com)[3];
+  size_t count;
+  const char *title;
+  double (*rot)[3][3];
+} plain_args_t;
+
+static int plain_body(FILE *f, const void *ctx) {
+  const plain_args_t *a = ctx;
+  return render(f, a->meshes, a->poses, a->com, a->count, a->title, a->rot);
+}
+
+int stack_svg_write(const char *path, const model_mesh_t *const *meshes_link,
+                    const model_pose_t *poses, const double (*com_link_m)[3], size_t count,
+                    const char *title) {
+  if (path == NULL || path[0] == '\0' || meshes_link == NULL || poses == NULL || count == 0 ||
+      count > STACK_MAX_OBJECTS) {
+    errno = EINVAL;
+    return -1;
+  }
+  double rot[STACK_MAX_OBJECTS][3][3];
+  for (size_t i = 0; i < count; ++i) {
+    if (!mesh_ok(meshes_link[i]) || !pose_rot(&poses[i], rot[i]) ||
+        (com_link_m != NULL && !finite3(com_link_m[i]))) {
+      errno = EINVAL;
+      return -1;
+    }
+  }
+  const plain_args_t a = {meshes_link, poses, com_link_m, count, title, rot};
+  return write_via_tmp(path, plain_body, &a);
+}
+
+/* ---- the stack after its simulation (stack_svg_write_run) ------------------------------------ */
+
+static const double kContactTol_m = 5e-6; /* a vertex on the other's surface (poses: 1 um deep) */
+static const double kOffB_m = 0.05;       /* lowest point this far below B's top: fell off B */
+static const double kRunLegend_px = 50.0; /* the second and third legend rows */
+
+typedef struct {
+  const stack_svg_object_t *obj;
+  size_t count;
+  const size_t *order;
+  const char *com_label, *title;
+  double (*rot_final)[3][3];
+  double (*rot_plan)[3][3];
+} run_args_t;
+
+/* Whether world point p lies within kContactTol_m of triangle (a, b, c), over its interior. */
+static int near_triangle(const double *p, const double *a, const double *b, const double *c) {
+  double e1[3], e2[3], d[3], n[3];
+  for (int k = 0; k < 3; ++k) {
+    e1[k] = b[k] - a[k];
+    e2[k] = c[k] - a[k];
+    d[k] = p[k] - a[k];
+  }
+  n[0] = e1[1] * e2[2] - e1[2] * e2[1];
+  n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+  n[2] = e1[0] * e2[1] - e1[1] * e2[0];
+  const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  if (!(nn > 0.0)) return 0;
+  const double h = (d[0] * n[0] + d[1] * n[1] + d[2] * n[2]) / sqrt(nn);
+  if (fabs(h) > kContactTol_m) return 0;
+  /* barycentric coordinates of the projection */
+  const double d11 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
+  const double d12 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+  const double d22 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+  const double p1 = d[0] * e1[0] + d[1] * e1[1] + d[2] * e1[2];
+  const double p2 = d[0] * e2[0] + d[1] * e2[1] + d[2] * e2[2];
+  const double den = d11 * d22 - d12 * d12;
+  if (!(den > 0.0)) return 0;
+  const double u = (d22 * p1 - d12 * p2) / den, v = (d11 * p2 - d12 * p1) / den;
+  const double eps = 1e-6;
+  return u >= -eps && v >= -eps && u + v <= 1.0 + eps;
+}
+
+/* The (x, z) of the vertices of mesh a (world wa) within kContactTol_m of mesh b's surface (world
+ * wb), appended at pts[*n]. */
+static void touching(const model_mesh_t *a, const double (*wa)[3], const model_mesh_t *b,
+                     const double (*wb)[3], double (*pts)[2], size_t *n) {
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (size_t v = 0; v < b->vertex_count; ++v)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = fmin(lo[k], wb[v][k] - kContactTol_m);
+      hi[k] = fmax(hi[k], wb[v][k] + kContactTol_m);
+    }
+  for (size_t v = 0; v < a->vertex_count; ++v) {
+    const double *p = wa[v];
+    if (p[0] < lo[0] || p[0] > hi[0] || p[1] < lo[1] || p[1] > hi[1] || p[2] < lo[2] ||
+        p[2] > hi[2])
+      continue;
+    for (size_t t = 0; t < b->triangle_count; ++t) {
+      const uint32_t *tri = b->triangles[t];
+      if (near_triangle(p, wb[tri[0]], wb[tri[1]], wb[tri[2]])) {
+        pts[*n][0] = p[0];
+        pts[*n][1] = p[2];
+        ++*n;
+        break;
+      }
+    }
+  }
+}
+
+/* Every object's vertices at its planned pose (object i from first[i]), or NULL (ENOMEM). */
+static double (*planned_world(const run_args_t *a, const size_t *first, size_t total))[3] {
+  double(*w)[3] = malloc((total ? total : 1) * sizeof *w);
+  if (w == NULL) return NULL;
+  for (size_t i = 0; i < a->count; ++i) {
+    const model_mesh_t *m = a->obj[i].mesh_link;
+    for (size_t v = 0; v < m->vertex_count; ++v)
+      to_world((const double(*)[3])a->rot_plan[i], a->obj[i].planned.position_m, m->vertices_m[v],
+               w[first[i] + v]);
+  }
+  return w;
+}
+
+/* A polygon of (x, z) points in px, with a class and the data attributes given. */
+static void svg_polygon(FILE *f, const frame_t *fr, const double (*pts)[2], size_t n,
+                        const char *attrs) {
+  fprintf(f, "<polygon %s points=\"", attrs);
+  for (size_t j = 0; j < n; ++j)
+    fprintf(f, "%s%.1f,%.1f", j ? " " : "", px_x(fr, pts[j][0]), px_y(fr, pts[j][1]));
+  fprintf(f, "\"/>\n");
+}
+
+/* Planned poses as dashed outlines: the convex hull of each object's vertices seen along +y. */
+static void svg_planned(FILE *f, const run_args_t *a, const frame_t *fr, const double (*pw)[3],
+                        const size_t *first, double (*pts)[2], double (*hull)[2]) {
+  for (size_t i = 0; i < a->count; ++i) {
+    const size_t nv = a->obj[i].mesh_link->vertex_count;
+    for (size_t v = 0; v < nv; ++v) {
+      pts[v][0] = pw[first[i] + v][0];
+      pts[v][1] = pw[first[i] + v][2];
+    }
+    const size_t nh = model_polygon_hull(pts, nv, hull);
+    char attrs[160];
+    snprintf(attrs, sizeof attrs,
+             "class=\"planned\" data-object=\"%zu\" fill=\"none\" stroke=\"#5a5a5a\" "
+             "stroke-width=\"1.3\" stroke-dasharray=\"5 3\"",
+             i);
+    svg_polygon(f, fr, (const double(*)[2])hull, nh, attrs);
+  }
+}
+
+/* The plan's support polygons at the planned poses: order[0] on B (its vertices within
+ * kContactTol_m of z = 0), order[k] on order[k - 1] (the vertices of either within kContactTol_m
+ * of the other's convex hull: the planner's faces are hull faces, which may bridge the lumps of a
+ * rounded surface), each the convex hull of those points seen from the side. Returns 0, or -1
+ * (errno ENOMEM, or EINVAL for a mesh without a convex hull). */
+static int svg_supports(FILE *f, const run_args_t *a, const frame_t *fr, const double (*pw)[3],
+                        const size_t *first, double (*pts)[2], double (*hull)[2]) {
+  model_mesh_t hl[STACK_MAX_OBJECTS];
+  double(*hw[STACK_MAX_OBJECTS])[3];
+  memset(hl, 0, sizeof hl);
+  memset(hw, 0, sizeof hw);
+  int rc = 0, err = ENOMEM;
+  for (size_t i = 0; i < a->count && a->order != NULL && rc == 0; ++i) {
+    const model_status_t ms = model_mesh_hull(a->obj[i].mesh_link, &hl[i], NULL);
+    if (ms != MODEL_OK && ms != MODEL_E_NOMEM) err = EINVAL; /* a mesh without a hull */
+    rc = ms == MODEL_OK ? 0 : -1;
+    hw[i] = rc == 0 ? malloc(hl[i].vertex_count * sizeof *hw[i]) : NULL;
+    if (hw[i] == NULL) rc = -1;
+    for (size_t v = 0; rc == 0 && v < hl[i].vertex_count; ++v)
+      to_world((const double(*)[3])a->rot_plan[i], a->obj[i].planned.position_m,
+               hl[i].vertices_m[v], hw[i][v]);
+  }
+  for (size_t k = 0; a->order != NULL && rc == 0 && k < a->count; ++k) {
+    const size_t up = a->order[k];
+    const model_mesh_t *mu = a->obj[up].mesh_link;
+    size_t n = 0;
+    if (k == 0) {
+      for (size_t v = 0; v < mu->vertex_count; ++v) {
+        const double *p = pw[first[up] + v];
+        if (p[2] > kContactTol_m) continue;
+        pts[n][0] = p[0];
+        pts[n][1] = p[2];
+        ++n;
+      }
+    } else {
+      const size_t lo = a->order[k - 1];
+      const model_mesh_t *ml = a->obj[lo].mesh_link;
+      touching(mu, pw + first[up], &hl[lo], (const double(*)[3])hw[lo], pts, &n);
+      touching(ml, pw + first[lo], &hl[up], (const double(*)[3])hw[up], pts, &n);
+    }
+    if (n == 0) continue;
+    char attrs[200];
+    snprintf(attrs, sizeof attrs,
+             "class=\"support\" data-level=\"%zu\" data-points=\"%zu\" fill=\"#19a34a\" "
+             "fill-opacity=\"0.35\" stroke=\"#0b7a33\" stroke-width=\"3\" "
+             "stroke-linejoin=\"round\"",
+             k, n);
+    const size_t nh = model_polygon_hull(pts, n, hull);
+    svg_polygon(f, fr, (const double(*)[2])hull, nh, attrs);
+  }
+  for (size_t i = 0; i < a->count; ++i) {
+    model_mesh_free(&hl[i]);
+    free(hw[i]);
+  }
+  if (rc != 0) errno = err;
+  return rc;
+}
+
+/* A label's box in px, to keep labels apart. */
+typedef struct {
+  double x0, y0, x1, y1;
+} box_t;
+
+static int boxes_meet(const box_t *a, const box_t *b) {
+  return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
+}
+
+/* The true CoM (a ringed dot) and the CoM the plan used (a red cross, over the dot) of object i
+ * at its final pose, and its name beside it: right of the object (x_m[1]), or left of it (x_m[0])
+ * when that would leave the picture, moved down past the labels already placed (placed[0..i)). */
+static void svg_object_marks(FILE *f, const run_args_t *a, size_t i, const frame_t *fr,
+                             const double x_m[2], box_t *placed, size_t *nplaced) {
+  const stack_svg_object_t *o = &a->obj[i];
+  const char *name = o->name ? o->name : "object";
+  double wt[3], wu[3];
+  to_world((const double(*)[3])a->rot_final[i], o->final.position_m, o->com_true_m, wt);
+  to_world((const double(*)[3])a->rot_final[i], o->final.position_m, o->com_used_m, wu);
+  fprintf(f,
+          "<circle class=\"com-true\" data-object=\"%zu\" data-world-m=\"%.9g %.9g %.9g\" "
+          "cx=\"%.2f\" cy=\"%.2f\" r=\"4\" fill=\"#111\" stroke=\"#fff\" stroke-width=\"1.5\"/>\n",
+          i, wt[0], wt[1], wt[2], px_x(fr, wt[0]), px_y(fr, wt[2]));
+  const double ux = px_x(fr, wu[0]), uy = px_y(fr, wu[2]), r = 6.0;
+  fprintf(f,
+          "<path class=\"com-used\" data-object=\"%zu\" data-world-m=\"%.9g %.9g %.9g\" "
+          "d=\"M%.1f %.1fL%.1f %.1fM%.1f %.1fL%.1f %.1f\" stroke=\"#d4001f\" stroke-width=\"2\" "
+          "fill=\"none\"/>\n",
+          i, wu[0], wu[1], wu[2], ux - r, uy - r, ux + r, uy + r, ux - r, uy + r, ux + r, uy - r);
+  const double w = 7.0 * (double)strlen(name); /* about 7 px per character at 12 px */
+  box_t b = {px_x(fr, x_m[1]) + 6.0, px_y(fr, wt[2]) - 8.0, 0.0, 0.0};
+  int end = 0;
+  if (b.x0 + w > kWidth_px - 4.0) {
+    b.x0 = px_x(fr, x_m[0]) - 6.0 - w;
+    end = 1;
+  }
+  if (b.x0 < 4.0) b.x0 = 4.0, end = 0;
+  b.x1 = b.x0 + w;
+  b.y1 = b.y0 + 14.0;
+  for (int moved = 1, guard = 0; moved && guard < 16; ++guard) {
+    moved = 0;
+    for (size_t k = 0; k < *nplaced; ++k)
+      if (boxes_meet(&b, &placed[k])) {
+        b.y0 = placed[k].y1 + 1.0;
+        b.y1 = b.y0 + 14.0;
+        moved = 1;
+      }
+  }
+  placed[(*nplaced)++] = b;
+  fprintf(f,
+          "<text class=\"name\" data-object=\"%zu\" x=\"%.1f\" y=\"%.1f\" font-size=\"12\"%s "
+          "stroke=\"#fbfaf7\" stroke-width=\"3\" paint-order=\"stroke\">",
+          i, end ? b.x1 : b.x0, b.y0 + 12.0, end ? " text-anchor=\"end\"" : "");
+  xml_text(f, name);
+  fprintf(f, "</text>\n");
+}
+
+/* The legend rows under B: what each mark means; objects that fell off B by name. */
+static void svg_run_legend(FILE *f, const run_args_t *a, double top_px, const unsigned char *off) {
+  const double y1 = top_px + 48.0, y2 = top_px + 70.0, x = kMargin_px;
+  fprintf(f,
+          "<path d=\"M%.1f %.1fh22\" stroke=\"#5a5a5a\" stroke-width=\"1.3\" "
+          "stroke-dasharray=\"5 3\"/><text x=\"%.1f\" y=\"%.1f\" font-size=\"12\">planned "
+          "(release) pose</text>\n",
+          x, y1 - 4.0, x + 28.0, y1);
+  fprintf(f,
+          "<rect x=\"%.1f\" y=\"%.1f\" width=\"22\" height=\"6\" fill=\"#19a34a\" "
+          "fill-opacity=\"0.35\" stroke=\"#0b7a33\" stroke-width=\"2\"/><text x=\"%.1f\" "
+          "y=\"%.1f\" font-size=\"12\">support polygon of the plan (side view)</text>\n",
+          x + 170.0, y1 - 7.0, x + 198.0, y1);
+  fprintf(f,
+          "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"4\" fill=\"#111\" stroke=\"#fff\" "
+          "stroke-width=\"1.5\"/><text x=\"%.1f\" y=\"%.1f\" font-size=\"12\">true CoM "
+          "(URDF)</text>\n",
+          x + 8.0, y2 - 4.0, x + 28.0, y2);
+  fprintf(f,
+          "<path d=\"M%.1f %.1fl10 10M%.1f %.1fl10 -10\" stroke=\"#d4001f\" stroke-width=\"2\"/>"
+          "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\">",
+          x + 165.0, y2 - 9.0, x + 165.0, y2 + 1.0, x + 181.0, y2);
+  xml_text(f, a->com_label ? a->com_label : "believed");
+  fprintf(f, " CoM (used by the plan)</text>\n");
+  fprintf(f,
+          "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\">shaded: every object as the simulation "
+          "left it</text>\n",
+          x, y2 + 20.0);
+  double ly = y2 + 40.0;
+  for (size_t i = 0; i < a->count; ++i) {
+    if (!off[i]) continue;
+    fprintf(f, "<text class=\"off-b\" data-object=\"%zu\" x=\"%.1f\" y=\"%.1f\" font-size=\"12\">",
+            i, x, ly);
+    xml_text(f, a->obj[i].name ? a->obj[i].name : "object");
+    fprintf(f, ": fell off B (not drawn at its final pose)</text>\n");
+    ly += 16.0;
+  }
+}
+
+/* Everything of stack_svg_write_run after the checks; 0 or -1 (ENOMEM). */
+static int run_body(FILE *f, const void *ctx) {
+  const run_args_t *a = ctx;
+  const model_mesh_t *meshes[STACK_MAX_OBJECTS] = {NULL};
+  model_pose_t finals[STACK_MAX_OBJECTS];
+  memset(finals, 0, sizeof finals);
+  unsigned char off[STACK_MAX_OBJECTS] = {0};
+  size_t first[STACK_MAX_OBJECTS], total = 0, most = 0, noff = 0;
+  for (size_t i = 0; i < a->count; ++i) {
+    meshes[i] = a->obj[i].mesh_link;
+    finals[i] = a->obj[i].final;
+    first[i] = total;
+    total += meshes[i]->vertex_count;
+    if (meshes[i]->vertex_count > most) most = meshes[i]->vertex_count;
+    double lowest = HUGE_VAL, w[3];
+    for (size_t v = 0; v < meshes[i]->vertex_count; ++v) {
+      to_world((const double(*)[3])a->rot_final[i], finals[i].position_m, meshes[i]->vertices_m[v],
+               w);
+      lowest = fmin(lowest, w[2]);
+    }
+    off[i] = lowest < -kOffB_m;
+    noff += off[i];
+  }
+  scene_t s;
+  if (scene_build(meshes, finals, a->count, a->rot_final, off, &s) != 0) return -1;
+  double(*pw)[3] = planned_world(a, first, total);
+  double(*pts)[2] = malloc(2 * (most ? most : 1) * sizeof *pts);
+  double(*hull)[2] = malloc((4 * most + 2) * sizeof *hull);
+  if (pw == NULL || pts == NULL || hull == NULL) {
+    free(pw);
+    free(pts);
+    free(hull);
+    scene_free(&s);
+    errno = ENOMEM;
+    return -1;
+  }
+  double xr[STACK_MAX_OBJECTS][2]; /* each object's final x range */
+  for (size_t i = 0; i < a->count; ++i) {
+    xr[i][0] = HUGE_VAL;
+    xr[i][1] = -HUGE_VAL;
+    for (size_t v = 0; v < meshes[i]->vertex_count; ++v) {
+      const double *p = pw[first[i] + v];
+      s.lo[0] = fmin(s.lo[0], p[0]);
+      s.hi[0] = fmax(s.hi[0], p[0]);
+      s.lo[1] = fmin(s.lo[1], p[2]);
+      s.hi[1] = fmax(s.hi[1], p[2]);
+      if (off[i]) continue;
+      xr[i][0] = fmin(xr[i][0], s.world[first[i] + v][0]);
+      xr[i][1] = fmax(xr[i][1], s.world[first[i] + v][0]);
+    }
+  }
+  frame_t fr;
+  double height;
+  frame_fit(&s, kRunLegend_px + 16.0 * (double)noff, &fr, &height);
+  svg_head(f, height, (const unsigned char(*)[SHADE_LEVELS])s.used, a->title);
+  fprintf(f,
+          "<g class=\"frame\" data-scale-px-m=\"%.17g\" data-x0-m=\"%.17g\" data-z0-m=\"%.17g\" "
+          "data-ox-px=\"%.17g\" data-oy-px=\"%.17g\"/>\n",
+          fr.scale_px_m, fr.x0_m, fr.z0_m, fr.ox_px, fr.oy_px);
+  const double top_px = px_y(&fr, 0.0);
+  svg_support(f, top_px);
+  svg_faces(f, meshes, &s, &fr);
+  svg_planned(f, a, &fr, (const double(*)[3])pw, first, pts, hull);
+  int rc = svg_supports(f, a, &fr, (const double(*)[3])pw, first, pts, hull);
+  box_t placed[STACK_MAX_OBJECTS];
+  size_t nplaced = 0;
+  for (size_t i = 0; i < a->count; ++i)
+    if (!off[i]) svg_object_marks(f, a, i, &fr, xr[i], placed, &nplaced);
+  svg_scale_bar(f, &fr, top_px, 0);
+  svg_run_legend(f, a, top_px, off);
+  fprintf(f, "</svg>\n");
+  free(pw);
+  free(pts);
+  free(hull);
+  scene_free(&s);
+  return rc;
+}
+
+int stack_svg_write_run(const char *path, const stack_svg_object_t *objects, size_t count,
+                        const size_t *order, const char *com_label, const char *title) {
+  if (path == NULL || path[0] == '\0' || objects == NULL || count == 0 ||
+      count > STACK_MAX_OBJECTS) {
+    errno = EINVAL;
+    return -1;
+  }
+  double rot_final[STACK_MAX_OBJECTS][3][3], rot_plan[STACK_MAX_OBJECTS][3][3];
+  unsigned char seen[STACK_MAX_OBJECTS] = {0};
+  for (size_t i = 0; i < count; ++i) {
+    const stack_svg_object_t *o = &objects[i];
+    if (!mesh_ok(o->mesh_link) || !pose_rot(&o->final, rot_final[i]) ||
+        !pose_rot(&o->planned, rot_plan[i]) || !finite3(o->com_used_m) || !finite3(o->com_true_m) ||
+        (order != NULL && (order[i] >= count || seen[order[i]]++))) {
+      errno = EINVAL;
+      return -1;
+    }
+  }
+  const run_args_t a = {objects, count, order, com_label, title, rot_final, rot_plan};
+  return write_via_tmp(path, run_body, &a);
 }
