@@ -5,8 +5,10 @@
 #   1. the files: headers, static and shared libraries with SONAME links, CMake package,
 #      pkg-config files, programs, assets; no internal library; the package files do not name
 #      the source tree;
-#   2. the installed programs find their data under the prefix: comlearn-sim's and
-#      comlearn-rockgen's --help name PREFIX/share/comlearn, and the installed `comlearn estimate
+#   2. the installed programs find their data under the prefix: `comlearn inspect` resolves the
+#      installed rocks' package://comlearn meshes in share/comlearn (a copy elsewhere through
+#      ROS_PACKAGE_PATH only); comlearn-sim's and comlearn-rockgen's --help name
+#      PREFIX/share/comlearn, and the installed `comlearn estimate
 #      --spawn-sim` (COMLEARN_SIM unset) starts the installed comlearn-sim and plans with the
 #      installed YuMi URDF, finding all three components of a bundled rock;
 #   3. examples/ configured, built and run against the prefix with find_package(comlearn), once
@@ -59,7 +61,8 @@ set(expected
   ${LIBDIR}/cmake/comlearn/comlearnTargets.cmake
   bin/comlearn bin/comlearn-sim bin/comlearn-rockgen bin/comlearn-shapegen
   share/comlearn/rocks/rock_1_even.urdf share/comlearn/rocks/meshes/rock_1.stl
-  share/comlearn/base/base.urdf share/comlearn/yumi/yumi.urdf)
+  share/comlearn/base/base.urdf share/comlearn/yumi/yumi.urdf share/comlearn/package.xml
+  share/ament_index/resource_index/packages/comlearn)
 foreach(lib IN LISTS libs)
   string(REPLACE "_" "-" pc ${lib})
   list(APPEND expected ${LIBDIR}/libcomlearn_${lib}.a ${LIBDIR}/libcomlearn_${lib}.so
@@ -93,6 +96,25 @@ run(${prefix}/bin/comlearn-sim --help)
 expect_match("${run_out}" "default: ${data}/yumi/yumi.urdf" "comlearn-sim --help")
 run(${prefix}/bin/comlearn-rockgen --help)
 expect_match("${run_out}" "default: ${data}\\)" "comlearn-rockgen --help")
+# The installed rocks name package://comlearn/rocks/meshes/...: resolved from share/comlearn's
+# package.xml (not the source tree's), and, for a copy outside the package, through
+# ROS_PACKAGE_PATH=share/comlearn only.
+unset(ENV{ROS_PACKAGE_PATH})
+run(${prefix}/bin/comlearn inspect ${data}/rocks/rock_1_even.urdf --json)
+expect_match("${run_out}" "\"mesh\": \"${data}/rocks/meshes/rock_1.stl\"" "installed package://")
+file(READ ${data}/rocks/rock_1_even.urdf rock_text)
+expect_match("${rock_text}" "filename=\"package://comlearn/rocks/meshes/rock_1.stl\"" "rock_1_even.urdf")
+file(WRITE ${WORK_DIR}/ros_user/rock.urdf "${rock_text}")
+execute_process(COMMAND ${prefix}/bin/comlearn inspect ${WORK_DIR}/ros_user/rock.urdf
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(rc EQUAL 0 OR NOT err MATCHES "unknown package 'comlearn'")
+  message(FATAL_ERROR "a copy outside the package without ROS_PACKAGE_PATH: exit ${rc}\n${err}")
+endif()
+set(ENV{ROS_PACKAGE_PATH} ${data})
+run(${prefix}/bin/comlearn inspect ${WORK_DIR}/ros_user/rock.urdf --json)
+expect_match("${run_out}" "\"mesh\": \"${data}/rocks/meshes/rock_1.stl\"" "ROS_PACKAGE_PATH")
+unset(ENV{ROS_PACKAGE_PATH})
+
 set(ENV{COMLEARN_SIM} "")
 run(${prefix}/bin/comlearn estimate ${data}/rocks/rock_1_even.urdf --spawn-sim --lcm-url ${LCM_URL}
     --json -q)
