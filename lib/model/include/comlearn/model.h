@@ -256,10 +256,12 @@ typedef struct {
  * Mesh file names:
  *   absolute "/..." or "file:///..."  used as is
  *   relative "a/b.stl", "../b.stl"    relative to the folder holding the URDF
- *   "package://NAME/REST" (also Gazebo's "model://NAME/REST")  for each folder D from the URDF's
- *               folder up to the root (64 levels at most), the first that exists of: D/REST when D
- *               is named NAME, D/NAME/REST, D/REST. No ROS_PACKAGE_PATH lookup.
- *   any other "scheme://"             MODEL_E_UNSUPPORTED
+ *   "package://NAME/REST"             ROOT/REST, ROOT the nearest of the URDF's folder and its
+ *               parents (64 levels) holding a package.xml whose <name> is NAME, else the first
+ *               package of that name in ROS_PACKAGE_PATH, crawled as rospack does (docs/model.md).
+ *               MODEL_E_PARSE: an empty or non-ROS NAME, no REST, a ".." climbing above ROOT;
+ *               MODEL_E_NOFILE: an unknown package. Reads package.xml files (64 KiB at most).
+ *   any other "scheme://" (model:// too)  MODEL_E_UNSUPPORTED
  * mesh_path gets the canonical path (realpath) of the first mesh. All elements are concatenated
  * into one mesh and model_mesh_check()ed as a whole: elements must not share an edge (a
  * non-manifold edge is MODEL_E_OPEN); overlapping elements are accepted but their common volume
@@ -283,7 +285,9 @@ model_status_t model_object_load(const char *urdf_path, const char *link_name, m
 /* model_object_load for a file named by someone else (comlearn-sim's SIM_CONTROL LOAD): the URDF
  * and every mesh it names must resolve (realpath) inside one of the dir_count folders dirs
  * (canonical paths, as realpath gives them), each checked before it is opened; otherwise
- * MODEL_E_NOFILE, naming the file and "outside the folders". dir_count 0: no restriction. */
+ * MODEL_E_NOFILE, naming the file and "outside the folders". For package:// names, only the
+ * package.xml files inside dirs are read (a package whose root is outside is unknown) and only
+ * folders inside dirs or on the way down to them are listed. dir_count 0: no restriction. */
 model_status_t model_object_load_within(const char *urdf_path, const char *link_name,
                                         const char *const *dirs, size_t dir_count,
                                         model_object_t *out, model_error_t *err);
