@@ -121,7 +121,7 @@ static void marker(FILE *f, size_t s, double x, double y, double r, const char *
   }
 }
 
-/* The index of an earlier series with the same points as series s, or s. */
+/* The index of an earlier series with the same points as series s (to 1e-9 mm), or s. */
 static size_t same_as(const experiments_svg_series_t *series, size_t s) {
   for (size_t e = 0; e < s; ++e) {
     if (series[e].n != series[s].n) continue;
@@ -129,7 +129,8 @@ static size_t same_as(const experiments_svg_series_t *series, size_t s) {
     for (int k = 0; k < 3 && same; ++k)
       for (size_t i = 0; i < series[s].n && same; ++i) {
         const double a = series[e].value_mm[k][i], b = series[s].value_mm[k][i];
-        same = a == b || (isnan(a) && isnan(b));
+        /* 1e-9 mm: runs over LCM round the release pose at ~1e-16 mm */
+        same = fabs(a - b) <= 1e-9 || a == b || (isnan(a) && isnan(b));
       }
     if (same) return e;
   }

@@ -37,7 +37,7 @@ size_t experiments_svg_trial_limit(size_t nseries, const experiments_svg_series_
  * for that panel), nseries <= EXPERIMENTS_SVG_MAX_SERIES series. Every series has its own colour,
  * dash pattern and marker shape (circle, square, triangle, diamond) at every trial, and earlier
  * series are drawn wider, so runs that coincide stay visible; the legend says "= NAME (same walk)"
- * for a series whose points equal an earlier one's (drawn over it). Each panel is a <g
+ * for a series whose points equal an earlier one's to 1e-9 mm (drawn over it). Each panel is a <g
  * class="panel"> whose data-x0, data-y0, data-w, data-h (px) and data-tmax, data-vlo, data-vhi give
  * the axes' mapping; each series' line is a <polyline class="series" data-series="S">. Returns 0,
  * or -1 for a bad argument (NULL, too many series, a series with n == 0) or a write error (ferror).
