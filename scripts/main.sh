@@ -181,6 +181,12 @@ commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
     echo "![$(basename "$f" .svg)](experiments/$(basename "$f"))"
     echo
   done
+  if [ -f "$out/experiments/noisy.svg" ]; then
+    echo "## Noisy runs: error and 95 % interval per component"
+    echo
+    echo "![noisy runs](experiments/noisy.svg)"
+    echo
+  fi
   echo "## The rock stack (three uneven rocks, 5 s)"
   echo
   for src in learned bbox true; do
