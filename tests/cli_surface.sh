@@ -96,5 +96,42 @@ for s in "$src"/scripts/*.sh "$src"/bench/*.sh; do
   [ "$rc" -eq 2 ] || fail "$name --no-such-option: exit $rc"
 done
 
+# The GUI wrappers of LCM's Java tools (tests/gui_wrappers.sh checks what they start): refused
+# options and missing values named; their --help names what installs their packages.
+for name in lcm-spy.sh lcm-logplayer-gui.sh; do
+  s=$src/scripts/$name
+  [ -f "$s" ] || { fail "scripts/$name missing"; continue; }
+  run bash "$s" --no-such-option
+  [ "$rc" -eq 2 ] && grep -q "^$name: unknown option '--no-such-option'" "$tmp/err" ||
+    fail "$name --no-such-option: exit $rc, $(head -n 1 "$tmp/err")"
+  run bash "$s" --lcm-url
+  [ "$rc" -eq 2 ] && grep -q "^$name: --lcm-url needs a value" "$tmp/err" ||
+    fail "$name --lcm-url (no value): exit $rc, $(head -n 1 "$tmp/err")"
+  run bash "$s" --help
+  grep -q 'bash scripts/setup.sh --gui' "$tmp/out" || fail "$name --help does not name setup.sh --gui"
+  grep -q -- '--install' "$tmp/out" && grep -q -- '--check' "$tmp/out" ||
+    fail "$name --help lacks --install or --check"
+done
+run bash "$src/scripts/lcm-logplayer-gui.sh" --check a.lcmlog b.lcmlog
+[ "$rc" -eq 2 ] && grep -q "one LOG at most" "$tmp/err" ||
+  fail "lcm-logplayer-gui.sh with two logs: exit $rc, $(head -n 1 "$tmp/err")"
+# setup.sh --packages: the list and nothing else; Java only with --gui (issue 16).
+before=$(ls -A "$src")
+run bash "$src/scripts/setup.sh" --packages
+[ "$rc" -eq 0 ] && grep -qx cmake "$tmp/out" && grep -qx python3 "$tmp/out" ||
+  fail "setup.sh --packages: exit $rc, $(tr '\n' ' ' <"$tmp/out")"
+! grep -E 'jdk|jre|-java$' "$tmp/out" || fail "setup.sh --packages lists Java packages"
+run bash "$src/scripts/setup.sh" --packages --gui
+for p in default-jre default-jdk-headless liblcm-java libjchart2d-java cmake; do
+  grep -qx "$p" "$tmp/out" || fail "setup.sh --packages --gui lacks $p"
+done
+run bash "$src/scripts/setup.sh" --gui --packages fuzz
+grep -qx default-jre "$tmp/out" && grep -qx clang "$tmp/out" || fail "setup.sh --gui --packages fuzz"
+run bash "$src/scripts/setup.sh" --packages nosuchpreset
+[ "$rc" -eq 2 ] && grep -q "unknown preset 'nosuchpreset'" "$tmp/err" ||
+  fail "setup.sh --packages nosuchpreset: exit $rc, $(head -n 1 "$tmp/err")"
+[ -z "$(ls -A "$tmp/cwd")" ] && [ "$(ls -A "$src")" = "$before" ] ||
+  fail "setup.sh --packages wrote files"
+
 [ "$fails" -eq 0 ] || { echo "$fails failures" >&2; exit 1; }
 echo "cli surface: $# programs and their commands, $(ls "$src"/scripts/*.sh "$src"/bench/*.sh | wc -l) scripts"
