@@ -1,39 +1,64 @@
 #!/usr/bin/env bash
 # Idempotent setup: install the Debian packages comlearn needs (only the missing ones), then
 # configure and build one CMake preset. Safe to run again; a second run only rebuilds what changed.
-# usage: scripts/setup.sh [PRESET]      (PRESET: default | asan | fuzz; default: default)
+# usage: scripts/setup.sh [--gui] [--packages] [PRESET]   (PRESET: default | asan | fuzz)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 
-case "${1:-}" in
-  -h | --help)
-    cat <<'EOF'
-usage: scripts/setup.sh [PRESET]
+usage() {
+  cat <<'EOF'
+usage: scripts/setup.sh [--gui] [--packages] [PRESET]
 Installs the Debian 12 packages comlearn needs (only the missing ones; as root), raises the
 UDP receive buffer limit and adds a multicast route when there is none (as root), then
 configures and builds the CMake preset. Safe to run again.
   PRESET      default | asan | fuzz (default: default); see CMakePresets.json
+  --gui       also install what the GUI tools scripts/lcm-spy.sh and
+              scripts/lcm-logplayer-gui.sh need: a JRE with AWT (default-jre), the JDK that
+              builds the jar of comlearn's types (default-jdk-headless), liblcm-java and
+              libjchart2d-java; the build then makes the jar and the Java decode test.
+              Without it no Java is installed: the build, the tests and scripts/main.sh need none
+  --packages  print the packages this would install if missing, one a line; nothing else
   -h, --help  this text (and nothing else)
 EOF
-    exit 0 ;;
-esac
-[ $# -le 1 ] || { echo "setup: one PRESET at most (try --help)" >&2; exit 2; }
-preset=${1:-default}
+}
+
+gui=0 print=0 preset=
+while [ $# -gt 0 ]; do
+  case "$1" in
+    -h | --help) usage; exit 0 ;;
+    --gui) gui=1 ;;
+    --packages) print=1 ;;
+    -*) echo "setup: unknown option '$1' (try --help)" >&2; exit 2 ;;
+    *)
+      [ -z "$preset" ] || { echo "setup: one PRESET at most (try --help)" >&2; exit 2; }
+      preset=$1 ;;
+  esac
+  shift
+done
+preset=${preset:-default}
 case "$preset" in
   default | asan | fuzz) ;;
   *) echo "setup: unknown preset '$preset': default, asan or fuzz (try --help)" >&2; exit 2 ;;
 esac
 
-# Build tools and libraries, all from Debian 12. libjchart2d-java feeds lcm-spy's message viewer;
-# a JDK builds the Java jar of our message types for lcm-spy, and a JRE with AWT runs lcm-spy;
-# python3 runs the tests of the Python package comlearn and its example client.
+# Build tools and libraries, all from Debian 12; python3 runs the tests of the Python package
+# comlearn and its example client. No Java: without a JDK, lcmtypes/ skips the jar and
+# tests/messages.cmake the Java decode test, each with a STATUS line.
 pkgs=(gcc g++ make cmake pkg-config git python3
-      libode-dev liblcm-dev liblcm-bin liblcm-java libccd-dev libassimp-dev
-      liburdfdom-dev liburdfdom-tools check libglib2.0-dev libjchart2d-java
-      default-jdk-headless default-jre iproute2 binutils clang-format)
+      libode-dev liblcm-dev liblcm-bin libccd-dev libassimp-dev
+      liburdfdom-dev liburdfdom-tools check libglib2.0-dev iproute2 binutils clang-format)
 # The fuzz preset (scripts/fuzz.sh) builds with clang and its libFuzzer.
 if [ "$preset" = fuzz ]; then
   pkgs+=(clang libclang-rt-14-dev)
+fi
+# --gui: lcm-spy and lcm-logplayer-gui are Java GUIs (a JRE with AWT and lcm.jar; lcm-spy's
+# message viewer needs jchart2d), and a JDK builds the jar of comlearn's types that they load.
+if [ "$gui" -eq 1 ]; then
+  pkgs+=(default-jre default-jdk-headless liblcm-java libjchart2d-java)
+fi
+if [ "$print" -eq 1 ]; then
+  printf '%s\n' "${pkgs[@]}"
+  exit 0
 fi
 
 missing=()
@@ -80,3 +105,10 @@ fi
 cd "$here"
 cmake --preset "$preset" >&2
 cmake --build --preset "$preset" -j "$(nproc)" >&2
+# --gui: the configure above found the JDK just installed (CMake searches again for what it did
+# not find before), so the build made the jar that the GUI scripts load.
+if [ "$gui" -eq 1 ]; then
+  jar=$here/build/$preset/lcmtypes/comlearn_lcmtypes.jar
+  [ -f "$jar" ] || { echo "setup: --gui: the build made no $jar (see the STATUS lines above)" >&2; exit 1; }
+  echo "setup: GUI tools ready: bash scripts/lcm-spy.sh, bash scripts/lcm-logplayer-gui.sh LOG" >&2
+fi

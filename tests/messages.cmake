@@ -13,6 +13,8 @@ target_compile_definitions(check_messages PRIVATE
 # tests/java/DecodeCheck.java, compiled at build time against lcm.jar and the types' jar: only
 # when lcmtypes/ builds the jar (a JDK and lcm.jar were found).
 if(NOT TARGET comlearn_lcmtypes_jar)
+  message(STATUS "messages_java_decode not registered: no jar of the types (see lcmtypes' STATUS "
+    "line above; 'bash scripts/setup.sh --gui' installs a JDK and liblcm-java)")
   return()
 endif()
 get_target_property(comlearn_lcmtypes_jar_file comlearn_lcmtypes_jar JAR_FILE)
