@@ -71,8 +71,9 @@ expect() { # expect REGEX WHAT: $out matches REGEX
 
 while IFS= read -r line; do
   [ -n "$line" ] || continue
-  cmd=${line//build\/default\//$bld/}
-  cmd=${cmd//\/tmp\//$tmp/}
+  # /tmp/ first: the build folder may itself be under /tmp
+  cmd=${line//\/tmp\//$tmp/}
+  cmd=${cmd//build\/default\//$bld/}
   # the words as the shell gives them (globs and braces expanded: assets/rocks/*.urdf); a
   # trailing & (a daemon) is the rule's to handle
   eval "argv=(${cmd% &})"
