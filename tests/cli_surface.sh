@@ -51,6 +51,12 @@ if [ -n "$comlearn" ]; then
     fail "comlearn record -c (no value) said: $(head -n 1 "$tmp/err")"
   run "$comlearn" --version
   [ "$(cat "$tmp/out")" = "comlearn $version" ] || fail "comlearn --version: '$(cat "$tmp/out")'"
+  # the backend named the same way everywhere: --direct (in-process) or --lcm-url, not both
+  for cmd in estimate stack experiments; do
+    run "$comlearn" "$cmd" x.urdf --direct --lcm-url 'udpm://239.255.76.67:7667?ttl=0'
+    [ "$rc" -eq 2 ] && grep -q "^comlearn: error: --direct.*--lcm-url" "$tmp/err" ||
+      fail "comlearn $cmd --direct --lcm-url: exit $rc, $(head -n 1 "$tmp/err")"
+  done
 fi
 for prog in "$@"; do
   [ "$(basename "$prog")" = comlearn-sim ] || continue

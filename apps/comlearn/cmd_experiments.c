@@ -132,6 +132,7 @@ typedef struct {
   const char *lcm_url, *out_dir;
   int json, quiet;
   int sims;                   /* --sims: worker processes, each with a comlearn-sim; 0: none */
+  int direct;                 /* --direct given (the default; refused with --lcm-url, --sims) */
   const char *channel_prefix; /* a worker's robot (R<w>_); NULL: none */
 } exp_opts_t;
 
@@ -160,6 +161,8 @@ static void usage(FILE *out) {
       "                           against a comlearn-sim already running there (default:\n"
       "                           in-process, as `estimate --direct`); noisy runs are\n"
       "                           always in-process\n"
+      "  --direct                 every run in-process, on lib/balance (the default; as\n"
+      "                           `estimate --direct`)\n"
       "  --sims N                 start N comlearn-sims (channel prefixes R0_ .. R<N-1>_) on\n"
       "                           --lcm-url, or on udpm://239.255.76.67:<7700 + pid %% 1000>\n"
       "                           ?ttl=0, and spread the objects over N worker processes, one\n"
@@ -941,6 +944,7 @@ static int parse_args(int argc, char **argv, exp_opts_t *o) {
                                        {"resolution-mm", required_argument, NULL, 'r'},
                                        {"lcm-url", required_argument, NULL, 'u'},
                                        {"sims", required_argument, NULL, 's'},
+                                       {"direct", no_argument, NULL, 'd'},
                                        {"out", required_argument, NULL, 'o'},
                                        {"json", no_argument, NULL, 'j'},
                                        {"verbose", no_argument, NULL, 'v'},
@@ -1004,6 +1008,7 @@ static int parse_args(int argc, char **argv, exp_opts_t *o) {
         o->out_dir = optarg;
         break;
       case 'j': o->json = 1; break;
+      case 'd': o->direct = 1; break;
       case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
       case 'q':
         o->quiet = 1;
@@ -1013,6 +1018,11 @@ static int parse_args(int argc, char **argv, exp_opts_t *o) {
       case 'V': cli_version_print(stdout, "comlearn"); return EXIT_SUCCESS;
       default: cli_getopt_complain("comlearn experiments", "vqhV", opts, argv); return EXIT_USAGE;
     }
+  }
+  if (o->direct && (o->lcm_url || o->sims)) {
+    LOG_E("--direct and %s exclude each other (in-process, or over LCM)",
+          o->lcm_url ? "--lcm-url" : "--sims");
+    return EXIT_USAGE;
   }
   return -1;
 }

@@ -53,6 +53,7 @@ static void usage(FILE *out) {
       "                       true     the URDF <inertial> CoM: the oracle, for comparison\n"
       "  --lcm-url URL      learned: run the trials over LCM against a running comlearn-sim\n"
       "                     (default: in-process, as `comlearn estimate --direct`)\n"
+      "  --direct           learned: in-process, on lib/balance (the default; as estimate's)\n"
       "  --policy P         learned: bisect | pba | paper-qtable | paper-mlp (default: bisect)\n"
       "  --mass-uncertainty U  relative mass uncertainty; plans hold for masses in\n"
       "                     m*[1/(1+U), 1+U], m = mesh volume x 2650 kg/m^3 (default: 0.3)\n"
@@ -305,7 +306,7 @@ typedef struct {
   qlearn_policy_kind_t policy;
   const char *policy_name, *lcm_url, *svg;
   double duration_s, mass_u, tilt_deg;
-  int rehearse, json;
+  int rehearse, json, direct;
 } stack_args_t;
 
 /* Options into a (defaults as usage() says). Returns -1 to go on, else the exit status (0 after
@@ -313,6 +314,7 @@ typedef struct {
 static int parse_args(int argc, char **argv, stack_args_t *a) {
   static const struct option opts[] = {{"com", required_argument, NULL, 'c'},
                                        {"lcm-url", required_argument, NULL, 'u'},
+                                       {"direct", no_argument, NULL, 'd'},
                                        {"policy", required_argument, NULL, 'p'},
                                        {"svg", required_argument, NULL, 'S'},
                                        {"duration-s", required_argument, NULL, 'D'},
@@ -374,6 +376,7 @@ static int parse_args(int argc, char **argv, stack_args_t *a) {
         if (number_arg("--max-tilt-deg", optarg, 1.0, 45.0, &a->tilt_deg) != 0) return EXIT_USAGE;
         break;
       case 'N': a->rehearse = 0; break;
+      case 'd': a->direct = 1; break;
       case 'j': a->json = 1; break;
       case 'v': cli_log_set_level(CLI_LOG_DEBUG); break;
       case 'q': cli_log_set_level(CLI_LOG_ERROR); break;
@@ -381,6 +384,10 @@ static int parse_args(int argc, char **argv, stack_args_t *a) {
       case 'V': cli_version_print(stdout, "comlearn"); return EXIT_SUCCESS;
       default: cli_getopt_complain("comlearn stack", "vqhV", opts, argv); return EXIT_USAGE;
     }
+  }
+  if (a->direct && a->lcm_url) {
+    LOG_E("--direct and --lcm-url exclude each other (in-process, or over LCM)");
+    return EXIT_USAGE;
   }
   return -1;
 }
