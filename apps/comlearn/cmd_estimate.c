@@ -91,16 +91,6 @@ static void usage(FILE *out) {
           (int)ESTIMATE_SVG_TRIAL_PANELS);
 }
 
-static const char *outcome_name(estimate_outcome_t o) {
-  switch (o) {
-    case ESTIMATE_STAYS: return "stays";
-    case ESTIMATE_TIPS: return "tips";
-    case ESTIMATE_SLIDES: return "slides";
-    case ESTIMATE_INVALID: return "invalid";
-  }
-  return "?";
-}
-
 static const char *regime_name(int r) {
   switch (r) {
     case MODEL_REGIME_FLAT_PATCH: return "flat_patch";
@@ -186,8 +176,8 @@ static void json_trials(const estimate_result_t *r) {
     printf("%s{\"kind\": \"%s\", \"face\": %d, \"search\": %d, \"x_m\": ", i ? ", " : "",
            t->kind == ESTIMATE_TRIAL_STABLE ? "stable" : "edge", t->face, t->search);
     cli_json_number(stdout, t->x_m);
-    printf(", \"outcome\": \"%s\", \"regime\": \"%s\", \"flagged\": %s}", outcome_name(t->outcome),
-           regime_name(t->regime), t->flagged ? "true" : "false");
+    printf(", \"outcome\": \"%s\", \"regime\": \"%s\", \"flagged\": %s}",
+           trial_outcome_name(t->outcome), regime_name(t->regime), t->flagged ? "true" : "false");
   }
 }
 

@@ -174,16 +174,6 @@ static int parse_args(int argc, char **argv, plan_args_t *a) {
   return 0;
 }
 
-static const char *outcome_name(estimate_outcome_t o) {
-  switch (o) {
-    case ESTIMATE_STAYS: return "stays";
-    case ESTIMATE_TIPS: return "tips";
-    case ESTIMATE_SLIDES: return "slides";
-    case ESTIMATE_INVALID: return "invalid";
-  }
-  return "invalid";
-}
-
 /* What the plan command computed. */
 typedef struct {
   model_pose_t release; /* B's frame */
@@ -242,7 +232,7 @@ static void print_json(const plan_args_t *a, const plan_out_t *o) {
   }
   fputc(']', f);
   if (o->simulated) {
-    fprintf(f, ", \"simulated\": {\"outcome\": \"%s\", ", outcome_name(o->sim.outcome));
+    fprintf(f, ", \"simulated\": {\"outcome\": \"%s\", ", trial_outcome_name(o->sim.outcome));
     json_pose(f, "settled_in_block", o->sim.settled.position_m, o->sim.settled.orientation_wxyz);
     fputc('}', f);
   }
@@ -265,7 +255,7 @@ static void print_table(const plan_args_t *a, const plan_out_t *o) {
     for (int j = 0; j < PLACEMENT_JOINTS; ++j) printf(" %8.5f", w->q_rad[j]);
     printf("\n");
   }
-  if (o->simulated) printf("simulated (lib/balance): %s\n", outcome_name(o->sim.outcome));
+  if (o->simulated) printf("simulated (lib/balance): %s\n", trial_outcome_name(o->sim.outcome));
 }
 
 /* lib/balance's trial at the release pose: 0, or an exit status (logged). */

@@ -53,3 +53,13 @@ estimate_status_t estimate_run(const model_mesh_t *mesh_link, const estimate_bac
              err[0] ? err : "trial failed");
   return s == ESTIMATE_DONE ? ESTIMATE_OK : s;
 }
+
+const char *trial_outcome_name(estimate_outcome_t o) {
+  switch (o) {
+    case ESTIMATE_STAYS: return "stays";
+    case ESTIMATE_TIPS: return "tips";
+    case ESTIMATE_SLIDES: return "slides";
+    case ESTIMATE_INVALID: return "invalid";
+  }
+  return "?";
+}

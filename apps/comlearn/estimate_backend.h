@@ -37,4 +37,7 @@ typedef struct {
 estimate_status_t estimate_run(const model_mesh_t *mesh_link, const estimate_backend_t *backend,
                                const estimate_config_t *cfg, estimate_result_t *out);
 
+/* "stays", "tips", "slides", "invalid" (the JSON's and the pictures' words), "?" otherwise. */
+const char *trial_outcome_name(estimate_outcome_t o);
+
 #endif

@@ -20,6 +20,7 @@
 
 #include "comlearn/math3d.h"
 #include "comlearn/model_support.h"
+#include "estimate_backend.h"
 
 enum { SHADES = 24, VIEWS = 3, TRIALS_PER_ROW = 4, WRAP_CHARS = 140 };
 
@@ -70,16 +71,6 @@ static void xml_text(FILE *f, const char *s) {
       default: fputc(*s, f); break;
     }
   }
-}
-
-static const char *outcome_name(estimate_outcome_t o) {
-  switch (o) {
-    case ESTIMATE_STAYS: return "stays";
-    case ESTIMATE_TIPS: return "tips";
-    case ESTIMATE_SLIDES: return "slides";
-    case ESTIMATE_INVALID: return "invalid";
-  }
-  return "?";
 }
 
 static const char *outcome_colour(estimate_outcome_t o) {
@@ -660,7 +651,7 @@ static void trial_panel(FILE *f, const estimate_svg_input_t *in, size_t i, doubl
   m.ox = x + 0.5 * w;
   m.oy = y + 0.5 * (kTrialH_px - kTrialText_px) + 4.0;
   fprintf(f, "<g class=\"trial\" data-trial=\"%zu\" data-kind=\"%s\" data-outcome=\"%s\">\n", i + 1,
-          t->kind == ESTIMATE_TRIAL_EDGE ? "edge" : "stable", outcome_name(t->outcome));
+          t->kind == ESTIMATE_TRIAL_EDGE ? "edge" : "stable", trial_outcome_name(t->outcome));
   fprintf(f,
           "<clipPath id=\"clip-trial-%zu\"><rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" "
           "height=\"%.1f\"/></clipPath>\n",
@@ -710,7 +701,7 @@ static void trial_panel(FILE *f, const estimate_svg_input_t *in, size_t i, doubl
   fprintf(f,
           "</text>\n<text x=\"%.1f\" y=\"%.1f\" font-size=\"10\" fill=\"%s\">%s%s: turned "
           "%.2f deg, moved %.2f mm</text>\n",
-          x + 5.0, y + kTrialH_px - 4.0, col, outcome_name(t->outcome),
+          x + 5.0, y + kTrialH_px - 4.0, col, trial_outcome_name(t->outcome),
           t->flagged ? " (flagged)" : "",
           cl_quat_angle(rel.orientation_wxyz, set.orientation_wxyz) * 180.0 / CL_PI,
           1e3 * cl_vec3_dist(rel.position_m, set.position_m));
