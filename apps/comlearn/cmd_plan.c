@@ -1,10 +1,10 @@
 /*
  * cmd_plan.c - `comlearn plan OBJECT.urdf`: one placement, planned the way the LCM backend of
  * `comlearn estimate` plans each trial, printed for a client in any language to execute
- * (docs/messages.md, "Python"): the release pose on B, the grasp to hand SIM_CONTROL, and the
- * YuMi waypoints to send as YUMI_COMMAND. --simulate adds lib/balance's outcome for the same
- * release pose (the in-process trial of `comlearn estimate --direct`; it reads the URDF
- * <inertial>, as comlearn-sim does).
+ * (docs/messages.md, "Using the messages from Python"): the release pose on B, the grasp to hand
+ * SIM_CONTROL, and the YuMi waypoints to send as YUMI_COMMAND. --simulate adds lib/balance's
+ * outcome for the same release pose (the in-process trial of `comlearn estimate --direct`; it reads
+ * the URDF <inertial>, as comlearn-sim does).
  */
 #define _GNU_SOURCE
 #include "cmd_plan.h"
