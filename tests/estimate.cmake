@@ -32,7 +32,7 @@ target_link_options(check_estimate_noalloc PRIVATE
 # estimate_svg_write on hand-made results (apps/comlearn/estimate_svg.c compiled in).
 comlearn_add_check(check_estimate_svg
   SOURCES check_estimate_svg.c ${PROJECT_SOURCE_DIR}/apps/comlearn/estimate_svg.c
-  LIBS comlearn_estimate_drive comlearn_estimate comlearn_model TIMEOUT 300)
+  LIBS comlearn_estimate_drive comlearn_estimate comlearn_model comlearn_cli TIMEOUT 300)
 target_include_directories(check_estimate_svg PRIVATE ${PROJECT_SOURCE_DIR}/apps/comlearn)
 target_compile_definitions(check_estimate_svg PRIVATE COMLEARN_BIN="$<TARGET_FILE:comlearn>"
                            COMLEARN_SHAPEGEN_BIN="$<TARGET_FILE:comlearn-shapegen>")

@@ -18,6 +18,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "comlearn/cli_svg.h"
 #include "comlearn/math3d.h"
 #include "comlearn/model_support.h"
 #include "estimate_backend.h"
@@ -59,18 +60,6 @@ static void view_link(int i, view_t *v) {
   v->r[kAxisU[i]] = 1.0;
   v->u[kAxisV[i]] = 1.0;
   cl_vec3_cross(v->r, v->u, v->t);
-}
-
-static void xml_text(FILE *f, const char *s) {
-  for (; *s != '\0'; ++s) {
-    switch (*s) {
-      case '&': fputs("&amp;", f); break;
-      case '<': fputs("&lt;", f); break;
-      case '>': fputs("&gt;", f); break;
-      case '"': fputs("&quot;", f); break;
-      default: fputc(*s, f); break;
-    }
-  }
 }
 
 static const char *outcome_colour(estimate_outcome_t o) {
@@ -364,7 +353,7 @@ static void view_open(FILE *f, const char *id, int ua, int va, const map_t *m, c
           id, kAxis[ua], kAxis[va], m->s, m->u0, m->v0, m->ox, m->oy, id);
   fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" font-size=\"11\" fill=\"#333\">", m->x + 5.0,
           m->y + 14.0);
-  xml_text(f, label);
+  cli_svg_text(f, label);
   fprintf(f, "</text>\n");
 }
 
@@ -499,7 +488,7 @@ static size_t text_wrapped(FILE *f, double x, double y, const char *s) {
       char part[WRAP_CHARS + 1];
       memcpy(part, s, n);
       part[n] = '\0';
-      xml_text(f, part);
+      cli_svg_text(f, part);
       fprintf(f, "</text>\n");
     }
     ++lines;
@@ -741,11 +730,11 @@ static double trial_strip_height(const estimate_result_t *r) {
 static void title(FILE *f, const estimate_svg_input_t *in) {
   const estimate_result_t *r = in->result;
   fprintf(f, "<text x=\"%.1f\" y=\"24\" font-size=\"16\" font-weight=\"bold\">", kPad_px);
-  xml_text(f, in->object);
+  cli_svg_text(f, in->object);
   fprintf(f, "</text>\n<text x=\"%.1f\" y=\"44\" font-size=\"12\">policy ", kPad_px);
-  xml_text(f, in->policy);
+  cli_svg_text(f, in->policy);
   fprintf(f, ", backend ");
-  xml_text(f, in->backend);
+  cli_svg_text(f, in->backend);
   fprintf(f,
           ", %zu trials (%zu stable-pose checks, %zu edge tests, %zu flagged); intervals: %s; "
           "link frame, mm</text>\n",

@@ -6,6 +6,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "comlearn/cli_svg.h"
+
 /* Layout (px): three panels side by side, the legend below them. */
 #define PANEL_W 300.0
 #define PANEL_H 230.0
@@ -21,18 +23,6 @@ static const char *const colors[EXPERIMENTS_SVG_MAX_SERIES] = {
 /* Dash pattern per series ("" solid): lines that coincide stay told apart. */
 static const char *const dashes[EXPERIMENTS_SVG_MAX_SERIES] = {
     "", "7 3", "2 2", "10 3 2 3", "4 4", "1 3", "8 2 2 2 2 2", "12 4"};
-
-static void text_escaped(FILE *f, const char *s) {
-  for (; s && *s; ++s) {
-    switch (*s) {
-      case '<': fputs("&lt;", f); break;
-      case '>': fputs("&gt;", f); break;
-      case '&': fputs("&amp;", f); break;
-      case '"': fputs("&quot;", f); break;
-      default: fputc(*s, f);
-    }
-  }
-}
 
 /* A step of 1, 2 or 5 times a power of ten giving about `want` intervals over span. */
 static double nice_step(double span, double want) {
@@ -215,7 +205,7 @@ static void panel_draw(FILE *f, panel_t *p, int k, double truth_mm, size_t nseri
             "<text class=\"continues\" x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\" fill=\"%s\" "
             "font-size=\"10\">",
             p->x0 + PLOT_W - 4, note_y, colors[s]);
-    text_escaped(f, series[s].name ? series[s].name : series[s].label);
+    cli_svg_text(f, series[s].name ? series[s].name : series[s].label);
     fprintf(f, " continues to %zu trials &#8594;</text>\n", series[s].n - 1);
     note_y -= 12;
   }
@@ -238,11 +228,11 @@ static void legend(FILE *f, double lx, double ly, size_t nseries,
     marker(f, s, lx + 14, ly, 2.5, NULL);
     fprintf(f, "<text class=\"legend\" data-series=\"%zu\" x=\"%.1f\" y=\"%.1f\">", s, lx + 32,
             ly + 4);
-    text_escaped(f, series[s].label);
+    cli_svg_text(f, series[s].label);
     const size_t e = same_as(series, s);
     if (e != s) {
       fputs(" = ", f);
-      text_escaped(f, series[e].name ? series[e].name : series[e].label);
+      cli_svg_text(f, series[e].name ? series[e].name : series[e].label);
       fputs(" (same walk)", f);
     }
     fprintf(f, "</text>\n");
@@ -272,7 +262,7 @@ int experiments_svg_fig2(FILE *f, const char *title, const double truth_mm[3], s
           "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n<text x=\"%.1f\" y=\"18\" "
           "text-anchor=\"middle\" font-size=\"14\">",
           width / 2);
-  text_escaped(f, title);
+  cli_svg_text(f, title);
   fprintf(f, "</text>\n");
   for (int k = 0; k < 3; ++k) {
     panel_t p = {10 + k * (PANEL_W + GAP) + MARGIN_L, MARGIN_T, (double)tmax, 0.0, 0.0};
@@ -385,7 +375,7 @@ int experiments_svg_intervals(FILE *f, const char *title, const char *const *ser
           "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n<text x=\"%.1f\" y=\"18\" "
           "text-anchor=\"middle\" font-size=\"14\">",
           width / 2);
-  text_escaped(f, title);
+  cli_svg_text(f, title);
   fprintf(f, "</text>\n");
   double lx = IV_LEFT;
   for (size_t s = 0; s < nseries; ++s) {
@@ -393,7 +383,7 @@ int experiments_svg_intervals(FILE *f, const char *title, const char *const *ser
             "<line x1=\"%.1f\" y1=\"34\" x2=\"%.1f\" y2=\"34\" stroke=\"%s\" stroke-width=\"1.5\"/>"
             "<circle cx=\"%.1f\" cy=\"34\" r=\"2\" fill=\"%s\"/><text x=\"%.1f\" y=\"38\">",
             lx, lx + 20, colors[s], lx + 10, colors[s], lx + 24);
-    text_escaped(f, series_names[s]);
+    cli_svg_text(f, series_names[s]);
     fprintf(f, "</text>\n");
     lx += 110;
   }
@@ -416,7 +406,7 @@ int experiments_svg_intervals(FILE *f, const char *title, const char *const *ser
               width - 8, ya);
     fprintf(f, "<text class=\"group\" x=\"%.1f\" y=\"%.2f\" text-anchor=\"end\">", IV_LEFT - 8,
             0.5 * (ya + yb) + 4);
-    text_escaped(f, rows[i].group ? rows[i].group : "");
+    cli_svg_text(f, rows[i].group ? rows[i].group : "");
     fprintf(f, "</text>\n");
   }
   for (int k = 0; k < 3; ++k)

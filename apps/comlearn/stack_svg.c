@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "comlearn/cli_svg.h"
 #include "stack_svg.h"
 
 enum { SHADE_LEVELS = 32, PALETTE = 8 };
@@ -51,18 +52,6 @@ static int cmp_face(const void *pa, const void *pb) {
 }
 
 static int finite3(const double v[3]) { return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]); }
-
-static void xml_text(FILE *f, const char *s) {
-  for (; *s != '\0'; ++s) {
-    switch (*s) {
-      case '&': fputs("&amp;", f); break;
-      case '<': fputs("&lt;", f); break;
-      case '>': fputs("&gt;", f); break;
-      case '"': fputs("&quot;", f); break;
-      default: fputc(*s, f); break;
-    }
-  }
-}
 
 /* Rotation of a pose (quaternion normalised here), or 0 when it is not usable. */
 static int pose_rot(const model_pose_t *p, double rot[3][3]) {
@@ -244,7 +233,7 @@ static void svg_head(FILE *f, double height, const unsigned char used[PALETTE][S
   if (title != NULL) {
     fprintf(f, "<text x=\"%.0f\" y=\"28\" font-size=\"16\" text-anchor=\"middle\">",
             0.5 * kWidth_px);
-    xml_text(f, title);
+    cli_svg_text(f, title);
     fprintf(f, "</text>\n");
   }
 }
@@ -631,7 +620,7 @@ static void svg_object_marks(FILE *f, const run_args_t *a, size_t i, const frame
           "<text class=\"name\" data-object=\"%zu\" x=\"%.1f\" y=\"%.1f\" font-size=\"12\"%s "
           "stroke=\"#fbfaf7\" stroke-width=\"3\" paint-order=\"stroke\">",
           i, end ? b.x1 : b.x0, b.y0 + 12.0, end ? " text-anchor=\"end\"" : "");
-  xml_text(f, name);
+  cli_svg_text(f, name);
   fprintf(f, "</text>\n");
 }
 
@@ -657,7 +646,7 @@ static void svg_run_legend(FILE *f, const run_args_t *a, double top_px, const un
           "<path d=\"M%.1f %.1fl10 10M%.1f %.1fl10 -10\" stroke=\"#d4001f\" stroke-width=\"2\"/>"
           "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\">",
           x + 165.0, y2 - 9.0, x + 165.0, y2 + 1.0, x + 181.0, y2);
-  xml_text(f, a->com_label ? a->com_label : "believed");
+  cli_svg_text(f, a->com_label ? a->com_label : "believed");
   fprintf(f, " CoM (used by the plan)</text>\n");
   fprintf(f,
           "<text x=\"%.1f\" y=\"%.1f\" font-size=\"12\">shaded: every object as the simulation "
@@ -668,7 +657,7 @@ static void svg_run_legend(FILE *f, const run_args_t *a, double top_px, const un
     if (!off[i]) continue;
     fprintf(f, "<text class=\"off-b\" data-object=\"%zu\" x=\"%.1f\" y=\"%.1f\" font-size=\"12\">",
             i, x, ly);
-    xml_text(f, a->obj[i].name ? a->obj[i].name : "object");
+    cli_svg_text(f, a->obj[i].name ? a->obj[i].name : "object");
     fprintf(f, ": fell off B (not drawn at its final pose)</text>\n");
     ly += 16.0;
   }
