@@ -22,6 +22,7 @@
 #include "comlearn/cli_log.h"
 #include "comlearn/cli_net.h"
 #include "comlearn/cli_stop.h"
+#include "comlearn/cli_svg.h"
 #include "comlearn/cli_time.h"
 
 /* What the writer wrote to a memory stream, as a string (static; valid until the next call). */
@@ -65,6 +66,16 @@ START_TEST(json_string_escapes) {
   cli_json_string(c.f, "", 1);
   cli_json_string(c.f, "/ plain ~", 1);
   ck_assert_str_eq(capture_close(&c), "\"\"\"\"\"/ plain ~\"");
+}
+END_TEST
+
+START_TEST(svg_text_escapes) {
+  capture_t c;
+  capture_open(&c);
+  cli_svg_text(c.f, "a<b>&\"c' caf\xc3\xa9");
+  cli_svg_text(c.f, NULL);
+  cli_svg_text(c.f, "");
+  ck_assert_str_eq(capture_close(&c), "a&lt;b&gt;&amp;&quot;c' caf\xc3\xa9");
 }
 END_TEST
 
@@ -452,6 +463,7 @@ int main(void) {
   Suite *s = suite_create("cli_common");
   TCase *json = tcase_create("json");
   tcase_add_test(json, json_string_escapes);
+  tcase_add_test(json, svg_text_escapes);
   tcase_add_test(json, json_numbers_and_non_finite);
   tcase_add_test(json, json_arrays_and_bools);
   suite_add_tcase(s, json);
