@@ -264,7 +264,7 @@ static const char *const kPkgFiles[] = {
     "ws/other/meshes/o.stl",    "rpp/a/b/third/package.xml",  "rpp/a/b/third/meshes/th.stl",
     "rpp/a/skip/CATKIN_IGNORE", "rpp/a/skip/ign/package.xml", "rpp/.hid/package.xml",
     "dup1/dup/package.xml",     "dup1/dup/meshes/d.stl",      "dup2/dup/package.xml",
-    "dup2/dup/meshes/d.stl"};
+    "dup2/dup/meshes/d.stl",    "ws/mypkg/meshes/pipe.stl"};
 enum {
   PKG_DIRS = sizeof kPkgDirs / sizeof kPkgDirs[0],
   PKG_FILES = sizeof kPkgFiles / sizeof kPkgFiles[0]
@@ -323,6 +323,8 @@ static void package_tree_make(mt_tmpdir_t *d) {
   model_mesh_free(&a);
   model_mesh_free(&b);
   model_mesh_free(&two);
+  /* a named pipe with no writer: resolving must not open it (that would wait) */
+  ck_assert_int_eq(mkfifo(mt_join(d, "ws/mypkg/meshes/pipe.stl", p, sizeof p), 0600), 0);
   ck_assert_int_eq(symlink(mt_join(d, "ws/other/meshes/o.stl", q, sizeof q),
                            mt_join(d, "ws/mypkg/meshes/out.stl", p, sizeof p)),
                    0);
@@ -456,6 +458,9 @@ START_TEST(test_urdf_package_refused) {
       {"http://example.com/t.stl", MODEL_E_UNSUPPORTED, "scheme"},
       {"PACKAGE://mypkg/meshes/t.stl", MODEL_E_UNSUPPORTED, "scheme"},
       {"../meshes/none.stl", MODEL_E_NOFILE, "not found"},
+      {"../meshes/pipe.stl", MODEL_E_NOFILE, "not a regular file"},
+      {"package://mypkg/meshes/pipe.stl", MODEL_E_NOFILE, "not a regular file"},
+      {"../meshes", MODEL_E_NOFILE, "not a regular file"},
   };
   for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
     for (int within = 0; within < 2; ++within) {

@@ -6,20 +6,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "comlearn/math3d.h"
 #include "model_internal.h"
 
 enum { PATH_BUF = 4096, SPHERE_SEGMENTS = 32, SPHERE_RINGS = 16, CYLINDER_SEGMENTS = 64 };
 
-static int file_exists(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (f == NULL) {
-    return 0;
-  }
-  fclose(f);
-  return 1;
-}
 
 /* Copy the canonical form of an existing path (no "..", no symlinks) into out. */
 static int canonical(const char *path, char *out, size_t out_size) {
@@ -84,8 +77,16 @@ static model_status_t resolve_mesh_path(const char *urdf_path, const char *link,
   if (n < 0 || (size_t)n >= sizeof buf) {
     return model_fail(err, MODEL_E_ARG, "URDF %s: link '%s': mesh path too long", urdf_path, link);
   }
-  if (!file_exists(buf) || !canonical(buf, out, out_size)) {
+  /* stat, never open: opening a named pipe would wait for a writer */
+  struct stat st;
+  if (stat(buf, &st) != 0 || !canonical(buf, out, out_size)) {
     return model_fail(err, MODEL_E_NOFILE, "URDF %s: link '%s': mesh '%s' not found (tried %s)",
+                      urdf_path, link, uri, buf);
+  }
+  if (!S_ISREG(st.st_mode)) {
+    return model_fail(err, MODEL_E_NOFILE,
+                      "URDF %s: link '%s': mesh '%s' (%s) is not a regular file (a folder, device, "
+                      "pipe or socket): refused",
                       urdf_path, link, uri, buf);
   }
   return MODEL_OK;

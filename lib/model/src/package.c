@@ -271,10 +271,18 @@ model_status_t model_package_resolve(const char *uri, const char *urdf_dir, cons
   if (n < 0 || (size_t)n >= sizeof path) {
     return model_fail(err, MODEL_E_ARG, "mesh '%s': path too long", uri);
   }
-  char *real = is_regular(path) ? realpath(path, NULL) : NULL;
+  struct stat st;
+  char *real = stat(path, &st) == 0 ? realpath(path, NULL) : NULL;
   if (real == NULL) {
     return model_fail(err, MODEL_E_NOFILE, "mesh '%s' not found (package %s at %s: tried %s)", uri,
                       name, root, path);
+  }
+  if (!S_ISREG(st.st_mode)) {
+    free(real);
+    return model_fail(err, MODEL_E_NOFILE,
+                      "mesh '%s' (%s) is not a regular file (a folder, device, pipe or socket): "
+                      "refused",
+                      uri, path);
   }
   const size_t len = strlen(real);
   if (len >= out_size) {
