@@ -13,7 +13,6 @@
 
 enum { PATH_BUF = 4096, SPHERE_SEGMENTS = 32, SPHERE_RINGS = 16, CYLINDER_SEGMENTS = 64 };
 
-
 /* Copy the canonical form of an existing path (no "..", no symlinks) into out. */
 static int canonical(const char *path, char *out, size_t out_size) {
   char *real = realpath(path, NULL);
