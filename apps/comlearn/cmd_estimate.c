@@ -162,9 +162,9 @@ static void json_searches(const estimate_result_t *r) {
     cli_json_number(stdout, isnan(s->verified_margin_m) ? NAN : s->verify_need_m);
     printf(
         ", \"trials\": %u, \"handover_trials\": %u, \"refines\": %u, \"retest_of\": %d, "
-        "\"mirror_of\": %d, \"fed\": %s, \"note\": ",
+        "\"mirror_of\": %d, \"added\": %s, \"fed\": %s, \"note\": ",
         s->trials, s->handover_trials, s->refines, s->retest_of, s->mirror_of,
-        s->fed ? "true" : "false");
+        s->added ? "true" : "false", s->fed ? "true" : "false");
     cli_json_string(stdout, s->note, 0);
     printf("}");
   }

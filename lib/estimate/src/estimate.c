@@ -112,6 +112,7 @@ void estimate_config_default(estimate_config_t *cfg) {
   cfg->closed_patches = 1;
   cfg->rough_faces = 1;
   cfg->noise_target_halfwidth_m = 5e-4;
+  cfg->max_added_dirs = 3;
 }
 
 typedef struct {
@@ -140,6 +141,7 @@ typedef enum {
   PHASE_FACE2_SEARCH,  /* face 2's search */
   PHASE_RETEST,        /* a search again, from the check at the estimate */
   PHASE_REFINE,        /* a noisy search resumed: a component is wider than the target */
+  PHASE_MORE,          /* a direction more on a face already searched (yaw_more) */
   PHASE_DONE,
   PHASE_FAILED
 } phase_t;
@@ -195,6 +197,9 @@ struct estimate {
   int rough1, rough2;   /* face 1's / face 2's rough faces were listed */
   int line2;            /* face 2's faces along face 1's normal were listed (line_once) */
   int line_late;        /* ... only after the checks, for a component too wide (wide_more) */
+  uint32_t more;        /* directions yaw_more added */
+  int more_si;          /* the search of the last, and the widest component not found before */
+  double more_before_m;
   unsigned char rough[FACE_CAP]; /* faces[i] is searched as a rough face: by its stays bounds */
   int mirror_next;               /* the search about to start mirrors this one (-1: none) */
   unsigned char search_rough[ESTIMATE_MAX_SEARCHES]; /* bounded by its STAYS trials (a rough
@@ -859,6 +864,7 @@ static estimate_status_t search_start(est_t *est, int face_index, int log_face, 
   sr->lo_trial = sr->hi_trial = -1;
   sr->retest_of = retest_of;
   sr->mirror_of = est->mirror_next;
+  sr->added = est->phase == PHASE_MORE;
   est->search_rough[sc->si] = (unsigned char)(est->rough[face_index] || sr->mirror_of >= 0);
   est->mirror_next = -1;
   ctx_orient(est, face_index, yaw_rad, sc);
@@ -1844,6 +1850,127 @@ static estimate_status_t wide_more(est_t *est, int *started) {
   return confirm_plans(est, np);
 }
 
+#define ESTIMATE_MORE_GAIN                                         \
+  0.8 /* yaw_more adds a direction only when it narrows the widest \
+         component not found to this fraction */
+
+/* The widest of the components not found (over the width limit or not determined), with the
+ * fed planes and, when u is not NULL, one more plane along u of half width h through the
+ * estimate: what a search along u would give if it reached h. 0 when every component is found. */
+static double widest_with(est_t *est, const double *u, double h) {
+  estimate_result_t *out = &est->result;
+  if (u) { /* a hypothetical fed search after the real ones, removed below */
+    estimate_search_t *sr = &out->search[out->search_count++];
+    memset(sr, 0, sizeof *sr);
+    memcpy(sr->plane_n_obj, u, sizeof sr->plane_n_obj);
+    sr->plane_d_m = cl_vec3_dot(u, est->guess_m);
+    sr->halfwidth_m = h;
+    sr->fed = 1;
+  }
+  qlearn_solve_result_t res;
+  double widest = 0.0;
+  if (solve_all(est, &res) == ESTIMATE_OK)
+    for (int k = 0; k < 3; ++k) {
+      if (est->halfwidth_m[k] <= est->cfg.max_halfwidth_m) continue;
+      const double e[3] = {k == 0, k == 1, k == 2};
+      widest = fmax(widest, dir_halfwidth(est, &res, e));
+    }
+  else
+    widest = HUGE_VAL;
+  if (u) --out->search_count;
+  return widest;
+}
+
+/* Every check passed and no face is left to list, but a component is still too wide or not
+ * determined (a pebble whose face 1 tipped when a support point left B, x and y +-1.9 mm, while
+ * faces 2 and 3 each gave one plane within 0.2 mm): one more direction on a face that already
+ * gave a plane, the yaw that narrows the widest such component most, counting on the half width
+ * the face's fed searches reached (a rough face: a pair). The candidates: every face with a fed
+ * search, yaws on the 2-degree sweep at least 20 deg from that face's searches, with a chord
+ * margin on flat faces. Only when the widest drops to ESTIMATE_MORE_GAIN of what it is, at most
+ * max_added_dirs times. *started = 1 when a search began. */
+static estimate_status_t yaw_more(est_t *est, int *started) {
+  estimate_result_t *out = &est->result;
+  *started = 0;
+  if (est->more >= est->cfg.max_added_dirs || out->search_count + 2 > ESTIMATE_MAX_SEARCHES)
+    return ESTIMATE_OK;
+  const double now = widest_with(est, NULL, 0.0);
+  if (!(now > 0.0)) return ESTIMATE_OK;
+  double best = ESTIMATE_MORE_GAIN * now, best_yaw = 0.0, best_margin = 0.0;
+  int best_face = -1;
+  for (size_t lf = 0; lf < out->face_count; ++lf) {
+    double h = 0.0;
+    int fed = 0;
+    for (size_t j = 0; j < out->search_count; ++j)
+      if (out->search[j].fed && out->search[j].face == (int)lf) {
+        h += out->search[j].halfwidth_m + out->search[j].bias_m;
+        ++fed;
+      }
+    if (fed == 0) continue;
+    h /= fed;
+    const int fi = est->face_src[lf];
+    const int any_chord = est->rough[fi] || face_is_closed(est, fi);
+    double m[YAW_STEPS];
+    if (!any_chord) {
+      estimate_status_t s = yaw_margins(est, &est->faces[fi], m);
+      if (s != ESTIMATE_OK) return s;
+    }
+    for (int k = 0; k < YAW_STEPS; ++k) {
+      if (!any_chord && !(m[k] >= est->cfg.min_chord_margin_m)) continue;
+      double q[4], u[3];
+      model_orientation_yawed(est->faces[fi].orientation_wxyz, k * CL_PI / YAW_STEPS, q);
+      dir_of(q, u);
+      int near = 0;
+      for (size_t j = 0; j < out->search_count && !near; ++j)
+        near = out->search[j].face == (int)lf &&
+               fabs(cl_vec3_dot(u, out->search[j].dir_link)) > cos(CL_PI / 9.0);
+      if (near) continue;
+      const double w = widest_with(est, u, h);
+      if (w < best) {
+        best = w;
+        best_face = (int)lf;
+        best_yaw = k * CL_PI / YAW_STEPS;
+        best_margin = any_chord ? -HUGE_VAL : m[k];
+      }
+    }
+  }
+  if (best_face < 0) return ESTIMATE_OK;
+  ++est->more;
+  *started = 1;
+  est->phase = PHASE_MORE;
+  est->more_si = (int)out->search_count;
+  est->more_before_m = now;
+  return search_start(est, est->face_src[best_face], best_face, best_yaw, best_margin, -1);
+}
+
+/* yaw_more's search is over: its plane is kept only when it narrowed the widest component not
+ * found and left every found one within the limit (noiseless, a wide plane can widen the bound
+ * of the others: a pebble whose other directions also tipped when a support point left B). */
+static estimate_status_t more_done(est_t *est) {
+  estimate_search_t *sr = &est->result.search[est->more_si];
+  if (!sr->fed) return ESTIMATE_OK;
+  qlearn_solve_result_t res;
+  estimate_status_t s = solve_all(est, &res);
+  if (s != ESTIMATE_OK) return s;
+  int lost = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double e[3] = {k == 0, k == 1, k == 2};
+    lost |= est->halfwidth_m[k] <= est->cfg.max_halfwidth_m &&
+            !(dir_halfwidth(est, &res, e) <= est->cfg.max_halfwidth_m);
+  }
+  const double after = widest_with(est, NULL, 0.0);
+  if (!lost && after < est->more_before_m) return ESTIMATE_OK;
+  sr->fed = 0;
+  est->more = UINT32_MAX; /* the half width it was chosen by was not reached: no more */
+  if (lost)
+    snprintf(sr->note, sizeof sr->note, "added for a component not found, it widened a found one");
+  else
+    snprintf(sr->note, sizeof sr->note,
+             "added for a component not found, it did not narrow it (+-%.3f mm, +-%.3f mm before)",
+             1e3 * after, 1e3 * est->more_before_m);
+  return ESTIMATE_OK;
+}
+
 /* Solve; with a noise model, first resume a search while a component is wider than the target
  * (refine_next: the checks below use the interval box). Then check every fed search's physics at
  * the estimate, and drop the one that fails worst (one bad plane moves the estimate, so the
@@ -1864,6 +1991,7 @@ static estimate_status_t verify_loop(est_t *est) {
     const int w = worst_search(est, res, &unverified);
     if (w < 0) {
       s = wide_more(est, &started);
+      if (s == ESTIMATE_OK && !started) s = yaw_more(est, &started);
       return s != ESTIMATE_OK || started ? s : finish(est);
     }
     estimate_search_t *sw = &out->search[w];
@@ -1935,6 +2063,11 @@ static estimate_status_t search_done(est_t *est) {
     case PHASE_FACE2_SEARCH: return verify_begin(est);
     case PHASE_RETEST:
       est->result.search[est->retest_of].retested = 1;
+      ++est->pass;
+      return verify_loop(est);
+    case PHASE_MORE:
+      s = more_done(est);
+      if (s != ESTIMATE_OK) return s;
       ++est->pass;
       return verify_loop(est);
     case PHASE_REFINE: ++est->pass; return verify_loop(est);
@@ -2161,7 +2294,7 @@ static int config_ok(const estimate_config_t *cfg) {
          (cfg->rough_faces == 0 || cfg->rough_faces == 1) && cfg->pose_noise_sigma_m >= 0.0 &&
          cfg->pose_noise_sigma_m <= 0.1 && cfg->noise_stop_width_m >= 0.0 &&
          cfg->noise_stop_width_m <= 0.01 && cfg->noise_target_halfwidth_m >= 0.0 &&
-         cfg->noise_target_halfwidth_m <= 0.01 &&
+         cfg->noise_target_halfwidth_m <= 0.01 && cfg->max_added_dirs <= 6 &&
          (cfg->start == ESTIMATE_START_UNIFORM || cfg->start == ESTIMATE_START_BBOX) &&
          (cfg->policy == QLEARN_POLICY_BISECT || cfg->policy == QLEARN_POLICY_PBA ||
           cfg->policy == QLEARN_POLICY_PAPER_QTABLE || cfg->policy == QLEARN_POLICY_PAPER_MLP);

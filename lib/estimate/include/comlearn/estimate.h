@@ -191,6 +191,11 @@ typedef struct {
    * and three resumptions (docs/estimate.md, "With noise"). 0: no resumption, and the first stop
    * is max(resolution_m, noise_sigma_m). */
   double noise_target_halfwidth_m;
+  /* When every check passed and no face is left to try but a component is still too wide, up
+   * to this many more directions on faces already searched (default 3, in [0, 6]; 0: none): each
+   * the yaw that would narrow the widest such component most, tried only when it would narrow it
+   * to 0.8 of its width, and kept only when it did (docs/estimate.md, "A direction more"). */
+  uint32_t max_added_dirs;
 } estimate_config_t;
 
 void estimate_config_default(estimate_config_t *cfg);
@@ -249,6 +254,8 @@ typedef struct {
   int mirror_of;            /* rough face: the search this one mirrors (yaw + pi), whose plane
                                both set; -1 */
   int retested;             /* a later search repeats this one (or none could) */
+  int added;                /* a direction more on a face already searched, for a component
+                               still not found after every check (kept only if it narrowed it) */
   int flat_failed;          /* a trial that sets its threshold left the flat-patch regime */
   int verified;             /* fed and its check at the final estimate passed; a fed search
                                that the other planes cannot check stays fed for the solve but
