@@ -1,19 +1,10 @@
-# lib/placement: one Check runner (kinematics and plans), and check_urdf on the YuMi model.
+# lib/placement: one Check runner (kinematics and plans). urdfdom's check_urdf on the YuMi model is
+# check_urdf_yumi (urdf_tools.cmake, with every bundled URDF).
 comlearn_add_check(check_placement
   SOURCES check_placement.c placement_kin_tests.c placement_plan_tests.c
           placement_grasp_tests.c
   LIBS comlearn_placement
   TIMEOUT 300)
-
-# The project's YuMi URDF must satisfy urdfdom's own checker (liburdfdom-tools).
-find_program(CHECK_URDF check_urdf)
-if(CHECK_URDF)
-  add_test(NAME placement_yumi_check_urdf COMMAND ${CHECK_URDF} ${COMLEARN_ASSETS_DIR}/yumi/yumi.urdf)
-  set_tests_properties(placement_yumi_check_urdf PROPERTIES TIMEOUT 60
-    PASS_REGULAR_EXPRESSION "Successfully Parsed XML" FAIL_REGULAR_EXPRESSION "Error|ERROR")
-else()
-  message(WARNING "check_urdf not found (liburdfdom-tools): placement_yumi_check_urdf not registered")
-endif()
 
 # plan.c at -O3 (what a Release build uses) with the strict warnings as errors: GCC 12 warned
 # -Wstringop-overflow there, a false positive the code now avoids (rot_finite() in plan.c).
