@@ -748,7 +748,8 @@ START_TEST(slide_rule_thresholds) {
   balance_config_default(&cfg);
   ck_assert_double_eq(cfg.slide_m, 0.005);
   const double from[3] = {0.1, -0.2, 0.3};
-  const double d = cfg.slide_m, rmax = 0.25 * cfg.tip_angle_rad; /* 0.0875 rad */
+  const double d = cfg.slide_m, rmax = 0.25 * cfg.tip_angle_rad;   /* 0.0875 rad */
+  ck_assert_double_eq(balance_slide_max_rotation_rad(&cfg), rmax); /* what comlearn plan prints */
   double to[3] = {from[0] + d * (1.0 + 1e-9), from[1], from[2]};
   ck_assert_int_eq(balance_trial_slid(&cfg, from, to, 0.0), 1);
   ck_assert_int_eq(balance_trial_slid(&cfg, from, to, rmax * (1.0 - 1e-12)), 1);

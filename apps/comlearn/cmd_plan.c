@@ -217,7 +217,7 @@ static void print_json(const plan_args_t *a, const plan_out_t *o) {
   fputs(", \"slide_m\": ", f);
   cli_json_number(f, o->bc.slide_m);
   fputs(", \"slide_max_rotation_rad\": ", f);
-  cli_json_number(f, 0.25 * o->bc.tip_angle_rad);
+  cli_json_number(f, balance_slide_max_rotation_rad(&o->bc));
   fputs(", \"waypoints\": [", f);
   for (int k = 0; k < PLACEMENT_PLAN_WAYPOINTS; ++k) {
     const placement_waypoint_t *w = &o->g.plan.waypoints[k];

@@ -5,11 +5,15 @@
 #include "balance_internal.h"
 #include "comlearn/math3d.h"
 
+double balance_slide_max_rotation_rad(const balance_config_t *cfg) {
+  return 0.25 * cfg->tip_angle_rad;
+}
+
 int balance_trial_slid(const balance_config_t *cfg, const double from_m[3], const double to_m[3],
                        double rotation_rad) {
   if (!cfg || !from_m || !to_m) return 0;
   return hypot(to_m[0] - from_m[0], to_m[1] - from_m[1]) > cfg->slide_m &&
-         rotation_rad < 0.25 * cfg->tip_angle_rad;
+         rotation_rad < balance_slide_max_rotation_rad(cfg);
 }
 
 /* Noise check and the placement perturbation of the release; the RNG and the pose noise for the

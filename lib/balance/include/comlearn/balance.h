@@ -219,6 +219,11 @@ balance_status_t balance_trial_run(balance_world_t *world, balance_object_t *obj
 int balance_trial_slid(const balance_config_t *cfg, const double from_m[3], const double to_m[3],
                        double rotation_rad);
 
+/* The slide rule's rotation limit: 0.25 * cfg->tip_angle_rad (an object that turned less than
+ * this and moved more than slide_m slid). For clients that apply the rule themselves (comlearn
+ * plan's JSON). Pure; cfg must not be NULL. */
+double balance_slide_max_rotation_rad(const balance_config_t *cfg);
+
 #ifdef __cplusplus
 }
 #endif
