@@ -14,11 +14,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 gui_tool=lcm-logplayer-gui.sh gui_here=$here
 # shellcheck source=lib/java.sh
 . "$here/scripts/lib/java.sh"
-default_url='udpm://239.255.76.67:7667?ttl=0'
-default_jar=$gui_default_jar
-url=$default_url
-jar=${COMLEARN_LCMTYPES_JAR:-$default_jar}
-check_only=0 paused=0 log=
+paused=0 log=
 rerun=("$0")
 
 usage() {
@@ -29,10 +25,10 @@ usage: scripts/lcm-logplayer-gui.sh [--lcm-url URL] [--jar PATH] [--paused] [--c
 Start LCM's log player GUI on LOG (an LCM log: lcm-logger's or comlearn record's), which
 republishes it on URL. Without LOG it opens a file dialog.
 
-  --lcm-url URL   LCM URL to publish on (default: $default_url)
+  --lcm-url URL   LCM URL to publish on (default: $gui_default_url)
   --jar PATH      jar of comlearn's types, put on the class path when built (default:
                   \$COMLEARN_LCMTYPES_JAR if set, else
-                  $default_jar,
+                  $gui_default_jar,
                   which 'bash scripts/setup.sh --gui' builds)
   --paused        start with the log paused (default: playing)
   --check         check the prerequisites and LOG, print the java command, do not start it
@@ -49,16 +45,10 @@ EOF
 }
 
 while [ $# -gt 0 ]; do
+  gui_common_option "$@"
+  if [ "$gui_shift" -gt 0 ]; then shift "$gui_shift"; continue; fi
   case "$1" in
-    --lcm-url) [ $# -ge 2 ] || gui_usage_error "--lcm-url needs a value"
-      url=$2; rerun+=("$1" "$2"); shift 2 ;;
-    --lcm-url=*) url=${1#--lcm-url=}; rerun+=("$1"); shift ;;
-    --jar) [ $# -ge 2 ] || gui_usage_error "--jar needs a value"
-      jar=$2; rerun+=("$1" "$2"); shift 2 ;;
-    --jar=*) jar=${1#--jar=}; rerun+=("$1"); shift ;;
     --paused) paused=1; rerun+=("$1"); shift ;;
-    --check) check_only=1; rerun+=("$1"); shift ;;
-    --install) gui_install=1; shift ;;
     -h | --help) usage; exit 0 ;;
     --) shift; [ $# -le 1 ] || gui_usage_error "one LOG at most"
       [ $# -eq 0 ] || { log=$1; rerun+=(-- "$1"); shift; } ;;
@@ -67,15 +57,13 @@ while [ $# -gt 0 ]; do
       log=$1; rerun+=(-- "$1"); shift ;;
   esac
 done
-[ -n "$url" ] || gui_usage_error "--lcm-url is empty"
-[ -n "$jar" ] || gui_usage_error "--jar is empty"
 # The log: a readable file that starts as an LCM event does (sync word 0xEDA1DA01).
 if [ -n "$log" ]; then
   [ -f "$log" ] && [ -r "$log" ] || gui_usage_error "LOG '$log' is not a readable file"
   [ "$(od -An -tx1 -N4 "$log" | tr -d ' \n')" = eda1da01 ] ||
     gui_usage_error "LOG '$log' is not an LCM log (it does not start with LCM's sync word EDA1DA01)"
 fi
-gui_rerun=("${rerun[@]}")
+gui_common_checked
 
 gui_find_java
 gui_need_jar "$gui_java_libs/lcm.jar" liblcm-java

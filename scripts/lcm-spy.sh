@@ -14,11 +14,6 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 gui_tool=lcm-spy.sh gui_here=$here
 # shellcheck source=lib/java.sh
 . "$here/scripts/lib/java.sh"
-default_url='udpm://239.255.76.67:7667?ttl=0'
-default_jar=$gui_default_jar
-url=$default_url
-jar=${COMLEARN_LCMTYPES_JAR:-$default_jar}
-check_only=0
 rerun=("$0")
 
 usage() {
@@ -27,9 +22,9 @@ usage: scripts/lcm-spy.sh [--lcm-url URL] [--jar PATH] [--check] [--install]
 
 Start lcm-spy with comlearn's LCM types on the class path.
 
-  --lcm-url URL   LCM URL to listen on (default: $default_url)
+  --lcm-url URL   LCM URL to listen on (default: $gui_default_url)
   --jar PATH      jar of comlearn's types (default: \$COMLEARN_LCMTYPES_JAR if set, else
-                  $default_jar,
+                  $gui_default_jar,
                   which 'bash scripts/setup.sh --gui' builds)
   --check         check the prerequisites, print the java command, do not start lcm-spy
   --install       when a prerequisite package or the jar is missing, run
@@ -44,23 +39,15 @@ EOF
 }
 
 while [ $# -gt 0 ]; do
+  gui_common_option "$@"
+  if [ "$gui_shift" -gt 0 ]; then shift "$gui_shift"; continue; fi
   case "$1" in
-    --lcm-url) [ $# -ge 2 ] || gui_usage_error "--lcm-url needs a value"
-      url=$2; rerun+=("$1" "$2"); shift 2 ;;
-    --lcm-url=*) url=${1#--lcm-url=}; rerun+=("$1"); shift ;;
-    --jar) [ $# -ge 2 ] || gui_usage_error "--jar needs a value"
-      jar=$2; rerun+=("$1" "$2"); shift 2 ;;
-    --jar=*) jar=${1#--jar=}; rerun+=("$1"); shift ;;
-    --check) check_only=1; rerun+=("$1"); shift ;;
-    --install) gui_install=1; shift ;;
     -h|--help) usage; exit 0 ;;
     -*) gui_usage_error "unknown option '$1'" ;;
     *) gui_usage_error "unexpected argument '$1'" ;;
   esac
 done
-[ -n "$url" ] || gui_usage_error "--lcm-url is empty"
-[ -n "$jar" ] || gui_usage_error "--jar is empty"
-gui_rerun=("${rerun[@]}")
+gui_common_checked
 
 gui_find_java
 gui_need_jar "$gui_java_libs/lcm.jar" liblcm-java

@@ -3,8 +3,9 @@
 # java themselves because Debian's /usr/bin/lcm-spy and /usr/bin/lcm-logplayer-gui pass -Xincgc,
 # which JDK 17 refuses ("Unrecognized option: -Xincgc").
 #
-# The caller sets gui_tool (its name in messages) and gui_here (the source tree) before sourcing,
-# then, after its options, gui_install (1: --install) and gui_rerun (its own command line
+# The caller sets gui_tool (its name in messages) and gui_here (the source tree) before sourcing
+# and rerun=("$0"); it reads its options with gui_common_option (the shared ones: URL, jar,
+# --check, --install) and ends them with gui_common_checked (gui_rerun: its own command line
 # without --install, run again after installing).
 
 # The packages are not part of the default setup (issue 16): this installs them and builds the jar.
@@ -14,6 +15,39 @@ gui_default_jar=$gui_here/build/default/lcmtypes/comlearn_lcmtypes.jar
 gui_java_libs=${COMLEARN_JAVA_LIBS:-/usr/share/java}
 gui_install=0
 gui_rerun=()
+
+# What both take: an LCM URL, the types' jar, --check and --install. The caller's url, jar,
+# check_only and rerun (its command line so far) start from these defaults.
+gui_default_url='udpm://239.255.76.67:7667?ttl=0'
+url=$gui_default_url
+jar=${COMLEARN_LCMTYPES_JAR:-$gui_default_jar}
+check_only=0
+
+# gui_common_option ARGS...: when ARGS starts with one of the options both wrappers take
+# (--lcm-url URL, --jar PATH, each also as --opt=VALUE; --check; --install), apply it to url, jar,
+# check_only or gui_install, add it to rerun (not --install) and set gui_shift to the number of
+# words it used; else gui_shift=0.
+gui_common_option() {
+  gui_shift=0
+  case "$1" in
+    --lcm-url | --jar)
+      [ $# -ge 2 ] || gui_usage_error "$1 needs a value"
+      if [ "$1" = --jar ]; then jar=$2; else url=$2; fi
+      rerun+=("$1" "$2") gui_shift=2 ;;
+    --lcm-url=*) url=${1#--lcm-url=} gui_shift=1; rerun+=("$1") ;;
+    --jar=*) jar=${1#--jar=} gui_shift=1; rerun+=("$1") ;;
+    --check) check_only=1 gui_shift=1; rerun+=("$1") ;;
+    --install) gui_install=1 gui_shift=1 ;;
+  esac
+}
+
+# gui_common_checked: after the options, the URL and the jar must not be empty; gui_rerun is the
+# command line seen.
+gui_common_checked() {
+  [ -n "$url" ] || gui_usage_error "--lcm-url is empty"
+  [ -n "$jar" ] || gui_usage_error "--jar is empty"
+  gui_rerun=("${rerun[@]}")
+}
 
 gui_die() {
   echo "$gui_tool: $*" >&2
