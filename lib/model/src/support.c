@@ -151,6 +151,23 @@ static int chord_result(double lo, double hi, double *s0, double *s1) {
   return 1;
 }
 
+double model_support_spread(const model_mesh_t *mesh, const double (*p)[3], const double n[3],
+                            double top, const unsigned char *on) {
+  double spread = 0.0;
+  for (size_t t = 0; t < mesh->triangle_count; ++t) {
+    const uint32_t *tri = mesh->triangles[t];
+    if (!on[tri[0]] || !on[tri[1]] || !on[tri[2]]) continue;
+    for (int k = 0; k < 3; ++k) spread = fmax(spread, top - cl_vec3_dot(n, p[tri[k]]));
+  }
+  return spread;
+}
+
+int model_support_flat(const model_support_contact_t *ct, double spread_m,
+                       const model_regime_config_t *cfg) {
+  return ct->region_area_m2 >= cfg->min_patch_area_m2 &&
+         ct->region_width_m >= cfg->min_patch_width_m && spread_m <= cfg->flat_spread_m;
+}
+
 int model_support_closed(const model_support_contact_t *ct, double hull_area_m2) {
   return ct->region_count == 1 && ct->region_area_m2 > 0.0 &&
          hull_area_m2 <= ct->region_area_m2 * (1.0 + 1e-6);
@@ -228,17 +245,20 @@ void model_regime_config_default(model_regime_config_t *cfg) {
   cfg->min_chord_margin_m = 0.003;
   cfg->min_com_margin_m = 0.002;
   cfg->min_face_area_m2 = 1e-5;
+  cfg->flat_spread_m = 1e-7;
 }
 
 model_status_t model_regime_config_check(const model_regime_config_t *cfg) {
   if (cfg == NULL) return MODEL_E_ARG;
-  const double all[6] = {cfg->plane_tol_m,        cfg->min_patch_area_m2, cfg->min_patch_width_m,
-                         cfg->min_chord_margin_m, cfg->min_com_margin_m,  cfg->min_face_area_m2};
-  for (int k = 0; k < 6; ++k) {
+  const double all[7] = {cfg->plane_tol_m,        cfg->min_patch_area_m2, cfg->min_patch_width_m,
+                         cfg->min_chord_margin_m, cfg->min_com_margin_m,  cfg->min_face_area_m2,
+                         cfg->flat_spread_m};
+  for (int k = 0; k < 7; ++k) {
     if (!isfinite(all[k])) return MODEL_E_NONFINITE;
   }
   if (!(cfg->plane_tol_m > 0.0) || !(cfg->min_patch_area_m2 > 0.0) ||
-      !(cfg->min_patch_width_m > 0.0) || !(cfg->min_face_area_m2 > 0.0))
+      !(cfg->min_patch_width_m > 0.0) || !(cfg->min_face_area_m2 > 0.0) ||
+      !(cfg->flat_spread_m > 0.0))
     return MODEL_E_ARG;
   return MODEL_OK;
 }
@@ -488,8 +508,9 @@ static model_status_t patch_compute(const model_mesh_t *mesh, const double q[4],
     }
     patch_outline(out, hull, model_polygon_hull(pts, np, hull));
   }
-  out->flat = out->region_area_m2 >= cfg->min_patch_area_m2 &&
-              out->region_width_m >= cfg->min_patch_width_m;
+  static const double down[3] = {0.0, 0.0, -1.0};
+  out->spread_m = model_support_spread(mesh, (const double(*)[3])w, down, -zmin, touch);
+  out->flat = model_support_flat(&ct, out->spread_m, cfg);
   return st;
 }
 

@@ -205,14 +205,14 @@ static model_status_t face_analyse(const model_mesh_t *mesh, const double n[3], 
   const int ring =
       st == MODEL_OK && ct.region_count == 0 &&
       model_support_edges_close(mesh, (const double(*)[2])xy, on, (const double(*)[2])hull, nh);
+  f->patch_spread_m = model_support_spread(mesh, (const double(*)[3])mesh->vertices_m, n, h, on);
   for (size_t v = 0; v < nv; ++v) on[v] = 0;
   if (st != MODEL_OK) return st;
   f->face_count = ct.triangle_count;
   f->region_count = ct.region_count;
   f->patch_area_m2 = ct.region_area_m2;
   f->patch_width_m = ct.region_width_m;
-  f->flat =
-      f->patch_area_m2 >= cfg->min_patch_area_m2 && f->patch_width_m >= cfg->min_patch_width_m;
+  f->flat = model_support_flat(&ct, f->patch_spread_m, cfg);
   f->closed = ct.region_count == 1 ? model_support_closed(&ct, f->area_m2) : ring;
   return model_orientation_resting(n, f->orientation_wxyz);
 }

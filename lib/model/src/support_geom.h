@@ -26,6 +26,16 @@ model_status_t model_support_contact(const model_mesh_t *mesh, const double (*xy
                                      const unsigned char *on, double (*tri_xy)[3][2],
                                      model_support_contact_t *out);
 
+/* How far the vertices of the in-plane triangles (all three marked in on[]) lie inside the plane
+ * n . x = top, at most: max of top - n . p[v] (p: the vertices in the frame of n and top). */
+double model_support_spread(const model_mesh_t *mesh, const double (*p)[3], const double n[3],
+                            double top, const unsigned char *on);
+
+/* The contact is a flat patch (model_patch_t.flat, model_face_t.flat): its largest region is as
+ * large and wide as cfg asks, and its vertices lie within cfg->flat_spread_m of the plane. */
+int model_support_flat(const model_support_contact_t *ct, double spread_m,
+                       const model_regime_config_t *cfg);
+
 /* The contact is closed (model_patch_t.closed): one region whose real area is hull_area_m2, the
  * area of the convex hull of every touching vertex, to a relative 1e-6. */
 int model_support_closed(const model_support_contact_t *ct, double hull_area_m2);

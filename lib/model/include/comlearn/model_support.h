@@ -117,6 +117,12 @@ typedef struct {
   double min_com_margin_m;
   /* Hull faces (merged coplanar hull facets) smaller than this are not listed. Default 1e-5 m^2. */
   double min_face_area_m2;
+  /* A flat patch is flat: the vertices of its in-plane triangles lie within this of the plane.
+   * Default 1e-7 m: an exactly flat face's vertices scatter by their float32 rounding (~4e-9 m
+   * at 5 cm); a scanned face's noise (1 um and more) fills the plane_tol_m band, its contact is a
+   * few noise peaks, and an edge test on it tips early by tens of um (docs/physics.md, "Scanned
+   * faces"): not a flat-patch test. Finite, > 0. */
+  double flat_spread_m;
 } model_regime_config_t;
 
 /* Fill cfg with the defaults documented above. */
@@ -138,8 +144,10 @@ typedef struct {
   size_t region_count;   /* groups of those triangles that touch (share a vertex) */
   double region_area_m2; /* real area of the largest group */
   double region_width_m; /* smallest width of that group's convex hull */
-  int flat;              /* one region is a flat patch: region_area_m2 >= min_patch_area_m2 and
-                             region_width_m >= min_patch_width_m */
+  double spread_m;       /* how far above the support plane the vertices of the in-plane
+                             triangles lie, at most (0 when face_count == 0) */
+  int flat;              /* one region is a flat patch: region_area_m2 >= min_patch_area_m2,
+                             region_width_m >= min_patch_width_m and spread_m <= flat_spread_m */
   int closed;            /* the real contact is one convex region: one region of in-plane
                              triangles whose real area is the area of the convex hull of every
                              touching vertex (to 1e-6), as a single triangle or a convex fracture
@@ -285,8 +293,10 @@ typedef struct {
   size_t region_count;        /* groups of them that touch (share a vertex) */
   double patch_area_m2;       /* real area of the largest group (0 if none) */
   double patch_width_m;       /* smallest width of that group's convex hull */
+  double patch_spread_m;      /* how far inside the plane the vertices of the in-plane triangles
+                                   lie, at most */
   int flat;                   /* that group is a flat patch (min_patch_area_m2,
-                                   min_patch_width_m) */
+                                   min_patch_width_m, flat_spread_m) */
   int closed;                 /* the real contact is one convex region (model_patch_t.closed):
                                    its real area is the support polygon's, to 1e-6 */
   double com_margin_m;        /* CoM guess projected along the normal: signed distance to the
