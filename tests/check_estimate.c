@@ -587,6 +587,35 @@ START_TEST(scanned_face_not_flat) {
 }
 END_TEST
 
+/* The corner bias (docs/physics.md): with PBA, mug 6008 (uneven) measured z on its side strip
+ * with a vertex of the strip 3.5-3.9 um beyond B's edge line at the threshold, which tipped 7.4 um
+ * inside the CoM, over the 5 um per-plane budget: z was 7.4 um off at +-5.3 um. Such a plane now
+ * carries 15 um; the two planes of the mug's bottom (their nearest vertex 110 um from the line)
+ * keep 5 um; every component inside its bound. */
+START_TEST(corner_bias_budget) {
+  estimate_result_t *r = malloc(sizeof *r);
+  ck_assert_ptr_nonnull(r);
+  char urdf[512];
+  shaped_urdf(SHAPEGEN_MUG, 6008, 1, urdf, sizeof urdf);
+  estimate_config_t cfg;
+  estimate_config_default(&cfg);
+  cfg.policy = QLEARN_POLICY_PBA;
+  model_mass_t truth;
+  estimate_urdf_noisy(urdf, &cfg, 0, 0.0, 0.0, r, &truth);
+  ck_assert_int_eq(check_covered("mug_s6008_uneven pba", r, &truth), 3);
+  int corner = 0, plain = 0;
+  for (size_t i = 0; i < r->search_count; ++i) {
+    if (!r->search[i].fed) continue;
+    corner += r->search[i].bias_m == 1.5e-5;
+    plain += r->search[i].bias_m == 5e-6;
+  }
+  ck_assert_int_eq(corner, 1);
+  ck_assert_int_eq(plain, 2);
+  ck_assert(fabs(r->com_m[2] - truth.com_m[2]) > 5e-6); /* what the 5 um budget missed */
+  free(r);
+}
+END_TEST
+
 /* A contact limit cycle (docs/physics.md, "Limit cycles on rough faces"): the scanned box seed 39
  * (even), set down on one of its faces in the middle of B, can rock between contact sets on its
  * 2 um bumps at a few 1e-2 rad/s with a period of a few steps until the horizon, its pose still
@@ -1206,6 +1235,7 @@ int main(void) {
   tcase_add_test(tc, contact_limited_reason);
   tcase_add_test(tc, still_at_the_horizon_stays);
   tcase_add_test(tc, scanned_face_not_flat);
+  tcase_add_test(tc, corner_bias_budget);
   tcase_add_loop_test(tc, noisy_intervals_cover, 0, 2);
   tcase_add_test(tc, noise_target_refines);
   tcase_add_test(tc, paper_walk_starts_at_bbox_centre);

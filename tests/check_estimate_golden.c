@@ -10,7 +10,10 @@
  * (balance_noise_seed) and the refinement to noise_target_halfwidth_m; no noiseless line moved.
  * Two noiseless lines were written again later that day, on purpose: PBA at 1 mm on rock_1 (even
  * and uneven), where face 2 now also tries the faces along face 1's normal (line_once); the same
- * components found, inside their bounds. */
+ * components found, inside their bounds. 14 noiseless lines were written again on 2026-12-04, on
+ * purpose: a plane whose threshold has a vertex of its face's contact boundary within 25 um of
+ * B's edge line carries a 15 um bias budget, not 5 um (docs/physics.md, the corner bias); only
+ * half widths moved (rock_2_even and rock_3_even, by at most 10 um), no estimate or trial. */
 #include <check.h>
 #include <inttypes.h>
 #include <stdio.h>
