@@ -434,6 +434,18 @@ static void shaped_urdf(shapegen_family_t family, uint64_t seed, int uneven, cha
   free(so);
 }
 
+/* A new result: the noiseless estimate (cfg NULL: the defaults) of the generated object family /
+ * seed, even or uneven, on the direct backend; the truth into *truth. */
+static estimate_result_t *estimate_shaped(shapegen_family_t family, uint64_t seed, int uneven,
+                                          const estimate_config_t *cfg, model_mass_t *truth) {
+  estimate_result_t *r = malloc(sizeof *r);
+  ck_assert_ptr_nonnull(r);
+  char urdf[512];
+  shaped_urdf(family, seed, uneven, urdf, sizeof urdf);
+  estimate_urdf_noisy(urdf, cfg, 0, 0.0, 0.0, r, truth);
+  return r;
+}
+
 START_TEST(face_redo_pebble) {
   estimate_result_t *r = malloc(sizeof *r);
   ck_assert_ptr_nonnull(r);
@@ -466,12 +478,8 @@ END_TEST
  * candidates tipped or rolled); now every component, inside its bound (0.24, 0.01 and 0.004 mm
  * off at +-0.99, +-0.14 and +-0.06 mm measured). */
 START_TEST(settled_rough_face) {
-  estimate_result_t *r = malloc(sizeof *r);
-  ck_assert_ptr_nonnull(r);
-  char urdf[512];
-  shaped_urdf(SHAPEGEN_PEBBLE, 1093, 1, urdf, sizeof urdf);
   model_mass_t truth;
-  estimate_urdf_noisy(urdf, NULL, 0, 0.0, 0.0, r, &truth);
+  estimate_result_t *r = estimate_shaped(SHAPEGEN_PEBBLE, 1093, 1, NULL, &truth);
   ck_assert_int_eq(check_covered("pebble_s1093_uneven", r, &truth), 3);
   free(r);
 }
@@ -483,12 +491,8 @@ END_TEST
  * be listed); now y and z are found, inside their bounds (0.15 and 0.10 mm off at +-0.33 and
  * +-0.17 mm measured). */
 START_TEST(spare_patch_searched_rough) {
-  estimate_result_t *r = malloc(sizeof *r);
-  ck_assert_ptr_nonnull(r);
-  char urdf[512];
-  shaped_urdf(SHAPEGEN_LUMPY, 1010, 1, urdf, sizeof urdf);
   model_mass_t truth;
-  estimate_urdf_noisy(urdf, NULL, 0, 0.0, 0.0, r, &truth);
+  estimate_result_t *r = estimate_shaped(SHAPEGEN_LUMPY, 1010, 1, NULL, &truth);
   const int found = check_covered("lumpy_s1010_uneven", r, &truth);
   int rough_confirmed = 0;
   for (size_t i = 0; i < r->face_count; ++i)
@@ -575,12 +579,8 @@ START_TEST(scanned_face_not_flat) {
     shapegen_object_free(so);
   }
   free(so);
-  estimate_result_t *r = malloc(sizeof *r);
-  ck_assert_ptr_nonnull(r);
-  char urdf[512];
-  shaped_urdf(SHAPEGEN_SCANNED, 4081, 0, urdf, sizeof urdf);
   model_mass_t truth;
-  estimate_urdf(urdf, r, &truth);
+  estimate_result_t *r = estimate_shaped(SHAPEGEN_SCANNED, 4081, 0, NULL, &truth);
   ck_assert_int_eq(check_covered("scanned_s4081_even", r, &truth), 3);
   for (size_t i = 0; i < r->face_count; ++i) ck_assert(r->face[i].rough || !r->face[i].confirmed);
   free(r);
@@ -593,15 +593,11 @@ END_TEST
  * carries 15 um; the two planes of the mug's bottom (their nearest vertex 110 um from the line)
  * keep 5 um; every component inside its bound. */
 START_TEST(corner_bias_budget) {
-  estimate_result_t *r = malloc(sizeof *r);
-  ck_assert_ptr_nonnull(r);
-  char urdf[512];
-  shaped_urdf(SHAPEGEN_MUG, 6008, 1, urdf, sizeof urdf);
   estimate_config_t cfg;
   estimate_config_default(&cfg);
   cfg.policy = QLEARN_POLICY_PBA;
   model_mass_t truth;
-  estimate_urdf_noisy(urdf, &cfg, 0, 0.0, 0.0, r, &truth);
+  estimate_result_t *r = estimate_shaped(SHAPEGEN_MUG, 6008, 1, &cfg, &truth);
   ck_assert_int_eq(check_covered("mug_s6008_uneven pba", r, &truth), 3);
   int corner = 0, plain = 0;
   for (size_t i = 0; i < r->search_count; ++i) {

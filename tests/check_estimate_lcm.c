@@ -167,16 +167,25 @@ static void estimate_lcm_urdf(const char *urdf, const model_mesh_t *mesh, estima
   ck_assert_msg(ws != -1 && WIFEXITED(ws) && WEXITSTATUS(ws) == 0, "comlearn-sim exit %d", ws);
 }
 
+/* The estimate of urdf on both backends: --direct into *d, over LCM into *l with its stats (both
+ * allocated here, for the caller to free). */
+static void estimate_both(const char *urdf, model_object_t *obj, estimate_result_t **d,
+                          estimate_result_t **l, estimate_lcm_stats_t *st) {
+  model_error_t err = {{0}};
+  ck_assert_msg(model_object_load(urdf, NULL, obj, &err) == MODEL_OK, "%s", err.msg);
+  *d = malloc(sizeof **d);
+  *l = malloc(sizeof **l);
+  ck_assert_ptr_nonnull(*d);
+  ck_assert_ptr_nonnull(*l);
+  estimate_direct_urdf(urdf, &obj->mesh, *d);
+  estimate_lcm_urdf(urdf, &obj->mesh, *l, st);
+}
+
 static void run_both(const char *urdf, const double truth_m[3], double tol_m) {
   model_object_t obj = {0};
-  model_error_t err = {{0}};
-  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
-  estimate_result_t *d = malloc(sizeof *d), *l = malloc(sizeof *l);
-  ck_assert_ptr_nonnull(d);
-  ck_assert_ptr_nonnull(l);
-  estimate_direct_urdf(urdf, &obj.mesh, d);
+  estimate_result_t *d, *l;
   estimate_lcm_stats_t st;
-  estimate_lcm_urdf(urdf, &obj.mesh, l, &st);
+  estimate_both(urdf, &obj, &d, &l, &st);
   for (int k = 0; k < 3; ++k) {
     ck_assert_msg(l->found[k], "%s: component %d not found (%s)", urdf, k, l->msg);
     ck_assert_msg(fabs(l->com_m[k] - truth_m[k]) <= tol_m, "%s: component %d %.4f mm off", urdf, k,
@@ -343,19 +352,25 @@ static const struct {
   uint64_t seed;
 } shaped[] = {{SHAPEGEN_PEBBLE, 103}, {SHAPEGEN_PEBBLE, 104}, {SHAPEGEN_SCANNED, 25}};
 
-START_TEST(shaped_over_lcm) {
+/* Write the generated object family / seed into tmpdir; its uneven URDF's path into urdf. */
+static void shaped_uneven_urdf(shapegen_family_t family, uint64_t seed, char *urdf, size_t size) {
   shapegen_object_t *so = malloc(sizeof *so);
   ck_assert_ptr_nonnull(so);
-  ck_assert_int_eq(shapegen_generate(shaped[_i].family, shaped[_i].seed, so), MODEL_OK);
-  char failed[512], urdf[512];
+  ck_assert_int_eq(shapegen_generate(family, seed, so), MODEL_OK);
+  char failed[512];
   ck_assert_msg(shapegen_write(so, tmpdir, failed, sizeof failed) == 0, "cannot write %s", failed);
-  snprintf(urdf, sizeof urdf, "%s/%s_uneven.urdf", tmpdir, so->spec.name);
+  snprintf(urdf, size, "%s/%s_uneven.urdf", tmpdir, so->spec.name);
+  shapegen_object_free(so);
+  free(so);
+}
+
+START_TEST(shaped_over_lcm) {
+  char urdf[512];
+  shaped_uneven_urdf(shaped[_i].family, shaped[_i].seed, urdf, sizeof urdf);
   model_mass_t truth;
   model_error_t err = {{0}};
   ck_assert_msg(model_inertial_load(urdf, NULL, &truth, &err) == MODEL_OK, "%s", err.msg);
   run_both(urdf, truth.com_m, 3e-4);
-  shapegen_object_free(so);
-  free(so);
 }
 END_TEST
 
@@ -367,21 +382,12 @@ END_TEST
  * let go) settled 2e-8 m apart (measured, trial 23); through the rough faces' STAYS bounds the
  * later releases moved by up to 4e-11 m and the estimate by 6e-10 m. */
 START_TEST(added_direction_over_lcm) {
-  shapegen_object_t *so = malloc(sizeof *so);
-  ck_assert_ptr_nonnull(so);
-  ck_assert_int_eq(shapegen_generate(SHAPEGEN_PEBBLE, 93, so), MODEL_OK);
-  char failed[512], urdf[512];
-  ck_assert_msg(shapegen_write(so, tmpdir, failed, sizeof failed) == 0, "cannot write %s", failed);
-  snprintf(urdf, sizeof urdf, "%s/%s_uneven.urdf", tmpdir, so->spec.name);
+  char urdf[512];
+  shaped_uneven_urdf(SHAPEGEN_PEBBLE, 93, urdf, sizeof urdf);
   model_object_t obj = {0};
-  model_error_t err = {{0}};
-  ck_assert_msg(model_object_load(urdf, NULL, &obj, &err) == MODEL_OK, "%s", err.msg);
-  estimate_result_t *d = malloc(sizeof *d), *l = malloc(sizeof *l);
-  ck_assert_ptr_nonnull(d);
-  ck_assert_ptr_nonnull(l);
-  estimate_direct_urdf(urdf, &obj.mesh, d);
+  estimate_result_t *d, *l;
   estimate_lcm_stats_t st;
-  estimate_lcm_urdf(urdf, &obj.mesh, l, &st);
+  estimate_both(urdf, &obj, &d, &l, &st);
   ck_assert_uint_eq(st.trials, l->trial_count);
   ck_assert_uint_eq(l->trial_count, d->trial_count);
   ck_assert_uint_eq(l->search_count, d->search_count);
@@ -407,8 +413,6 @@ START_TEST(added_direction_over_lcm) {
   free(d);
   free(l);
   model_object_free(&obj);
-  shapegen_object_free(so);
-  free(so);
 }
 END_TEST
 
