@@ -1903,9 +1903,9 @@ static estimate_status_t wide_more(est_t *est, int *started) {
   return confirm_plans(est, np);
 }
 
-#define ESTIMATE_MORE_GAIN                                         \
-  0.8 /* yaw_more adds a direction only when it narrows the widest \
-         component not found to this fraction */
+/* yaw_more adds a direction only when it would narrow the widest component not found to this
+ * fraction of its width (or under the claim limit). */
+#define ESTIMATE_MORE_GAIN 0.8
 
 /* The widest of the components not found (over the width limit or not determined), with the
  * fed planes and, when u is not NULL, one more plane along u of half width h through the
@@ -1940,8 +1940,8 @@ static double widest_with(est_t *est, const double *u, double h) {
  * gave a plane, the yaw that narrows the widest such component most, counting on the half width
  * the face's fed searches reached (a rough face: a pair). The candidates: every face with a fed
  * search, yaws on the 2-degree sweep at least 20 deg from that face's searches, with a chord
- * margin on flat faces. Only when the widest drops to ESTIMATE_MORE_GAIN of what it is, at most
- * max_added_dirs times. *started = 1 when a search began. */
+ * margin on flat faces. Only when the widest drops to ESTIMATE_MORE_GAIN of what it is or under
+ * the claim limit, at most max_added_dirs times. *started = 1 when a search began. */
 static estimate_status_t yaw_more(est_t *est, int *started) {
   estimate_result_t *out = &est->result;
   *started = 0;
