@@ -182,17 +182,20 @@ static void json_trials(const estimate_result_t *r) {
 }
 
 static void print_json(const char *urdf, qlearn_policy_kind_t policy, double res_m,
-                       const char *backend, const estimate_result_t *r, double wall_s,
-                       const model_mass_t *truth) {
+                       const char *backend, estimate_status_t status, const estimate_result_t *r,
+                       double wall_s, const model_mass_t *truth) {
   printf("{\"object\": ");
   cli_json_string(stdout, urdf, 0);
+  printf(", \"status\": ");
+  cli_json_string(stdout, status == ESTIMATE_OK ? "ok" : estimate_status_str(status), 0);
   printf(", \"policy\": \"%s\", \"backend\": \"%s\", \"resolution_m\": ",
          estimate_policy_name(policy), backend);
   cli_json_number(stdout, res_m);
   printf(", ");
-  json_vec("com_m", r->com_m, 3);
+  static const double none[3] = {NAN, NAN, NAN}; /* a failed estimate has none */
+  json_vec("com_m", status == ESTIMATE_OK ? r->com_m : none, 3);
   printf(", ");
-  json_vec("halfwidth_m", r->halfwidth_m, 3);
+  json_vec("halfwidth_m", status == ESTIMATE_OK ? r->halfwidth_m : none, 3);
   printf(", \"found\": [%s, %s, %s], \"reason\": [", r->found[0] ? "true" : "false",
          r->found[1] ? "true" : "false", r->found[2] ? "true" : "false");
   for (int k = 0; k < 3; ++k) {
@@ -578,13 +581,14 @@ static int write_picture(const est_args_t *a, const char *backend_name, const mo
 
 /* Print the result (the truth read now, after the estimate, when asked), and with --svg draw it:
  * the exit status. */
-static int report(const est_args_t *a, const char *backend_name, const estimate_result_t *res,
-                  double wall_s, const model_mesh_t *mesh, const double base_size_m[3]) {
+static int report(const est_args_t *a, const char *backend_name, estimate_status_t status,
+                  const estimate_result_t *res, double wall_s, const model_mesh_t *mesh,
+                  const double base_size_m[3]) {
   int found = 0;
   for (int k = 0; k < 3; ++k) {
     if (res->found[k])
       ++found;
-    else
+    else if (status == ESTIMATE_OK)
       LOG_W("component %c not found: %s", "xyz"[k], res -> reason[k]);
   }
   model_mass_t tm;
@@ -599,9 +603,10 @@ static int report(const est_args_t *a, const char *backend_name, const estimate_
     tp = &tm;
   }
   if (a->json)
-    print_json(a->urdf, a->cfg.policy, a->cfg.resolution_m, backend_name, res, wall_s, tp);
+    print_json(a->urdf, a->cfg.policy, a->cfg.resolution_m, backend_name, status, res, wall_s, tp);
   else
     print_table(a->urdf, a->cfg.policy, res, wall_s, tp);
+  if (status != ESTIMATE_OK) return EXIT_FAILURE;
   if (a->svg && write_picture(a, backend_name, mesh, base_size_m, res, tp) != 0)
     return EXIT_FAILURE;
   if (found == 0) {
@@ -643,12 +648,16 @@ int cmd_estimate(int argc, char **argv) {
   backend_close(&b);
   if (es != ESTIMATE_OK) {
     LOG_E("%s: %s%s%s", a.urdf, estimate_status_str(es), res->msg[0] ? ": " : "", res->msg);
+    /* geometry that gives no flat face or no stable pose: the object does not suit the method;
+     * with --json the trials run so far and the faces tried are printed all the same */
+    rc = es == ESTIMATE_E_ARG ? EXIT_USAGE
+         : a.json             ? report(&a, name, es, res, wall, &obj.mesh, b.backend.base_size_m)
+                              : EXIT_FAILURE;
     free(res);
     model_object_free(&obj);
-    /* geometry that gives no flat face or no stable pose: the object does not suit the method */
-    return es == ESTIMATE_E_ARG ? EXIT_USAGE : EXIT_FAILURE;
+    return rc;
   }
-  rc = report(&a, name, res, wall, &obj.mesh, b.backend.base_size_m);
+  rc = report(&a, name, es, res, wall, &obj.mesh, b.backend.base_size_m);
   free(res);
   model_object_free(&obj);
   return rc;
