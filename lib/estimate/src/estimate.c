@@ -404,6 +404,11 @@ static void search_range(const est_t *est, const double u[3], double *lo, double
   *hi -= trim;
 }
 
+/* v lies in face f's plane (within tol). */
+static int on_plane(const model_face_t *f, const double v[3], double tol) {
+  return f->offset_m - cl_vec3_dot(f->normal_link, v) <= tol;
+}
+
 /* On a closed patch the confirmed face holds the CoM's projection: the range is the patch's
  * extent along u (its vertices in the face plane), inside the object's. */
 static void search_range_closed(const est_t *est, const model_face_t *f, const double u[3],
@@ -413,17 +418,12 @@ static void search_range_closed(const est_t *est, const model_face_t *f, const d
   double a = HUGE_VAL, b = -HUGE_VAL;
   for (size_t i = 0; i < est->mesh->vertex_count; ++i) {
     const double *v = est->mesh->vertices_m[i];
-    if (f->offset_m - cl_vec3_dot(f->normal_link, v) > rc.plane_tol_m) continue;
+    if (!on_plane(f, v, rc.plane_tol_m)) continue;
     a = fmin(a, cl_vec3_dot(v, u));
     b = fmax(b, cl_vec3_dot(v, u));
   }
   if (a > *lo) *lo = a;
   if (b < *hi) *hi = b;
-}
-
-/* v lies in face f's plane (within tol). */
-static int on_plane(const model_face_t *f, const double v[3], double tol) {
-  return f->offset_m - cl_vec3_dot(f->normal_link, v) <= tol;
 }
 
 /* Vertex vi lies on the boundary of the real contact on face f's plane: the angles of the
@@ -2008,12 +2008,15 @@ static estimate_status_t more_done(est_t *est) {
   estimate_status_t s = solve_all(est, &res);
   if (s != ESTIMATE_OK) return s;
   int lost = 0;
+  double after = 0.0; /* the widest not found, as widest_with measures it, from this solve */
   for (int k = 0; k < 3; ++k) {
     const double e[3] = {k == 0, k == 1, k == 2};
-    lost |= est->halfwidth_m[k] <= est->cfg.max_halfwidth_m &&
-            !(dir_halfwidth(est, &res, e) <= est->cfg.max_halfwidth_m);
+    const double w = dir_halfwidth(est, &res, e);
+    if (est->halfwidth_m[k] <= est->cfg.max_halfwidth_m)
+      lost |= !(w <= est->cfg.max_halfwidth_m);
+    else
+      after = fmax(after, w);
   }
-  const double after = widest_with(est, NULL, 0.0);
   if (!lost && after < est->more_before_m) return ESTIMATE_OK;
   sr->fed = 0;
   est->more = UINT32_MAX; /* the half width it was chosen by was not reached: no more */

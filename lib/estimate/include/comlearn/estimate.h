@@ -194,7 +194,8 @@ typedef struct {
   /* When every check passed and no face is left to try but a component is still too wide, up
    * to this many more directions on faces already searched (default 3, in [0, 6]; 0: none): each
    * the yaw that would narrow the widest such component most, tried only when it would narrow it
-   * to 0.8 of its width, and kept only when it did (docs/estimate.md, "A direction more"). */
+   * to 0.8 of its width or under max_halfwidth_m, and kept only when it narrowed it (docs/
+   * estimate.md, "A direction more"). */
   uint32_t max_added_dirs;
 } estimate_config_t;
 
