@@ -138,6 +138,9 @@ START_TEST(bad_calls_refused) {
   bad = cfg;
   bad.max_added_dirs = 7;
   ck_assert_int_eq(estimate_create(&r.obj.mesh, kBase, &bad, &est), ESTIMATE_E_ARG);
+  bad = cfg;
+  bad.fall_steering = 2;
+  ck_assert_int_eq(estimate_create(&r.obj.mesh, kBase, &bad, &est), ESTIMATE_E_ARG);
   ck_assert_int_eq(estimate_create(&r.obj.mesh, kBase, &cfg, &est), ESTIMATE_OK);
   estimate_trial_request_t req;
   const estimate_trial_reply_t zero = {0};

@@ -13,7 +13,12 @@
  * components found, inside their bounds. 14 noiseless lines were written again on 2026-12-04, on
  * purpose: a plane whose threshold has a vertex of its face's contact boundary within 25 um of
  * B's edge line carries a 15 um bias budget, not 5 um (docs/physics.md, the corner bias); only
- * half widths moved (rock_2_even and rock_3_even, by at most 10 um), no estimate or trial. */
+ * half widths moved (rock_2_even and rock_3_even, by at most 10 um), no estimate or trial. Four
+ * noisy lines (1 mm) were written again on 2026-12-04 (later), on purpose: stable checks that tip
+ * on a closed patch steer the estimate (fall_steering) and the face log holds 32 faces, not 16.
+ * rock_3_uneven: PBA 285 -> 153 trials (11 -> 7 stable checks), paper-qtable and paper-mlp from
+ * no component (16 checks, the log full) to all three, inside their intervals (0.33 mm off at
+ * +-0.44 mm at most); rock_1_uneven PBA: only its x, not found, moved. */
 #include <check.h>
 #include <inttypes.h>
 #include <stdio.h>

@@ -43,8 +43,13 @@ enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw s
  * 3324 noisy components over bench_coverage --seeds 6 (before rough faces with noise) for 0.2
  * points of coverage (97.9 -> 98.1 %). */
 #define ESTIMATE_CLOSED_NOISY_MARGIN_M 2.5e-4
+/* fall_steer: how far beyond its contact a fallen check puts the CoM, and how far the estimate
+ * must have moved for fall_relist to list the phase's faces again. */
+#define ESTIMATE_FALL_MARGIN_M 5e-4
+#define ESTIMATE_RELIST_M 1e-4
 enum {
   ESTIMATE_SETTLED_MAX = 8, /* faces taken from settled poses, per estimate */
+  ESTIMATE_FALLS_MAX = 32,  /* stable checks' falls that steer the estimate (fall_steer) */
   ESTIMATE_FACE_REDO = 3    /* a face replaced by another closed patch, per estimate */
 };
 
@@ -121,6 +126,7 @@ void estimate_config_default(estimate_config_t *cfg) {
   cfg->rough_faces = 1;
   cfg->noise_target_halfwidth_m = 5e-4;
   cfg->max_added_dirs = 3;
+  cfg->fall_steering = 1;
 }
 
 typedef struct {
@@ -224,6 +230,16 @@ struct estimate {
   int redo_face;          /* the face (out->face) that face_redo replaces as face 1, or -1 */
   size_t closed_from;     /* the closed patches planned in this phase: faces[closed_from, ...) */
   uint32_t found_settled; /* faces added from settled poses (at most ESTIMATE_SETTLED_MAX) */
+  /* Falls of stable checks on closed patches and rough faces: the CoM lies beyond the face's
+   * contact in the direction the object fell, fall_a[i] . c >= fall_b[i] (fall_steer). */
+  double fall_a[ESTIMATE_FALLS_MAX][3];
+  double fall_b[ESTIMATE_FALLS_MAX];
+  uint32_t falls;
+  int steered; /* guess_m was steered in this face phase; unsteered_m is the one before */
+  double unsteered_m[3];
+  int list_rough;        /* the phase's pending plans are its closed patches (0) or rough faces
+                            (1) listed under listed_at_m; -1: another list, not listed again */
+  double listed_at_m[3]; /* the estimate that list was made under */
   face_plan_t plans[FACE_CAP];           /* the candidates of face 1, then of face 2 */
   model_regime_t regime;                 /* scratch (~4 KiB) */
   double bounds[2][ESTIMATE_MAX_TRIALS]; /* scratch: a rough pair's STAYS bounds (rough_plane) */
@@ -1298,6 +1314,100 @@ static estimate_status_t settled_face(est_t *est, const estimate_trial_t *t) {
   return ESTIMATE_OK;
 }
 
+/* Steer the estimate by a stable check that fell (t, on faces[fi], a closed patch or a rough
+ * face): the object turned about an edge of its contact, away from B's middle, toward f (world,
+ * horizontal: the top's motion, axis x z for the turn's axis), so the CoM lies beyond the contact
+ * along f: f . c >= max over the contact's vertices of f . v, in the link frame at release. That
+ * is recorded (capped at the object's extent along f, less search_range's trim) with
+ * ESTIMATE_FALL_MARGIN_M more, and the estimate is moved the least to satisfy every fall so far
+ * (cyclic projections, only along the directions the solve has not determined), so the faces
+ * listed next are those the CoM more likely rests on. A heuristic for planning only: a fall is
+ * never fed to the solve. On an uneven lumpy rock every patch under the mesh's uniform CoM (3 mm
+ * off) fell and the face log filled (docs/estimate.md, "Steered by falls"). */
+static void fall_steer(est_t *est, const estimate_trial_t *t, int fi) {
+  const model_face_t *f = &est->faces[fi];
+  if (!est->cfg.fall_steering || f->flat || t->outcome != ESTIMATE_TIPS ||
+      est->falls >= ESTIMATE_FALLS_MAX)
+    return;
+  double qc[4], qr[4];
+  cl_quat_conj(t->released.orientation_wxyz, qc);
+  cl_quat_mul(t->settled.orientation_wxyz, qc, qr); /* the turn, world frame */
+  const double sgn = qr[0] < 0.0 ? -1.0 : 1.0;
+  double fw[3] = {sgn * qr[2], -sgn * qr[1], 0.0}; /* axis x z */
+  const double h = hypot(fw[0], fw[1]);
+  if (!(h > 1e-9)) return; /* turned about the vertical only */
+  double r[3][3], a[3];
+  model_quat_to_rot(t->released.orientation_wxyz, r);
+  for (int k = 0; k < 3; ++k) a[k] = (r[0][k] * fw[0] + r[1][k] * fw[1]) / h;
+  model_regime_config_t rc;
+  model_regime_config_default(&rc);
+  double b = -HUGE_VAL;
+  for (size_t i = 0; i < est->mesh->vertex_count; ++i) {
+    if (on_plane(f, est->mesh->vertices_m[i], rc.plane_tol_m))
+      b = fmax(b, cl_vec3_dot(a, est->mesh->vertices_m[i]));
+  }
+  double lo = 0.0, hi = 0.0;
+  search_range(est, a, &lo, &hi);
+  if (!isfinite(b)) return;
+  b = fmin(b + ESTIMATE_FALL_MARGIN_M, hi);
+  memcpy(est->fall_a[est->falls], a, sizeof a);
+  est->fall_b[est->falls++] = b;
+  if (!est->steered) memcpy(est->unsteered_m, est->guess_m, sizeof est->unsteered_m);
+  est->steered = 1;
+  /* the directions free to move in: those the solve has not determined */
+  double fr[3][3];
+  int nfree = 3;
+  for (int j = 0; j < 3; ++j)
+    for (int k = 0; k < 3; ++k) fr[j][k] = j == k;
+  if (est->have_solve) {
+    nfree = 3 - est->res.rank;
+    for (int j = 0; j < nfree; ++j) memcpy(fr[j], est->res.eigenvector[j], sizeof fr[j]);
+  }
+  for (int pass = 0; pass < 32; ++pass) {
+    for (uint32_t i = 0; i < est->falls; ++i) {
+      const double need = est->fall_b[i] - cl_vec3_dot(est->fall_a[i], est->guess_m);
+      if (need <= 0.0) continue;
+      double ap[3] = {0, 0, 0}; /* fall_a[i] in the free directions */
+      for (int j = 0; j < nfree; ++j) {
+        const double c = cl_vec3_dot(fr[j], est->fall_a[i]);
+        for (int k = 0; k < 3; ++k) ap[k] += c * fr[j][k];
+      }
+      const double den = cl_vec3_dot(ap, est->fall_a[i]);
+      if (den < 0.05) continue; /* nearly along a determined direction */
+      for (int k = 0; k < 3; ++k) est->guess_m[k] += need / den * ap[k];
+    }
+  }
+}
+
+static estimate_status_t faces_append(est_t *est, int rough);
+static estimate_status_t closed_plans(est_t *est, size_t *np);
+
+/* After fall_steer: when the estimate moved by ESTIMATE_RELIST_M or more since the phase's closed
+ * patches (or rough faces) were listed, they are listed again under it and checked first, best
+ * first; the plans still pending follow (those listed again are not repeated). */
+static estimate_status_t fall_relist(est_t *est) {
+  double d[3];
+  cl_vec3_sub(est->guess_m, est->listed_at_m, d);
+  if (est->list_rough < 0 || !(cl_vec3_norm(d) >= ESTIMATE_RELIST_M) || est->nfaces >= FACE_CAP)
+    return ESTIMATE_OK;
+  const size_t first = est->ci + 1, pend = est->np - first;
+  face_plan_t old[FACE_CAP];
+  memcpy(old, est->plans + first, pend * sizeof old[0]);
+  estimate_status_t s = faces_append(est, est->list_rough);
+  size_t np = first;
+  if (s == ESTIMATE_OK) s = closed_plans(est, &np);
+  if (s != ESTIMATE_OK) return s;
+  for (size_t i = 0; i < pend && np < FACE_CAP; ++i) {
+    size_t j = first;
+    while (j < np && !same_normal(est->faces[est->plans[j].face].normal_link,
+                                  est->faces[old[i].face].normal_link))
+      ++j;
+    if (j == np) est->plans[np++] = old[i];
+  }
+  est->np = np;
+  return ESTIMATE_OK;
+}
+
 static estimate_status_t confirm_reply(est_t *est, const estimate_trial_reply_t *reply) {
   const estimate_trial_t *t = log_trial(est, reply);
   const int fi = est->plans[est->ci].face;
@@ -1316,6 +1426,8 @@ static estimate_status_t confirm_reply(est_t *est, const estimate_trial_reply_t 
   }
   estimate_status_t s = settled_face(est, t);
   if (s != ESTIMATE_OK) return s;
+  fall_steer(est, t, fi);
+  if ((s = fall_relist(est)) != ESTIMATE_OK) return s;
   ++est->ci;
   return confirm_next(est);
 }
@@ -1361,7 +1473,6 @@ static estimate_status_t closed_plans(est_t *est, size_t *np) {
 
 static estimate_status_t face_one_closed(est_t *est);
 static estimate_status_t closed_append(est_t *est);
-static estimate_status_t faces_append(est_t *est, int rough);
 
 /* The closed patches of the current phase under the estimate, listed and planned once (*listed
  * marks it): *np plans, 0 when listed before or closed patches are off. */
@@ -1406,6 +1517,7 @@ static estimate_status_t line_once(est_t *est, size_t *np) {
   *np = 0;
   if (est->phase != PHASE_FACE2 || est->line2 || !est->cfg.closed_patches) return ESTIMATE_OK;
   est->line2 = 1;
+  est->list_rough = -1;
   const double *n1 = est->faces[est->face1].normal_link;
   double lo = 0.0, hi = 0.0;
   search_range(est, n1, &lo, &hi);
@@ -1478,6 +1590,7 @@ static estimate_status_t face_one(est_t *est) {
   }
   qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
   est->phase = PHASE_FACE1;
+  est->list_rough = -1;
   if (np == 0) return face_one_closed(est);
   return confirm_plans(est, np);
 }
@@ -1535,6 +1648,7 @@ static estimate_status_t face_two(est_t *est) {
   }
   qsort(est->plans, np, sizeof est->plans[0], plan_cmp);
   est->phase = PHASE_FACE2; /* face_allowed: at an angle to face 1 */
+  est->list_rough = -1;
   if (np == 0) return face_two_closed(est);
   return confirm_plans(est, np);
 }
@@ -1566,6 +1680,9 @@ static estimate_status_t confirm_none(est_t *est) {
 /* est->chosen was confirmed stable: search on it. */
 static estimate_status_t confirmed(est_t *est) {
   const face_plan_t *p = &est->chosen;
+  if (est->steered) /* the steered estimate chose the face; the searches plan from the prior's */
+    memcpy(est->guess_m, est->unsteered_m, sizeof est->guess_m);
+  est->steered = 0;
   if (est->phase == PHASE_FACE1) {
     est->phase = PHASE_FACE1_SEARCH0;
     return search_start(est, p->face, est->chosen_log, p->yaw[0], p->margin[0], est->redo_of);
@@ -2296,6 +2413,8 @@ static estimate_status_t faces_append(est_t *est, int rough) {
     est->faces[kept++] = *f;
   }
   est->nfaces = kept;
+  est->list_rough = rough;
+  memcpy(est->listed_at_m, est->guess_m, sizeof est->listed_at_m);
   return ESTIMATE_OK;
 }
 
@@ -2322,6 +2441,7 @@ static estimate_status_t strategy_start(est_t *est) {
   est->spare_phase = -1;
   est->redo_face = -1;
   est->mirror_next = -1;
+  est->list_rough = -1;
   /* the hull stays in est->work: model_support_work_hull(est->work, est->mesh, ...) reuses it */
   const model_status_t ms = model_faces_find_in(est->mesh, est->guess_m, NULL, est->work,
                                                 est->faces, FACE_CAP, &est->nfaces);
@@ -2349,7 +2469,8 @@ static int config_ok(const estimate_config_t *cfg) {
          cfg->noise_max_trials <= 200 && cfg->verify_margin_m >= 0.0 &&
          cfg->verify_margin_m <= 0.02 && cfg->max_retests <= 6 &&
          (cfg->closed_patches == 0 || cfg->closed_patches == 1) &&
-         (cfg->rough_faces == 0 || cfg->rough_faces == 1) && cfg->pose_noise_sigma_m >= 0.0 &&
+         (cfg->rough_faces == 0 || cfg->rough_faces == 1) &&
+         (cfg->fall_steering == 0 || cfg->fall_steering == 1) && cfg->pose_noise_sigma_m >= 0.0 &&
          cfg->pose_noise_sigma_m <= 0.1 && cfg->noise_stop_width_m >= 0.0 &&
          cfg->noise_stop_width_m <= 0.01 && cfg->noise_target_halfwidth_m >= 0.0 &&
          cfg->noise_target_halfwidth_m <= 0.01 && cfg->max_added_dirs <= 6 &&

@@ -197,6 +197,12 @@ typedef struct {
    * to 0.8 of its width or under max_halfwidth_m, and kept only when it narrowed it (docs/
    * estimate.md, "A direction more"). */
   uint32_t max_added_dirs;
+  /* Steer by falls (default 1): a stable check on a closed patch or rough face that tipped tells
+   * on which side of that face's contact the CoM lies (the direction it fell); the estimate that
+   * picks the next candidates is moved the least to lie beyond every such contact, and the
+   * phase's candidates are listed again under it (docs/estimate.md, "Steered by falls"). Only
+   * planning: a fall is never fed to the solve. 0: candidates under the mesh prior only. */
+  int fall_steering;
 } estimate_config_t;
 
 void estimate_config_default(estimate_config_t *cfg);
@@ -204,7 +210,7 @@ void estimate_config_default(estimate_config_t *cfg);
 enum {
   ESTIMATE_MAX_TRIALS = 512,
   ESTIMATE_MAX_SEARCHES = 16,
-  ESTIMATE_MAX_FACES = 16,
+  ESTIMATE_MAX_FACES = 32,
   ESTIMATE_NOTE_SIZE = 160,
   ESTIMATE_REASON_SIZE = 224
 };
