@@ -1519,7 +1519,8 @@ static estimate_status_t line_once(est_t *est, size_t *np) {
   *np = 0;
   if (est->phase != PHASE_FACE2 || est->line2 || !est->cfg.closed_patches) return ESTIMATE_OK;
   est->line2 = 1;
-  est->list_rough = -1;
+  est->list_rough = 0; /* a fall among them lists the closed patches under the new estimate */
+  memcpy(est->listed_at_m, est->guess_m, sizeof est->listed_at_m);
   const double *n1 = est->faces[est->face1].normal_link;
   double lo = 0.0, hi = 0.0;
   search_range(est, n1, &lo, &hi);
