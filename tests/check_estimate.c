@@ -22,6 +22,14 @@
 
 static char tmpdir[256];
 
+/* Open tmpdir/name for writing (the test fails if it cannot); its path into path. */
+static FILE *tmp_open(const char *name, char *path, size_t size) {
+  snprintf(path, size, "%s/%s", tmpdir, name);
+  FILE *f = fopen(path, "w");
+  ck_assert_ptr_nonnull(f);
+  return f;
+}
+
 static void setup(void) {
   snprintf(tmpdir, sizeof tmpdir, "/tmp/check_estimate.XXXXXX");
   ck_assert_ptr_nonnull(mkdtemp(tmpdir));
@@ -171,9 +179,7 @@ static const estimate_config_t *flat_only(void) {
  * within 0.1 mm and inside their bounds, and the axis is measured on a closed patch. */
 START_TEST(cylinder_axis_not_found) {
   char urdf[512];
-  snprintf(urdf, sizeof urdf, "%s/cyl.urdf", tmpdir);
-  FILE *f = fopen(urdf, "w");
-  ck_assert_ptr_nonnull(f);
+  FILE *f = tmp_open("cyl.urdf", urdf, sizeof urdf);
   fprintf(f,
           "<?xml version=\"1.0\"?>\n<robot name=\"cyl\">\n <link name=\"body\">\n"
           "  <inertial><origin xyz=\"0.003 -0.002 0.004\"/><mass value=\"0.3\"/>\n"
@@ -366,11 +372,9 @@ END_TEST
  * not found with its reason. */
 START_TEST(domino_rank_two_bound) {
   char urdf[512];
-  snprintf(urdf, sizeof urdf, "%s/domino.urdf", tmpdir);
   /* 2000 kg/m^3, the box's own inertia, the CoM where the statistical half width misses */
   const double sx = 0.048, sy = 0.024, sz = 0.0075, m = sx * sy * sz * 2000.0;
-  FILE *f = fopen(urdf, "w");
-  ck_assert_ptr_nonnull(f);
+  FILE *f = tmp_open("domino.urdf", urdf, sizeof urdf);
   fprintf(f,
           "<?xml version=\"1.0\"?>\n<robot name=\"domino\">\n <link name=\"body\">\n"
           "  <inertial><origin xyz=\"0.005220728 -0.000354679 -0.000156485\"/>"
@@ -1086,9 +1090,7 @@ END_TEST
 START_TEST(cli_failure_json) {
   static char out[1 << 17];
   char cmd[1024], urdf[512];
-  snprintf(urdf, sizeof urdf, "%s/no_rest.urdf", tmpdir);
-  FILE *f = fopen(urdf, "w");
-  ck_assert_ptr_nonnull(f);
+  FILE *f = tmp_open("no_rest.urdf", urdf, sizeof urdf);
   fprintf(f,
           "<robot name=\"no_rest\"><link name=\"rock\"><inertial>"
           "<origin xyz=\"0.032 0.025 0.022\"/><mass value=\"0.3\"/>"
@@ -1243,9 +1245,7 @@ START_TEST(cli_bad_input) {
   ck_assert_int_eq(run(cmd, out, sizeof out), 1);
   ck_assert_ptr_nonnull(strstr(out, "no YUMI_STATUS"));
   /* a URDF without <inertial>: the direct backend (the simulator) cannot run it */
-  snprintf(urdf, sizeof urdf, "%s/noinertial.urdf", tmpdir);
-  FILE *f = fopen(urdf, "w");
-  ck_assert_ptr_nonnull(f);
+  FILE *f = tmp_open("noinertial.urdf", urdf, sizeof urdf);
   fprintf(f,
           "<?xml version=\"1.0\"?>\n<robot name=\"b\">\n <link name=\"l\">\n"
           "  <collision><geometry><box size=\"0.04 0.05 0.03\"/></geometry></collision>\n"

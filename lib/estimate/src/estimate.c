@@ -1348,9 +1348,9 @@ static void fall_steer(est_t *est, const estimate_trial_t *t, int fi) {
     if (on_plane(f, est->mesh->vertices_m[i], rc.plane_tol_m))
       b = fmax(b, cl_vec3_dot(a, est->mesh->vertices_m[i]));
   }
+  if (!isfinite(b)) return;
   double lo = 0.0, hi = 0.0;
   search_range(est, a, &lo, &hi);
-  if (!isfinite(b)) return;
   b = fmin(b + ESTIMATE_FALL_MARGIN_M, hi);
   memcpy(est->fall_a[est->falls], a, sizeof a);
   est->fall_b[est->falls++] = b;
