@@ -504,6 +504,8 @@ START_TEST(fall_steered) {
   estimate_result_t *off = estimate_shaped(SHAPEGEN_SCANNED, 5067, 1, &cfg, &truth);
   estimate_result_t *on = estimate_shaped(SHAPEGEN_SCANNED, 5067, 1, NULL, &truth);
   ck_assert_int_eq(off->found[0] + off->found[1] + off->found[2], 0);
+  ck_assert_int_eq(ESTIMATE_MAX_FACES, 32);
+  ck_assert_uint_eq(off->face_count, ESTIMATE_MAX_FACES); /* the log filled */
   ck_assert_int_eq(check_covered("scanned_s5067_uneven", on, &truth), 3);
   ck_assert_uint_lt(on->stable_trials, off->stable_trials);
   check_bookkeeping(on);
