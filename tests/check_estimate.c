@@ -543,10 +543,10 @@ END_TEST
  * over the edge it tips when one of them leaves B, whatever its CoM (the outcome model: the
  * estimate 20.8 mm outside the support left, measured), so its z stays +-15.5 mm wide: not found,
  * and the reason says why, naming the search. x and y come from its foot and are found, inside
- * their bounds. With noise, on a scanned box (seed 39, even; placement 0.5 mm, pose 0.2 mm, seed
- * 1), x is too wide for the same reason (a noise peak left B, the estimate 1.9 mm outside) but y
- * (+-1.06 mm) is too wide by noise alone: its reason must not blame a support point (without the
- * directions added after the checks, which find both: x +-0.88 mm, y +-0.77 mm). */
+ * their bounds. With noise, on a scanned box (seed 6, even; placement 0.5 mm, pose 0.2 mm, seed
+ * 1), y is too wide for the same reason (a noise peak left B, the estimate 2.6 mm outside) but z
+ * (+-1.002 mm) is too wide by noise alone: its reason must not blame a support point (without the
+ * directions added after the checks, which find both: y +-0.86 mm, z +-0.86 mm). */
 START_TEST(contact_limited_reason) {
   estimate_result_t *r = malloc(sizeof *r);
   ck_assert_ptr_nonnull(r);
@@ -566,18 +566,18 @@ START_TEST(contact_limited_reason) {
   ck_assert_msg(outside_mm > 10.0, "z: %s", r->reason[2]);
   for (int k = 0; k < 2; ++k) ck_assert_str_eq(r->reason[k], "");
 
-  shaped_urdf(SHAPEGEN_SCANNED, 39, 0, urdf, sizeof urdf);
+  shaped_urdf(SHAPEGEN_SCANNED, 6, 0, urdf, sizeof urdf);
   estimate_config_t cfg; /* as comlearn estimate --direct sets it from the noise options */
   estimate_config_default(&cfg);
   cfg.noise_sigma_m = 0.5e-3;
   cfg.pose_noise_sigma_m = 0.2e-3;
   cfg.max_added_dirs = 0; /* a direction more finds both (added_direction_found) */
   estimate_urdf_noisy(urdf, &cfg, 1, 0.5e-3, 0.2e-3, r, &truth);
-  ck_assert_msg(!r->found[0] && strstr(r->reason[0], "support point left B"), "x: %s",
-                r->reason[0]);
+  ck_assert_msg(!r->found[1] && strstr(r->reason[1], "support point left B"), "y: %s",
+                r->reason[1]);
   ck_assert_msg(
-      !r->found[1] && strstr(r->reason[1], "wider than") && !strstr(r->reason[1], "support point"),
-      "y: %s", r->reason[1]);
+      !r->found[2] && strstr(r->reason[2], "wider than") && !strstr(r->reason[2], "support point"),
+      "z: %s", r->reason[2]);
   free(r);
 }
 END_TEST
@@ -625,54 +625,54 @@ END_TEST
 
 /* The corner bias (docs/physics.md): with PBA, mug 6008 (uneven) measured z on its side strip
  * with a vertex of the strip 3.5-3.9 um beyond B's edge line at the threshold, which tipped 7.4 um
- * inside the CoM, over the 5 um per-plane budget: z was 7.4 um off at +-5.3 um. Such a plane now
- * carries 30 um; the two planes of the mug's bottom (their nearest vertex 110 um from the line)
- * keep 5 um; every component inside its bound. Lumpy rock 3066 (even) under PBA: its face 1's
- * first plane tipped 23.5 um inside the CoM, its chord end 11 um inside the line and an inner
- * vertex 4.7 um beyond (over the 15 um the budget was first): x was 14.0 um off at +-13.7 um. */
+ * inside the CoM, over the 5 um per-plane budget; lumpy rock 3066 (even) had a plane 23.5 um
+ * inside. Such a plane carries 30 um; the two planes of the mug's bottom (their nearest vertex
+ * 110 um from the line) keep 5 um; every component inside its bound. Both biases were lib/
+ * balance's contact reduction keeping a speculative point (in the 2 um band above B's top) as a
+ * support's extreme; with touching points kept first, every plane of both lies within 5 um of the
+ * truth (the mug's corner plane 0.9 um). */
 START_TEST(corner_bias_budget) {
   estimate_config_t cfg;
   estimate_config_default(&cfg);
   cfg.policy = QLEARN_POLICY_PBA;
   model_mass_t truth;
-  estimate_result_t *r = estimate_shaped(SHAPEGEN_MUG, 6008, 1, &cfg, &truth);
-  ck_assert_int_eq(check_covered("mug_s6008_uneven pba", r, &truth), 3);
-  int corner = 0, plain = 0;
-  for (size_t i = 0; i < r->search_count; ++i) {
-    if (!r->search[i].fed) continue;
-    corner += r->search[i].bias_m == 3e-5;
-    plain += r->search[i].bias_m == 5e-6;
+  for (int obj = 0; obj < 2; ++obj) {
+    estimate_result_t *r = obj == 0 ? estimate_shaped(SHAPEGEN_MUG, 6008, 1, &cfg, &truth)
+                                    : estimate_shaped(SHAPEGEN_LUMPY, 3066, 0, &cfg, &truth);
+    ck_assert_int_eq(
+        check_covered(obj == 0 ? "mug_s6008_uneven pba" : "lumpy_s3066_even pba", r, &truth), 3);
+    int corner = 0, plain = 0;
+    for (size_t i = 0; i < r->search_count; ++i) {
+      const estimate_search_t *sr = &r->search[i];
+      if (!sr->fed) continue;
+      corner += sr->bias_m == 3e-5;
+      plain += sr->bias_m == 5e-6;
+      if (sr->bias_m > 0.0) /* a threshold plane (not a rough pair's): within 5 um of the truth */
+        ck_assert_double_le(fabs(sr->c_m - cl_vec3_dot(sr->dir_link, truth.com_m)),
+                            5e-6 + sr->halfwidth_m);
+    }
+    if (obj == 0) {
+      ck_assert_int_eq(corner, 1);
+      ck_assert_int_eq(plain, 2);
+    }
+    free(r);
   }
-  ck_assert_int_eq(corner, 1);
-  ck_assert_int_eq(plain, 2);
-  ck_assert(fabs(r->com_m[2] - truth.com_m[2]) > 5e-6); /* what the 5 um budget missed */
-  free(r);
-  r = estimate_shaped(SHAPEGEN_LUMPY, 3066, 0, &cfg, &truth);
-  ck_assert_int_eq(check_covered("lumpy_s3066_even pba", r, &truth), 3);
-  double worst = 0.0; /* the largest plane error of a corner plane */
-  for (size_t i = 0; i < r->search_count; ++i) {
-    const estimate_search_t *sr = &r->search[i];
-    if (sr->fed && sr->bias_m == 3e-5)
-      worst = fmax(worst, fabs(sr->c_m - cl_vec3_dot(sr->dir_link, truth.com_m)));
-  }
-  ck_assert_double_gt(worst, 1.5e-5); /* what the first corner budget missed */
-  ck_assert_double_lt(worst, 3e-5);
-  free(r);
 }
 END_TEST
 
-/* A contact limit cycle (docs/physics.md, "Limit cycles on rough faces"): the scanned box seed 39
- * (even), set down on one of its faces in the middle of B, can rock between contact sets on its
- * 2 um bumps at a few 1e-2 rad/s with a period of a few steps until the horizon, its pose still
- * (the velocity rest test never passes). lib/balance calls that STAYS at the horizon because the
- * body has not moved: rotation under 1e-3 rad, the CoM within 10 um. Before, INVALID: with noise
- * the estimator confirmed no resting face on 8 of 16 scanned objects. Here its four largest
- * faces are all confirmed, at least one of them at the horizon; set down beyond the edge, the
- * object still tips. */
+/* A contact limit cycle (docs/physics.md, "Limit cycles on rough faces"): a scanned box set down
+ * on one of its faces in the middle of B can rock between contact sets on its 2 um bumps at a few
+ * 1e-2 rad/s with a period of a few steps until the horizon, its pose still (the velocity rest
+ * test never passes). lib/balance calls that STAYS at the horizon because the body has not moved:
+ * rotation under 1e-3 rad, the CoM within 10 um. Before, INVALID: with noise the estimator
+ * confirmed no resting face on 8 of 16 scanned objects. Seed 38 (even): its four largest faces
+ * are all confirmed, one of them at the horizon; set down beyond the edge, the object still tips.
+ * (Seed 39 was the case until the contact reduction kept touching points first: of scanned seeds
+ * 1-80 only 38 still rocks until the horizon on one of its four largest faces.) */
 START_TEST(still_at_the_horizon_stays) {
   shapegen_object_t *so = malloc(sizeof *so);
   ck_assert_ptr_nonnull(so);
-  ck_assert_int_eq(shapegen_generate(SHAPEGEN_SCANNED, 39, so), MODEL_OK);
+  ck_assert_int_eq(shapegen_generate(SHAPEGEN_SCANNED, 38, so), MODEL_OK);
   balance_config_t bc;
   balance_config_default(&bc);
   balance_world_t *w = NULL;
@@ -751,8 +751,8 @@ END_TEST
  * still be too wide (the planes meet at a narrow angle, or one pair is noisy). Once every check
  * passed and no face is left, one more yaw on a face already searched is tried: the one whose
  * plane would narrow the widest component most. Measured (placement 0.5 mm, pose 0.2 mm, noise
- * seed 1): scanned 1 uneven y, 29 uneven x, 25 uneven z were not found without it, each found with
- * it (+-0.46, +-0.79, +-0.70 mm) for 14-19 trials more, every component inside its interval. On
+ * seed 1): scanned 26 uneven y, 29 uneven x, 25 uneven z were not found without it, each found
+ * with it (+-0.63, +-0.06, +-0.71 mm) for 14 trials more, every component inside its interval. On
  * the noiseless pebble 93 (uneven), whose edge placements tip when a support point leaves B, the
  * added plane was 3.1 mm wide and widened x and y: it is dropped with a note, and the estimate is
  * the one without it. */
@@ -770,7 +770,7 @@ START_TEST(added_direction_found) {
   static const struct {
     uint64_t shape;
     int axis; /* not found without the added direction */
-  } cases[] = {{1, 1}, {29, 0}, {25, 2}};
+  } cases[] = {{26, 1}, {29, 0}, {25, 2}};
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
     char what[64];
     snprintf(what, sizeof what, "scanned_s%d_uneven", (int)cases[c].shape);

@@ -248,45 +248,55 @@ size_t balance_points_reduce(balance_point_t *p, size_t n, size_t k) {
   t2[1] = nm[2] * t1[0] - nm[0] * t1[2];
   t2[2] = nm[0] * t1[1] - nm[1] * t1[0];
 
-  /* One pass; a key within BALANCE_REDUCE_TIE_M of the best so far counts as a tie and goes to
-   * the lower id. On a flat face every point is about as deep: a choice by rounding would flip
-   * from step to step and rock the body. */
-  double best[NKEYS], key[NKEYS];
-  size_t pick[NKEYS];
-  uint32_t pick_id[NKEYS];
-  for (int j = 0; j < NKEYS; j++) {
-    best[j] = -INFINITY;
-    pick[j] = SIZE_MAX;
-    pick_id[j] = UINT32_MAX;
-  }
-  for (size_t i = 0; i < n; i++) {
-    uint32_t valid;
-    point_keys(&p[i], t1, t2, key, &valid);
-    const uint32_t id = p[i].id;
-    for (int j = valid & 0xffu ? 0 : 8; j < NKEYS; j++) {
-      if (!(valid >> j & 1u)) continue;
-      const double kj = key[j];
-      int take = kj > best[j] + BALANCE_REDUCE_TIE_M;
-      if (!take && kj >= best[j] - BALANCE_REDUCE_TIE_M) { /* a tie: deeper, then lower id */
-        const double dd = p[i].depth_m - p[pick[j]].depth_m;
-        take = dd > BALANCE_REDUCE_DEPTH_TIE_M ||
-               (dd >= -BALANCE_REDUCE_DEPTH_TIE_M && id < pick_id[j]);
+  /* Two passes: the extremes among the points that touch (depth >= 0) first, then among all,
+   * the speculative ones of the band included, into the slots left. A speculative point kept as
+   * the extreme of a support that has a touching point nearby lets the body rock onto it (a
+   * neighbour facet's edge crossing 0.9 um above B's top, kept as a chord's end while the facet's
+   * own end 0.18 mm short of it was dropped: a tilted block tipped 28-43 um early; docs/
+   * physics.md). In each pass a key within BALANCE_REDUCE_TIE_M of the best so far counts as a
+   * tie and goes to the lower id. On a flat face every point is about as deep: a choice by
+   * rounding would flip from step to step and rock the body. */
+  size_t kept[64]; /* indices into p */
+  size_t m = 0;
+  for (int pass = 0; pass < 2 && m < k; pass++) {
+    double best[NKEYS], key[NKEYS];
+    size_t pick[NKEYS];
+    uint32_t pick_id[NKEYS];
+    for (int j = 0; j < NKEYS; j++) {
+      best[j] = -INFINITY;
+      pick[j] = SIZE_MAX;
+      pick_id[j] = UINT32_MAX;
+    }
+    for (size_t i = 0; i < n; i++) {
+      if (pass == 0 && !(p[i].depth_m >= 0.0)) continue;
+      uint32_t valid;
+      point_keys(&p[i], t1, t2, key, &valid);
+      const uint32_t id = p[i].id;
+      for (int j = valid & 0xffu ? 0 : 8; j < NKEYS; j++) {
+        if (!(valid >> j & 1u)) continue;
+        const double kj = key[j];
+        int take = kj > best[j] + BALANCE_REDUCE_TIE_M;
+        if (!take && kj >= best[j] - BALANCE_REDUCE_TIE_M) { /* a tie: deeper, then lower id */
+          const double dd = p[i].depth_m - p[pick[j]].depth_m;
+          take = dd > BALANCE_REDUCE_DEPTH_TIE_M ||
+                 (dd >= -BALANCE_REDUCE_DEPTH_TIE_M && id < pick_id[j]);
+        }
+        if (take) {
+          pick[j] = i;
+          pick_id[j] = id;
+        }
+        if (kj > best[j]) best[j] = kj;
       }
-      if (take) {
-        pick[j] = i;
-        pick_id[j] = id;
-      }
-      if (kj > best[j]) best[j] = kj;
+    }
+    for (int j = 0; j < NKEYS && m < k; j++) {
+      if (pick[j] == SIZE_MAX) continue;
+      int dup = 0;
+      for (size_t q = 0; q < m; q++) dup |= kept[q] == pick[j];
+      if (!dup) kept[m++] = pick[j];
     }
   }
-  balance_point_t kept[64];
-  size_t m = 0;
-  for (int j = 0; j < NKEYS && m < k; j++) {
-    if (pick[j] == SIZE_MAX) continue;
-    int dup = 0;
-    for (int q = 0; q < j; q++) dup |= pick[q] == pick[j];
-    if (!dup) kept[m++] = p[pick[j]];
-  }
-  for (size_t i = 0; i < m; i++) p[i] = kept[i];
+  balance_point_t out[64];
+  for (size_t i = 0; i < m; i++) out[i] = p[kept[i]];
+  for (size_t i = 0; i < m; i++) p[i] = out[i];
   return m;
 }
