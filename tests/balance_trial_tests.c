@@ -506,6 +506,26 @@ START_TEST(reduction_prefers_the_touching_end) {
 }
 END_TEST
 
+/* A speculative point beyond a chord's touching end, not tied with it: a neighbour facet's edge
+ * crossing 0.9 um above B's top and 0.18 mm farther along the line (tilted_s2104, which then
+ * tipped 28-43 um early, docs/physics.md). The extremes are taken among the touching points
+ * first, so the touching end is kept, whatever room is left; the speculative one only fills a
+ * slot left over. */
+START_TEST(reduction_touching_extremes_first) {
+  balance_point_t p[12];
+  int has7, has9;
+  chord_end_points(p, -0.9e-6);
+  p[0].pos_m[1] -= 1.8e-4; /* id 7, the speculative crossing, beyond id 9 */
+  reduced_has(p, &has7, &has9);
+  ck_assert(has9);
+  chord_end_points(p, -0.9e-6);
+  p[0].pos_m[1] -= 1.8e-4;
+  const size_t n = balance_points_reduce(p, 12, 3);
+  ck_assert_uint_eq(n, 3);
+  for (size_t i = 0; i < n; i++) ck_assert(p[i].depth_m >= 0.0); /* no room: touching only */
+}
+END_TEST
+
 /* Stepping the world with two objects: a box on a box stands (object-object contacts). */
 START_TEST(two_objects_step) {
   fixture_t f;
@@ -805,6 +825,7 @@ Suite *balance_trial_suite(void) {
   tcase_add_test(bad, zero_normal_contacts_dropped);
   tcase_add_test(bad, reduction_keeps_support);
   tcase_add_test(bad, reduction_prefers_the_touching_end);
+  tcase_add_test(bad, reduction_touching_extremes_first);
   suite_add_tcase(s, bad);
   return s;
 }
