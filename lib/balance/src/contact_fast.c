@@ -258,7 +258,8 @@ size_t balance_points_reduce(balance_point_t *p, size_t n, size_t k) {
    * rounding would flip from step to step and rock the body. */
   size_t kept[64]; /* indices into p */
   size_t m = 0;
-  for (int pass = 0; pass < 2 && m < k; pass++) {
+  int speculative = 0; /* pass 0 skipped a point: pass 1 has more to choose from */
+  for (int pass = 0; pass < 2 && m < k && (pass == 0 || speculative); pass++) {
     double best[NKEYS], key[NKEYS];
     size_t pick[NKEYS];
     uint32_t pick_id[NKEYS];
@@ -268,7 +269,10 @@ size_t balance_points_reduce(balance_point_t *p, size_t n, size_t k) {
       pick_id[j] = UINT32_MAX;
     }
     for (size_t i = 0; i < n; i++) {
-      if (pass == 0 && !(p[i].depth_m >= 0.0)) continue;
+      if (pass == 0 && !(p[i].depth_m >= 0.0)) {
+        speculative = 1;
+        continue;
+      }
       uint32_t valid;
       point_keys(&p[i], t1, t2, key, &valid);
       const uint32_t id = p[i].id;

@@ -430,19 +430,28 @@ static int on_plane(const model_face_t *f, const double v[3], double tol) {
   return f->offset_m - cl_vec3_dot(f->normal_link, v) <= tol;
 }
 
-/* On a closed patch the confirmed face holds the CoM's projection: the range is the patch's
- * extent along u (its vertices in the face plane), inside the object's. */
-static void search_range_closed(const est_t *est, const model_face_t *f, const double u[3],
-                                double *lo, double *hi) {
+/* The extent along u of face f's vertices in its plane: [*a, *b] (HUGE_VAL, -HUGE_VAL when none
+ * lies there). */
+static void face_extent(const est_t *est, const model_face_t *f, const double u[3], double *a,
+                        double *b) {
   model_regime_config_t rc;
   model_regime_config_default(&rc);
-  double a = HUGE_VAL, b = -HUGE_VAL;
+  *a = HUGE_VAL;
+  *b = -HUGE_VAL;
   for (size_t i = 0; i < est->mesh->vertex_count; ++i) {
     const double *v = est->mesh->vertices_m[i];
     if (!on_plane(f, v, rc.plane_tol_m)) continue;
-    a = fmin(a, cl_vec3_dot(v, u));
-    b = fmax(b, cl_vec3_dot(v, u));
+    *a = fmin(*a, cl_vec3_dot(v, u));
+    *b = fmax(*b, cl_vec3_dot(v, u));
   }
+}
+
+/* On a closed patch the confirmed face holds the CoM's projection: the range is the patch's
+ * extent along u (face_extent), inside the object's. */
+static void search_range_closed(const est_t *est, const model_face_t *f, const double u[3],
+                                double *lo, double *hi) {
+  double a, b;
+  face_extent(est, f, u, &a, &b);
   if (a > *lo) *lo = a;
   if (b < *hi) *hi = b;
 }
@@ -1344,13 +1353,8 @@ static void fall_steer(est_t *est, const estimate_trial_t *t, int fi) {
   double r[3][3], a[3];
   model_quat_to_rot(t->released.orientation_wxyz, r);
   for (int k = 0; k < 3; ++k) a[k] = (r[0][k] * fw[0] + r[1][k] * fw[1]) / h;
-  model_regime_config_t rc;
-  model_regime_config_default(&rc);
-  double b = -HUGE_VAL;
-  for (size_t i = 0; i < est->mesh->vertex_count; ++i) {
-    if (on_plane(f, est->mesh->vertices_m[i], rc.plane_tol_m))
-      b = fmax(b, cl_vec3_dot(a, est->mesh->vertices_m[i]));
-  }
+  double b0, b;
+  face_extent(est, f, a, &b0, &b);
   if (!isfinite(b)) return;
   double lo = 0.0, hi = 0.0;
   search_range(est, a, &lo, &hi);
