@@ -24,7 +24,8 @@ flags="-std=c11 -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -Os -
 objs=""
 for src in policy qtable mlp paper bisect pba solve; do
   # shellcheck disable=SC2086
-  arm-none-eabi-gcc $flags -I"$here/lib/qlearn/include" -I"$here/lib/qlearn/src" \
+  arm-none-eabi-gcc $flags -I"$here/lib/qlearn/include" -I"$here/lib/math/include" \
+    -I"$here/lib/qlearn/src" \
     -c "$here/lib/qlearn/src/$src.c" -o "$out/$src.o"
   objs="$objs $out/$src.o"
 done

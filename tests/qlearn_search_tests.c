@@ -189,6 +189,41 @@ START_TEST(test_pba_noiseless_resolution) {
 }
 END_TEST
 
+START_TEST(test_pba_wide_range_zooms) {
+  /* The default probit model (sigma = resolution = 0.1 mm, as the estimator's noiseless PBA runs)
+   * on a 14 cm range: its bins are 68 um, more than half the resolution, and on the range's own
+   * grid the 95 % interval stalls near 0.12 mm and the search runs to max_trials. The zoom
+   * regrids onto the mass and the interval reaches the resolution. */
+  qlearn_policy_config_t cfg;
+  qlearn_policy_config_default(QLEARN_POLICY_PBA, &cfg);
+  cfg.range_lo_m = -0.07;
+  cfg.range_hi_m = 0.07;
+  cfg.prior_m = 0.0;
+  const double w = (cfg.range_hi_m - cfg.range_lo_m) / (double)QLEARN_PBA_BINS;
+  rng_t r = {17};
+  int most = 0, covered = 0;
+  for (int run = 0; run < 300; ++run) {
+    /* the first 100 truths on a bin boundary of the range's grid (the centre first) */
+    double c = run < 100 ? w * (double)(run % 2 == 0 ? run / 2 : -(run + 1) / 2 * 7)
+                         : -0.069 + 0.138 * rng_uniform(&r);
+    qlearn_policy_t pol;
+    ck_assert_int_eq(qlearn_policy_init(&pol, &cfg), QLEARN_OK);
+    int n = run_search(&pol, ORACLE_EXACT, c, 0.0, &r);
+    ck_assert_int_ge(n, 1);
+    if (n > most) most = n;
+    double est = 0.0;
+    double hw = 0.0;
+    ck_assert_int_eq(qlearn_policy_estimate(&pol, &est, &hw), QLEARN_OK);
+    ck_assert_msg(hw <= cfg.resolution_m, "truth %.9f: half width %.9f after %d trials", c, hw, n);
+    if (fabs(c - est) <= hw) covered++;
+  }
+  fprintf(stderr, "pba 14 cm range: at most %d trials, interval covers the truth in %d / 300\n",
+          most, covered);
+  ck_assert_int_le(most, 64);
+  ck_assert_int_eq(covered, 300);
+}
+END_TEST
+
 START_TEST(test_pba_stops_at_max_trials) {
   qlearn_policy_config_t cfg;
   qlearn_policy_config_default(QLEARN_POLICY_PBA, &cfg);
@@ -313,6 +348,7 @@ Suite *qlearn_search_suite(void) {
   tcase_add_test(tc, test_pba_flip_coverage);
   tcase_add_test(tc, test_pba_probit_coverage);
   tcase_add_test(tc, test_pba_noiseless_resolution);
+  tcase_add_test(tc, test_pba_wide_range_zooms);
   tcase_add_test(tc, test_pba_stops_at_max_trials);
   tcase_add_test(tc, test_bad_input_bisect);
   tcase_add_test(tc, test_bad_input_pba);

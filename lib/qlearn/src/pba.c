@@ -61,29 +61,94 @@ static double bin_likelihood(const qlearn_policy_config_t *cfg, double a, double
   return l < QLEARN_PBA_LIK_FLOOR ? QLEARN_PBA_LIK_FLOOR : l;
 }
 
-/* Median and equal-tailed interval, interpolating linearly inside a bin. */
-static void summarize(qlearn_pba_t *p, const qlearn_policy_config_t *cfg) {
-  double lo = cfg->range_lo_m;
-  double w = (cfg->range_hi_m - cfg->range_lo_m) / (double)QLEARN_PBA_BINS;
+/* The posterior's quantiles q[0] < q[1] < ... (fractions of the mass, n of them) into out[],
+ * interpolating linearly inside a bin; a quantile past the last bin with mass is the grid's top. */
+static void quantiles(const qlearn_pba_t *p, const double *q, int n, double *out) {
+  const double w = (p->hi_m - p->lo_m) / (double)QLEARN_PBA_BINS;
   double total = 0.0;
   for (int i = 0; i < QLEARN_PBA_BINS; ++i) total += (double)p->mass[i];
-  double tail = 0.5 * (1.0 - cfg->credible);
-  double q[3] = {tail * total, 0.5 * total, (1.0 - tail) * total};
-  double out[3] = {cfg->range_hi_m, cfg->range_hi_m, cfg->range_hi_m};
+  for (int k = 0; k < n; ++k) out[k] = p->hi_m;
   int k = 0;
   double cum = 0.0;
-  for (int i = 0; i < QLEARN_PBA_BINS && k < 3; ++i) {
+  for (int i = 0; i < QLEARN_PBA_BINS && k < n; ++i) {
     double m = (double)p->mass[i];
-    while (k < 3 && m > 0.0 && cum + m >= q[k]) {
-      double f = (q[k] - cum) / m;
-      out[k] = lo + w * ((double)i + (f < 0.0 ? 0.0 : f > 1.0 ? 1.0 : f));
+    while (k < n && m > 0.0 && cum + m >= q[k] * total) {
+      double f = (q[k] * total - cum) / m;
+      out[k] = p->lo_m + w * ((double)i + (f < 0.0 ? 0.0 : f > 1.0 ? 1.0 : f));
       ++k;
     }
     cum += m;
   }
+}
+
+/* Median and equal-tailed interval. */
+static void summarize(qlearn_pba_t *p, const qlearn_policy_config_t *cfg) {
+  const double tail = 0.5 * (1.0 - cfg->credible);
+  const double q[3] = {tail, 0.5, 1.0 - tail};
+  double out[3];
+  quantiles(p, q, 3, out);
   p->ci_lo_m = out[0];
   p->median_m = out[1];
   p->ci_hi_m = out[2];
+}
+
+/* New bin j's mass on the zoomed grid: the old piecewise-constant density over [a_j, a_j + r)
+ * (in old bins from the grid's bottom), reading old bins i_lo .. i_hi only. */
+static double zoomed_bin(const qlearn_pba_t *p, double a0, double r, int j, int i_lo, int i_hi) {
+  const double a = a0 + r * (double)j, b = a + r;
+  double m = 0.0;
+  for (int i = (int)floor(a); i <= i_hi && (double)i < b; ++i) {
+    if (i < i_lo) continue;
+    const double from = a > (double)i ? a : (double)i;
+    const double to = b < (double)(i + 1) ? b : (double)(i + 1);
+    if (to > from) m += (double)p->mass[i] * (to - from);
+  }
+  return m;
+}
+
+/* The zoom (qlearn_search.h, "Discretisation"): while the bins are wider than half the
+ * resolution, once all but QLEARN_PBA_ZOOM_TAIL of the mass lies in a quarter of the window
+ * QLEARN_PBA_BINS x resolution / 4 wide, the posterior is laid again on that window (inside the
+ * grid), each new bin taking the old density's mass over it; the mass outside, at most twice the
+ * tail, is dropped. Returns 1 when it zoomed.
+ * In place, with no scratch copy (an 8 KiB stack array would not suit a microcontroller): new
+ * bin j covers old bins from a_j = a_0 + r j on, r = new / old width < 1/2. Below the first j
+ * with floor(a_j) < j, a new bin reads only old bins at or above its own index and below that
+ * j; from that j on, only old bins at or below its own index and not below that j - 1. So the
+ * upper part is written first, downwards, then the lower part, upwards: no bin is read after it
+ * was written. */
+static int zoom(qlearn_pba_t *p, const qlearn_policy_config_t *cfg) {
+  const double span = p->hi_m - p->lo_m;
+  const double w = span / (double)QLEARN_PBA_BINS;
+  if (!(w > 0.5 * cfg->resolution_m)) return 0;
+  const double window = 0.25 * cfg->resolution_m * (double)QLEARN_PBA_BINS; /* < span / 2 */
+  const double q[2] = {QLEARN_PBA_ZOOM_TAIL, 1.0 - QLEARN_PBA_ZOOM_TAIL};
+  double ab[2];
+  quantiles(p, q, 2, ab);
+  if (!(ab[1] - ab[0] <= 0.25 * window)) return 0;
+  double lo = 0.5 * (ab[0] + ab[1]) - 0.5 * window;
+  if (lo < p->lo_m) lo = p->lo_m;
+  if (lo + window > p->hi_m) lo = p->hi_m - window;
+  const double a0 = (lo - p->lo_m) / w, r = window / span;
+  int split = 0;
+  while (split < QLEARN_PBA_BINS && floor(a0 + r * (double)split) >= (double)split) ++split;
+  const int last = QLEARN_PBA_BINS - 1;
+  double total = 0.0;
+  for (int j = last; j >= split; --j) {
+    const double m = zoomed_bin(p, a0, r, j, split - 1 < 0 ? 0 : split - 1, j);
+    p->mass[j] = (float)m;
+    total += m;
+  }
+  for (int j = 0; j < split; ++j) {
+    const double m = zoomed_bin(p, a0, r, j, j, split - 1);
+    p->mass[j] = (float)m;
+    total += m;
+  }
+  /* total > 0: the window holds all but 2 x QLEARN_PBA_ZOOM_TAIL of a mass that sums to 1 */
+  for (int j = 0; j < QLEARN_PBA_BINS; ++j) p->mass[j] = (float)((double)p->mass[j] / total);
+  p->lo_m = lo;
+  p->hi_m = lo + window;
+  return 1;
 }
 
 qlearn_status_t qlearn_pba_init(qlearn_pba_t *pba, const qlearn_policy_config_t *cfg) {
@@ -93,6 +158,8 @@ qlearn_status_t qlearn_pba_init(qlearn_pba_t *pba, const qlearn_policy_config_t 
   const float uniform = 1.0f / (float)QLEARN_PBA_BINS;
   for (int i = 0; i < QLEARN_PBA_BINS; ++i) pba->mass[i] = uniform;
   pba->trials = 0;
+  pba->lo_m = cfg->range_lo_m;
+  pba->hi_m = cfg->range_hi_m;
   summarize(pba, cfg);
   return QLEARN_OK;
 }
@@ -119,8 +186,8 @@ qlearn_status_t qlearn_pba_observe(qlearn_pba_t *pba, const qlearn_policy_config
   if (qlearn_pba_done(pba, cfg)) return QLEARN_E_DONE;
   if (pba->trials >= cfg->max_trials) return QLEARN_E_CAPACITY;
   /* No error past this point: the update may work in place. */
-  double lo = cfg->range_lo_m;
-  double w = (cfg->range_hi_m - cfg->range_lo_m) / (double)QLEARN_PBA_BINS;
+  const double lo = pba->lo_m;
+  const double w = (pba->hi_m - pba->lo_m) / (double)QLEARN_PBA_BINS;
   double total = 0.0;
   for (int i = 0; i < QLEARN_PBA_BINS; ++i) {
     double a = lo + w * (double)i;
@@ -135,6 +202,7 @@ qlearn_status_t qlearn_pba_observe(qlearn_pba_t *pba, const qlearn_policy_config
   }
   pba->trials++;
   summarize(pba, cfg);
+  if (zoom(pba, cfg)) summarize(pba, cfg);
   return QLEARN_OK;
 }
 
@@ -145,7 +213,7 @@ qlearn_status_t qlearn_pba_estimate(const qlearn_pba_t *pba, const qlearn_policy
   double above = pba->ci_hi_m - pba->median_m;
   /* Half a bin more: inside a bin the density is taken as uniform, so a quantile may sit up to
    * about half a bin from where the exact (unbinned) posterior would put it. */
-  double half_bin = 0.5 * (cfg->range_hi_m - cfg->range_lo_m) / (double)QLEARN_PBA_BINS;
+  double half_bin = 0.5 * (pba->hi_m - pba->lo_m) / (double)QLEARN_PBA_BINS;
   *c_m = pba->median_m;
   *halfwidth_m = (below > above ? below : above) + half_bin;
   return QLEARN_OK;

@@ -78,19 +78,27 @@ qlearn_status_t qlearn_bisect_estimate(const qlearn_bisect_t *bisect,
  * the half width max(median - q_lo, q_hi - median) + w / 2, which covers the (possibly
  * asymmetric) equal-tailed interval [q_lo, q_hi] plus half a bin w. Quantiles interpolate
  * linearly inside a bin.
- * Discretisation: the bin width w = range / QLEARN_PBA_BINS (48.8 um for the default 10 cm)
- * limits what the posterior can resolve: inside a bin the density is uniform, so the mass a
- * trial at x leaves on one side of x is spread over the whole bin and quantiles can be off by up
- * to a bin (hence the w / 2 added to the half width). Choose resolution >= 2 w; a resolution
- * below one bin is never reached by the interval and the search ends at max_trials. */
+ * Discretisation: the grid starts as the range cut in QLEARN_PBA_BINS bins of width w (48.8 um
+ * for a 10 cm range). Inside a bin the density is uniform, so the mass a trial at x leaves on one
+ * side of x is spread over the whole bin and quantiles can be off by up to a bin (hence the w / 2
+ * added to the half width); the interval cannot shrink much below two bins. So while w is more
+ * than half the resolution, once all but QLEARN_PBA_ZOOM_TAIL of the mass lies within a quarter
+ * of the window QLEARN_PBA_BINS x resolution / 4, the posterior is laid again on that window
+ * (centred on the mass, shifted to stay inside the grid): each new bin takes the old density's
+ * exact mass over it, and the mass outside (at most twice the tail) is dropped. A search over a
+ * range wider than QLEARN_PBA_BINS x resolution / 2 (10.24 cm at 0.1 mm) then ends as one over a
+ * narrow range would, instead of running to max_trials with the mass split over two bins. */
 #define QLEARN_PBA_BINS 2048
 #define QLEARN_PBA_LIK_FLOOR 1e-6
+#define QLEARN_PBA_ZOOM_TAIL 1e-9
 
 typedef struct {
   float mass[QLEARN_PBA_BINS]; /* posterior mass per bin, sums to 1 */
   double median_m;             /* cached after every update: the median, */
   double ci_lo_m;              /*   and the equal-tailed credible interval */
   double ci_hi_m;
+  double lo_m;     /* the grid: [lo_m, hi_m] in QLEARN_PBA_BINS bins, */
+  double hi_m;     /*   the range until the zoom narrows it */
   uint32_t trials; /* outcomes accepted */
 } qlearn_pba_t;
 
