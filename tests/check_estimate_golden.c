@@ -24,7 +24,10 @@
  * that, on purpose: lib/balance's contact reduction takes its extremes among the touching points
  * first (a speculative point 0.9 um above B's top had been kept as a chord's end: the corner bias,
  * docs/physics.md); only their trial digests moved (settled poses), no estimate, half width,
- * found flag or trial count. */
+ * found flag or trial count. The 12 noiseless PBA lines were written again on 2026-12-06, on
+ * purpose: noiseless, the estimator runs PBA on the step likelihood (sigma 0), not qlearn's
+ * default probit sigma of 0.1 mm; 99-114 -> 31 trials per rock, every component still found and
+ * inside its bound (max error 0.036 mm, from 0.002); no other line moved. */
 #include <check.h>
 #include <inttypes.h>
 #include <stdio.h>

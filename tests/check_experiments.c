@@ -17,6 +17,7 @@
 #include "comlearn/model_inertial.h"
 #include "estimate_backend.h"
 #include "estimate_direct.h"
+#include "experiments_svg.h"
 #include "file_test_util.h"
 
 static char tmpdir[256];
@@ -484,10 +485,31 @@ static const char *svg_panel(const char *svg, int k) {
 enum { FIG_POLICIES = 4 };
 static const char *const fig_policy[FIG_POLICIES] = {"paper-qtable", "paper-mlp", "bisect", "pba"};
 
+/* The trial axis's end as experiments_svg.h states the rule, from the series' point counts:
+ * the longest, unless it is more than 1.5 x the second longest + 5; then 1.25 x the second
+ * longest, up to a multiple of 5. *cut: the index of the run cut there, else -1. */
+static size_t axis_end(size_t nseries, const size_t *points, int *cut) {
+  size_t l1 = 0, l2 = 0;
+  int longest = -1;
+  for (size_t p = 0; p < nseries; ++p) {
+    if (points[p] > l1) {
+      l2 = l1;
+      l1 = points[p];
+      longest = (int)p;
+    } else if (points[p] > l2) {
+      l2 = points[p];
+    }
+  }
+  *cut = -1;
+  if (nseries < 2 || 2.0 * (double)l1 <= 1.5 * 2.0 * (double)l2 + 10.0) return l1;
+  *cut = longest;
+  return (size_t)(5.0 * ceil(1.25 * (double)l2 / 5.0));
+}
+
 /* Fig. 2 of rock_1_uneven read back: per panel and policy a polyline with its own colour and dash
  * pattern whose step points are the JSON trace (edge trials: the point set over the edge; stable
  * checks: the running estimate; last: the final estimate; mm from the bbox center), the trial
- * axis cut below PBA's long run, with the note saying where it goes on. */
+ * axis ending as axis_end says (a cut run's note saying where it goes on). */
 static void check_fig2(const char *svg, const char *js, const char *object) {
   const char *obj = strstr(js, "\"objects\": [");
   ck_assert_ptr_nonnull(obj);
@@ -498,18 +520,21 @@ static void check_fig2(const char *svg, const char *js, const char *object) {
   double bbox[3];
   js_vec3(obj, "bbox_center_m", bbox);
   static double target[ESTIMATE_MAX_TRIALS][3], before[ESTIMATE_MAX_TRIALS][3];
-  size_t trials[FIG_POLICIES];
-  for (int p = 0; p < FIG_POLICIES; ++p)
+  size_t trials[FIG_POLICIES], points[FIG_POLICIES];
+  for (int p = 0; p < FIG_POLICIES; ++p) {
     trials[p] = (size_t)json_num(js_run(js, object, fig_policy[p], 0), "trials");
-  /* PBA's noiseless run is the long one here (114 trials vs 34-43): the axis stops before it */
-  ck_assert_uint_gt(trials[3], 2 * trials[0]);
+    points[p] = trials[p] + 1;
+  }
+  int cut = -1;
+  const size_t end = axis_end(FIG_POLICIES, points, &cut);
+  /* Noiseless, no run here is long enough to be cut (PBA's 114 trials were, until noiseless PBA
+   * ran on the step likelihood): svg_trial_axis_cut checks the cut */
+  ck_assert_int_eq(cut, -1);
   double xtick_max = 0.0;
   for (const char *t = strstr(svg, "class=\"xtick\""); t; t = strstr(t + 1, "class=\"xtick\""))
     xtick_max = fmax(xtick_max, strtod(strchr(t, '>') + 1, NULL));
-  ck_assert_double_lt(xtick_max, (double)trials[3]);
-  char note[96];
-  snprintf(note, sizeof note, "pba continues to %zu trials", trials[3]);
-  ck_assert_uint_eq(count_of(svg, note), 3);
+  ck_assert_double_le(xtick_max, (double)end);
+  ck_assert_uint_eq(count_of(svg, "continues to"), 0);
   ck_assert_ptr_nonnull(strstr(svg, "paper-mlp (43 trials) = paper-qtable (same walk)"));
   char styles[FIG_POLICIES][96];
   for (int k = 0; k < 3; ++k) {
@@ -518,7 +543,7 @@ static void check_fig2(const char *svg, const char *js, const char *object) {
     const double w = svg_attr(g, "data-w"), h = svg_attr(g, "data-h");
     const double tmax = svg_attr(g, "data-tmax"), vlo = svg_attr(g, "data-vlo");
     const double vhi = svg_attr(g, "data-vhi");
-    ck_assert_double_lt(tmax, (double)trials[3]);
+    ck_assert_double_eq(tmax, (double)end);
     const double tol_mm = 0.006 * (vhi - vlo) / h + 1e-6, tol_t = 0.06 * tmax / w;
     for (int p = 0; p < FIG_POLICIES; ++p) {
       const char *run = js_run(js, object, fig_policy[p], 0);
@@ -566,7 +591,7 @@ static void check_fig2(const char *svg, const char *js, const char *object) {
         ck_assert_double_ge(xb, xa);
       }
       ck_assert_int_eq(*q, '"'); /* nothing past the axis end */
-      ck_assert_uint_eq(i, p == 3 ? (size_t)tmax : n + 1);
+      ck_assert_uint_eq(i, n + 1 < end ? n + 1 : end);
     }
   }
 }
@@ -622,6 +647,51 @@ static void check_noisy(const char *svg, const char *js, const char *object, int
   }
   ck_assert_ptr_nonnull(strstr(svg, "seeds 1..2"));
 }
+
+/* The trial axis with one long run, on synthetic series: cut at 1.25 x the second longest (55
+ * here), the long run's line drawn to the edge with a note in each panel, and without the long
+ * run the axis ends at the longest. */
+START_TEST(svg_trial_axis_cut) {
+  enum { NS = 4, LONG = 115 };
+  static double v[NS][LONG];
+  const size_t n[NS] = {44, 44, 35, LONG};
+  const char *names[NS] = {"paper-qtable", "paper-mlp", "bisect", "pba"};
+  experiments_svg_series_t series[NS];
+  for (int s = 0; s < NS; ++s) {
+    for (size_t i = 0; i < n[s]; ++i) v[s][i] = 0.01 * (double)s + 1.0 / (double)(i + 1);
+    series[s] = (experiments_svg_series_t){names[s], names[s], n[s], {v[s], v[s], v[s]}};
+  }
+  int cut = -1;
+  ck_assert_uint_eq(axis_end(NS, n, &cut), 55);
+  ck_assert_int_eq(cut, 3);
+  ck_assert_uint_eq(experiments_svg_trial_limit(NS, series), 55);
+  ck_assert_uint_eq(experiments_svg_trial_limit(NS - 1, series), 44);
+  const size_t short_n[NS] = {44, 44, 35, 32};
+  ck_assert_uint_eq(axis_end(NS, short_n, &cut), 44);
+  ck_assert_int_eq(cut, -1);
+  char path[512];
+  snprintf(path, sizeof path, "%s/fig2_synthetic.svg", tmpdir);
+  FILE *f = fopen(path, "w");
+  ck_assert_ptr_nonnull(f);
+  const double truth[3] = {0.0, 0.0, 0.0};
+  ck_assert_int_eq(experiments_svg_fig2(f, "synthetic", truth, NS, series), 0);
+  ck_assert_int_eq(fclose(f), 0);
+  char *svg = test_slurp(path, NULL);
+  ck_assert_uint_eq(count_of(svg, "pba continues to 114 trials"), 3);
+  ck_assert_uint_eq(count_of(svg, "data-tmax=\"55\""), 3);
+  /* the long run's line stops at the axis end: 55 points, not 115 */
+  const char *pat = "<polyline class=\"series\" data-series=\"3\"";
+  size_t lines = 0;
+  for (const char *pl = strstr(svg, pat); pl; pl = strstr(pl + 1, pat), ++lines) {
+    const char *q = strstr(pl, "points=\"") + 8, *e = strchr(q, '"');
+    size_t vertices = 0;
+    for (const char *c = q; c < e; ++c) vertices += *c == ',';
+    ck_assert_uint_eq(vertices, 2 * 55); /* a step: two vertices per trial */
+  }
+  ck_assert_uint_eq(lines, 3);
+  free(svg);
+}
+END_TEST
 
 /* One rock, every policy, two seeds: Fig. 2 and the noisy plot checked against the JSON. */
 START_TEST(cli_experiments_figures) {
@@ -778,6 +848,7 @@ static Suite *suite(void) {
   tcase_add_checked_fixture(tc, setup, teardown);
   tcase_set_timeout(tc, 300);
   tcase_add_test(tc, cli_experiments_outputs);
+  tcase_add_test(tc, svg_trial_axis_cut);
   tcase_add_test(tc, cli_experiments_figures);
   tcase_add_test(tc, cli_experiments_sims);
   tcase_add_test(tc, cli_experiments_progress);

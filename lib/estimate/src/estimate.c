@@ -977,7 +977,12 @@ static estimate_status_t search_start(est_t *est, int face_index, int log_face, 
   pc->prior_m = prior;
   pc->resolution_m = est->cfg.resolution_m;
   pc->seed = est->cfg.seed;
-  if (est->cfg.policy == QLEARN_POLICY_PBA && est->noisy) probit_config(est, pc, 0.0);
+  if (est->cfg.policy == QLEARN_POLICY_PBA) {
+    if (est->noisy)
+      probit_config(est, pc, 0.0);
+    else
+      pc->sigma_m = 0.0;
+  }
   w->pol = &est->policy;
   qlearn_status_t qs = qlearn_policy_init(w->pol, pc);
   if (qs != QLEARN_OK) {

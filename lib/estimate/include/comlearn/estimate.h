@@ -139,14 +139,14 @@ typedef struct {
   /* The noise model: the std. dev. [m] of the placement error along the edge normal (the
    * robot's release offset, comlearn-sim --placement-noise-mm), in [0, 0.1]. 0 (default): the
    * outcomes are noiseless and every reported interval is a worst-case bound (the bracket plus
-   * the regime's bias budget). > 0: every search ends with the posterior of its threshold under
-   * the probit model P(TIPS | c) = Phi((c - x) / sigma) from all its clear trials, and reports
-   * that posterior's 95 % credible interval; bisect and the paper walks run as published and
-   * then hand over to probabilistic bisection (PBA) until that interval is narrow enough
-   * (noise_stop_width_m, noise_target_halfwidth_m) or noise_max_trials more trials were run. PBA
-   * itself uses the probit model with this sigma from its first trial. An interval can shrink only
-   * as fast as the outcomes inform it, about 2 * 1.96 * sigma / sqrt(0.64 n) after n trials near
-   * the threshold. */
+   * the regime's bias budget); PBA then places on the step likelihood (sigma 0). > 0: every search
+   * ends with the posterior of its threshold under the probit model P(TIPS | c) = Phi((c - x) /
+   * sigma) from all its clear trials, and reports that posterior's 95 % credible interval; bisect
+   * and the paper walks run as published and then hand over to probabilistic bisection (PBA) until
+   * that interval is narrow enough (noise_stop_width_m, noise_target_halfwidth_m) or
+   * noise_max_trials more trials were run. PBA itself uses the probit model with this sigma from
+   * its first trial. An interval can shrink only as fast as the outcomes inform it, about
+   * 2 x 1.96 sigma / sqrt(0.64 n) after n trials near the threshold. */
   double noise_sigma_m;
   uint32_t
       noise_max_trials; /* PBA trials after a noisy walk, per search; default 48, in [1, 200] */
