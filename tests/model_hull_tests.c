@@ -779,6 +779,71 @@ START_TEST(test_hull_faces_box) {
 }
 END_TEST
 
+/* model_hull_edges: a 3 x 2 x 1 box's hull has 18 edges, of which its 12 box edges meet at right
+ * angles (each once, ends ascending, both triangles' third vertices off the edge's line) and the
+ * 6 face diagonals lie inside a face; an octahedron has 12 edges and no face diagonal. A short
+ * array, an open mesh and a repeated vertex are refused. */
+START_TEST(test_hull_edges_box) {
+  model_mesh_t box = {0}, hull = {0};
+  const double lo[3] = {-1.5, -1.0, -0.5}, hi[3] = {1.5, 1.0, 0.5};
+  ck_assert_int_eq(model_mesh_box(lo, hi, &box), MODEL_OK);
+  ck_assert_int_eq(model_mesh_hull(&box, &hull, NULL), MODEL_OK);
+  model_hull_edge_t e[36];
+  size_t n = 0;
+  ck_assert_int_eq(model_hull_edges(&hull, cos(1e-3), e, 36, &n), MODEL_OK);
+  ck_assert_uint_eq(n, 12);
+  double total = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const double *a = hull.vertices_m[e[i].v[0]], *b = hull.vertices_m[e[i].v[1]];
+    ck_assert_uint_lt(e[i].v[0], e[i].v[1]);
+    if (i > 0) ck_assert(e[i - 1].v[0] < e[i].v[0] || e[i - 1].v[1] < e[i].v[1]);
+    int differ = 0; /* a box edge: its ends differ in one coordinate only */
+    for (int k = 0; k < 3; ++k) differ += a[k] != b[k];
+    ck_assert_int_eq(differ, 1);
+    total += cl_vec3_dist(a, b);
+    for (int j = 0; j < 2; ++j) { /* the two faces' normals: (v0, v1, o0) and (v1, v0, o1) */
+      double n0[3], n1[3];
+      cl_tri_normal(a, b, hull.vertices_m[e[i].opposite[0]], n0);
+      cl_tri_normal(b, a, hull.vertices_m[e[i].opposite[1]], n1);
+      ck_assert_double_eq_tol(cl_vec3_dot(n0, n1), 0.0, 1e-12);
+      for (size_t v = 0; v < hull.vertex_count; ++v) { /* outward: the box behind both */
+        double d[3];
+        cl_vec3_sub(hull.vertices_m[v], a, d);
+        ck_assert_double_le(cl_vec3_dot(d, j ? n1 : n0), 1e-12);
+      }
+    }
+  }
+  ck_assert_double_eq_tol(total, 4.0 * (3.0 + 2.0 + 1.0), 1e-12);
+  /* every edge when nothing counts as coplanar */
+  ck_assert_int_eq(model_hull_edges(&hull, 2.0, e, 36, &n), MODEL_OK);
+  ck_assert_uint_eq(n, 18);
+  ck_assert_int_eq(model_hull_edges(&hull, cos(1e-3), e, 35, &n), MODEL_E_ARG);
+  ck_assert_int_eq(model_hull_edges(NULL, cos(1e-3), e, 36, &n), MODEL_E_ARG);
+  ck_assert_int_eq(model_hull_edges(&hull, NAN, e, 36, &n), MODEL_E_ARG);
+  /* one triangle fewer: an open mesh */
+  --hull.triangle_count;
+  ck_assert_int_eq(model_hull_edges(&hull, cos(1e-3), e, 36, &n), MODEL_E_OPEN);
+  ++hull.triangle_count;
+  hull.triangles[0][1] = hull.triangles[0][0];
+  ck_assert_int_eq(model_hull_edges(&hull, cos(1e-3), e, 36, &n), MODEL_E_DEGENERATE);
+  model_mesh_free(&hull);
+  model_mesh_free(&box);
+  /* an octahedron: 8 triangles, 12 edges at 109.5 degrees */
+  double oct_v[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  uint32_t oct_t[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                          {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  const model_mesh_t oct = {
+      .vertices_m = oct_v, .triangles = oct_t, .vertex_count = 6, .triangle_count = 8};
+  ck_assert_int_eq(model_hull_edges(&oct, cos(1e-3), e, 24, &n), MODEL_OK);
+  ck_assert_uint_eq(n, 12);
+  for (size_t i = 0; i < n; ++i) { /* the opposite vertices are the other two on the equator */
+    const double *a = oct_v[e[i].v[0]], *b = oct_v[e[i].v[1]];
+    ck_assert_double_eq(cl_vec3_dot(a, b), 0.0);
+    ck_assert_uint_ne(e[i].opposite[0], e[i].opposite[1]);
+  }
+}
+END_TEST
+
 Suite *model_hull_suite(void) {
   Suite *s = suite_create("model_hull");
   TCase *tc = tcase_create("hull");
@@ -791,6 +856,7 @@ Suite *model_hull_suite(void) {
   tcase_add_test(tc, test_hull_degenerate_input);
   tcase_add_test(tc, test_aabb_and_center);
   tcase_add_test(tc, test_hull_faces_box);
+  tcase_add_test(tc, test_hull_edges_box);
   tcase_add_test(tc, test_orient3d_exact);
   tcase_add_test(tc, test_hull_verify_catches);
   tcase_add_test(tc, test_faces_find_variants);

@@ -322,6 +322,24 @@ typedef struct {
 model_status_t model_hull_faces(const model_mesh_t *hull, double merge_cos, double plane_tol_m,
                                 model_hull_face_t *faces, int *facet_face, size_t *count);
 
+/* An edge of a convex hull where its two facets meet at an angle: a line the object can be
+ * balanced on, as on a knife edge. Seen along v[0] -> v[1], triangle (v[0], v[1], opposite[0])
+ * lies on one side and (v[1], v[0], opposite[1]) on the other; the whole hull lies in the wedge
+ * between their planes. */
+typedef struct {
+  uint32_t v[2];        /* its two hull vertices, v[0] < v[1] */
+  uint32_t opposite[2]; /* the third vertex of each of its two hull triangles */
+} model_hull_edge_t;
+
+/* The edges of `hull` (a closed convex hull, model_mesh_hull) whose two triangles' outward unit
+ * normals have a dot product under merge_cos (the others lie inside a face), ordered by their
+ * vertices. `edges` must hold 3 * hull->triangle_count entries: it is the sorting scratch too;
+ * the first *count are the result. No allocation, O(T log T). MODEL_E_ARG (NULL, empty, capacity
+ * short, merge_cos not finite), MODEL_E_DEGENERATE (an index out of range, a repeated vertex),
+ * MODEL_E_OPEN (an edge not in exactly two triangles running it both ways). */
+model_status_t model_hull_edges(const model_mesh_t *hull, double merge_cos,
+                                model_hull_edge_t *edges, size_t capacity, size_t *count);
+
 /* The faces of mesh_link's convex hull with area >= min_face_area_m2, largest first (ties by
  * normal), each analysed for the CoM guess com_guess_link_m (link frame; the estimator's guess,
  * see the top of this file). A hull facet joins a face when its normal is within 1e-3 rad of the
