@@ -18,6 +18,7 @@
 #include "estimate_backend.h"
 #include "estimate_direct.h"
 #include "estimate_test_util.h"
+#include "pivot.h" /* lib/estimate/src: the pivot geometry */
 #include "shapegen.h"
 
 static char tmpdir[256];
@@ -164,12 +165,14 @@ END_TEST
 
 static int check_covered(const char *what, const estimate_result_t *r, const model_mass_t *truth);
 
-/* Config with flat faces only (closed_patches 0): the estimator as it was before closed patches. */
+/* Config with flat faces only (closed_patches, rough_faces and max_pivots 0): the estimator as it
+ * was before closed patches. */
 static const estimate_config_t *flat_only(void) {
   static estimate_config_t cfg;
   estimate_config_default(&cfg);
   cfg.closed_patches = 0;
   cfg.rough_faces = 0;
+  cfg.max_pivots = 0;
   return &cfg;
 }
 
@@ -303,9 +306,37 @@ static void check_stays_over_b(const char *what, const estimate_result_t *r, siz
   }
 }
 
+/* The premise of a pivot search's plane, judged with the truth: the true CoM projects between the
+ * ends of its edge, and lies beyond the plane of its bracketing trial that tipped (the world +x
+ * direction of its released pose, in the link frame, through the edge) and short of the one that
+ * turned back. */
+static void check_pivot_premise(const char *what, const estimate_result_t *r, size_t si,
+                                const model_mass_t *truth) {
+  const estimate_search_t *sr = &r->search[si];
+  const double *p1 = sr->pivot_link_m[0], *p2 = sr->pivot_link_m[1];
+  double e[3], d[3];
+  cl_vec3_sub(p2, p1, e);
+  const double len = cl_vec3_normalize(e, e);
+  cl_vec3_sub(truth->com_m, p1, d);
+  const double along = cl_vec3_dot(d, e);
+  ck_assert_msg(along > 0.0 && along < len,
+                "%s: search %zu: the CoM projects %.3f mm along a %.3f mm edge", what, si,
+                1e3 * along, 1e3 * len);
+  const int ends[2] = {sr->lo_trial, sr->hi_trial};
+  for (int k = 0; k < 2; ++k) {
+    double rot[3][3];
+    ck_assert_int_ge(ends[k], 0);
+    model_quat_to_rot(r->trial[ends[k]].released.orientation_wxyz, rot);
+    const double beyond = cl_vec3_dot(rot[0], d); /* world +x of the release, in the link frame */
+    ck_assert_msg(k == 0 ? beyond >= -1e-6 : beyond <= 1e-6,
+                  "%s: search %zu trial %d %s with the CoM %.4f mm beyond its edge", what, si,
+                  ends[k], k == 0 ? "tipped" : "turned back", 1e3 * beyond);
+  }
+}
+
 /* The physics behind every claimed plane, judged with the truth (a test may read it): the
  * bracketing trials of every verified search rest on real contact whose chord on the edge line
- * spans the true CoM; on a rough face, check_stays_over_b. */
+ * spans the true CoM; on a rough face, check_stays_over_b; a pivot, check_pivot_premise. */
 static void check_planes_exact(const char *what, const model_object_t *obj,
                                const estimate_result_t *r, const model_mass_t *truth) {
   const double base[3] = {0.30, 0.30, 0.10};
@@ -314,6 +345,10 @@ static void check_planes_exact(const char *what, const model_object_t *obj,
   for (size_t i = 0; i < r->search_count; ++i) {
     const estimate_search_t *sr = &r->search[i];
     if (!sr->fed || !sr->verified) continue;
+    if (sr->pivot) {
+      check_pivot_premise(what, r, i, truth);
+      continue;
+    }
     if (r->face[sr->face].rough) {
       check_stays_over_b(what, r, i, base, truth);
       continue;
@@ -541,10 +576,11 @@ END_TEST
 
 /* A bowl on its side (rim seed 21, even) rests on a few points of its foot ring and its rim. Set
  * over the edge it tips when one of them leaves B, whatever its CoM (the outcome model: the
- * estimate 20.8 mm outside the support left, measured), so its z stays +-15.5 mm wide: not found,
- * and the reason says why, naming the search. x and y come from its foot and are found, inside
- * their bounds. With noise, on a scanned box (seed 6, even; placement 0.5 mm, pose 0.2 mm, seed
- * 1), y is too wide for the same reason (a noise peak left B, the estimate 2.6 mm outside) but z
+ * estimate 20.8 mm outside the support left, measured), so without pivots (max_pivots 0; they
+ * find it: pivot_found) its z stays +-15.5 mm wide: not found, and the reason says why, naming
+ * the search. x and y come from its foot and are found, inside their bounds. With noise, on a
+ * scanned box (seed 6, even; placement 0.5 mm, pose 0.2 mm, seed 1), y is too wide for the same
+ * reason (a noise peak left B, the estimate 2.6 mm outside) but z
  * (+-1.002 mm) is too wide by noise alone: its reason must not blame a support point (without the
  * directions added after the checks, which find both: y +-0.86 mm, z +-0.86 mm). */
 START_TEST(contact_limited_reason) {
@@ -553,7 +589,10 @@ START_TEST(contact_limited_reason) {
   char urdf[512];
   shaped_urdf(SHAPEGEN_RIM, 21, 0, urdf, sizeof urdf);
   model_mass_t truth;
-  estimate_urdf_noisy(urdf, NULL, 0, 0.0, 0.0, r, &truth);
+  estimate_config_t no_pivots;
+  estimate_config_default(&no_pivots);
+  no_pivots.max_pivots = 0;
+  estimate_urdf_noisy(urdf, &no_pivots, 0, 0.0, 0.0, r, &truth);
   ck_assert_int_eq(check_covered("rim_s21_even", r, &truth), 2);
   ck_assert(!r->found[2]);
   ck_assert_msg(strstr(r->reason[2], "wider than") &&
@@ -791,8 +830,9 @@ START_TEST(added_direction_found) {
   }
 
   shaped_urdf(SHAPEGEN_PEBBLE, 93, 1, urdf, sizeof urdf);
-  estimate_urdf(urdf, r, &truth);
   estimate_config_default(&cfg);
+  cfg.max_pivots = 0; /* pivots find x and y (pivot_found) */
+  estimate_urdf_noisy(urdf, &cfg, 0, 0.0, 0.0, r, &truth);
   cfg.max_added_dirs = 0;
   estimate_urdf_noisy(urdf, &cfg, 0, 0.0, 0.0, none, &truth);
   int refused = 0;
@@ -873,8 +913,8 @@ END_TEST
  * each), even and uneven, bisect noiseless: every component the estimator claims lies inside its
  * bound, every component it does not claim has a reason, and an object it cannot estimate at all
  * is refused with a status, never answered. On these objects every component is found (pebbles
- * and lumpy rocks on closed patches or rough faces, scanned meshes on rough faces), except the
- * axis of rings and rims, which rest on parallel faces only. */
+ * and lumpy rocks on closed patches or rough faces, scanned meshes on rough faces, the axis of
+ * rings and rims, which rest on parallel faces only, from pivots). */
 START_TEST(generated_objects_covered) {
   const shapegen_family_t fam = (shapegen_family_t)(_i % SHAPEGEN_FAMILY_COUNT);
   const uint64_t seed = 1 + (uint64_t)fam + 14u * (uint64_t)(_i / SHAPEGEN_FAMILY_COUNT);
@@ -913,8 +953,7 @@ START_TEST(generated_objects_covered) {
       ck_assert(strlen(r->msg) > 10);
       for (int k = 0; k < 3; ++k) ck_assert(!r->found[k]);
     }
-    /* rings and rims rest on parallel faces only (one pose pair): the axis is not determined */
-    ck_assert_int_eq(found, fam == SHAPEGEN_RING || fam == SHAPEGEN_RIM ? 2 : 3);
+    ck_assert_int_eq(found, 3);
     fprintf(stderr, "%s %s: %d components found (%s)\n", so->spec.name, uneven ? "uneven" : "even",
             found, st == ESTIMATE_OK ? "ok" : estimate_status_str(st));
     model_object_free(&obj);
@@ -1289,6 +1328,164 @@ START_TEST(backend_failure_reported) {
 }
 END_TEST
 
+/* The pivot geometry (lib/estimate/src/pivot.c) on a 2 m cube about the origin, balanced on its
+ * bottom edge along y at x = 1: the centre lies sqrt 2 from the edge, straight up at tilt 0 along
+ * (-1, 0, 1) / sqrt 2 with u along (1, 0, 1) / sqrt 2; the cube's faces at the edge lie 45 deg
+ * either side, so it touches B only along the edge for tilts in [-pi/4, 3 pi / 4], less the
+ * wedge margin, and reaches both sides of the edge's vertical plane in (-pi/4, pi/4), less 0.01
+ * rad. x and the tilt convert both ways; a centre off the cube
+ * or too near the edge is refused. The outcome: a turn about world +y read from the poses. */
+START_TEST(pivot_geometry) {
+  model_mesh_t box = {0}, hull = {0};
+  const double lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
+  ck_assert_int_eq(model_mesh_box(lo, hi, &box), MODEL_OK);
+  ck_assert_int_eq(model_mesh_hull(&box, &hull, NULL), MODEL_OK);
+  model_hull_edge_t e[36];
+  size_t n = 0;
+  ck_assert_int_eq(model_hull_edges(&hull, cos(1e-3), e, 36, &n), MODEL_OK);
+  const model_hull_edge_t *he = NULL;
+  for (size_t i = 0; i < n; ++i) {
+    const double *a = hull.vertices_m[e[i].v[0]], *b = hull.vertices_m[e[i].v[1]];
+    if (a[0] == 1 && b[0] == 1 && a[2] == -1 && b[2] == -1) he = &e[i];
+  }
+  ck_assert_ptr_nonnull(he);
+  const double g[3] = {0, 0, 0}, r2 = sqrt(0.5);
+  for (int flip = 0; flip < 2; ++flip) {
+    estimate_pivot_t pv;
+    ck_assert_int_eq(estimate_pivot_plan(&hull, he, flip, g, 0.05, 1e-3, &pv), 1);
+    estimate_pivot_reach(&hull, &pv);
+    ck_assert_double_eq_tol(pv.h_m, sqrt(2.0), 1e-12);
+    ck_assert_double_eq_tol(pv.len_m, 2.0, 1e-12);
+    ck_assert_double_eq_tol(pv.up[0], -r2, 1e-12);
+    ck_assert_double_eq_tol(pv.up[2], r2, 1e-12);
+    ck_assert_double_eq_tol(fabs(pv.e[1]), 1.0, 1e-12);
+    /* u = e x up: turning the way e points flips which side B is on */
+    ck_assert_double_eq_tol(pv.u[0], pv.e[1] * r2, 1e-12);
+    ck_assert_double_eq_tol(pv.u[2], pv.e[1] * r2, 1e-12);
+    ck_assert_double_eq_tol(pv.gx_m, 0.0, 1e-12);
+    ck_assert_double_eq_tol(pv.reach_m, 2.0 * sqrt(2.0), 1e-12); /* the opposite edge */
+    ck_assert_double_eq_tol(pv.beta_lo_rad, -0.25 * CL_PI + 0.05, 1e-12);
+    ck_assert_double_eq_tol(pv.beta_hi_rad, 0.25 * CL_PI - 0.01, 1e-12); /* the far face */
+    ck_assert_double_eq_tol(estimate_pivot_side_margin(&pv, g), 1.0, 1e-12);
+    for (double x = -0.9; x <= 1.0; x += 0.3) {
+      double q[4], nrm[3];
+      estimate_pivot_orientation(&pv, x, q);
+      ck_assert_double_eq_tol(estimate_pivot_x(&pv, q), x, 1e-12);
+      /* the plane of a trial at x passes through the edge; a centre (x - gx) h / sqrt(h^2 +
+       * (x - gx)^2) ... simply: the balancing CoM along u at the edge's height h lies on it */
+      estimate_pivot_normal(q, nrm);
+      double c[3], d[3];
+      for (int k = 0; k < 3; ++k) c[k] = pv.mid_m[k] + pv.h_m * pv.up[k] + x * pv.u[k];
+      cl_vec3_sub(c, pv.mid_m, d);
+      ck_assert_double_eq_tol(cl_vec3_dot(nrm, d), 0.0, 1e-12);
+      ck_assert_double_eq_tol(cl_vec3_dot(nrm, pv.e), 0.0, 1e-12);
+    }
+  }
+  estimate_pivot_t pv;
+  const double outside[3] = {2.0, 0.0, -2.0}, near[3] = {0.9995, 0.0, -0.9995};
+  ck_assert_int_eq(estimate_pivot_plan(&hull, he, 0, outside, 0.05, 1e-3, &pv), 0);
+  ck_assert_int_eq(estimate_pivot_plan(&hull, he, 0, near, 0.05, 1e-3, &pv), 0);
+  /* outcomes: released upright, settled turned about world +y (positive: outward) or x */
+  model_pose_t rel, set;
+  cl_pose_identity(&rel);
+  cl_pose_identity(&set);
+  const double axes[2][3] = {{1, 0, 0}, {0, 1, 0}}; /* x: sideways, y: about the edge */
+  enum { x, y };
+  static const struct {
+    estimate_outcome_t got;
+    int axis;
+    double angle;
+    estimate_outcome_t want;
+  } cases[] = {
+      {ESTIMATE_TIPS, y, 1e-6, ESTIMATE_TIPS},         /* called as it started: beyond */
+      {ESTIMATE_TIPS, y, -1e-6, ESTIMATE_TIPS},        /* ... whichever way the first micro-turn */
+      {ESTIMATE_TIPS, y, 0.35, ESTIMATE_TIPS},         /* fell off outward */
+      {ESTIMATE_SLIDES, y, 0.08, ESTIMATE_TIPS},       /* ... far from its edge */
+      {ESTIMATE_TIPS, y, -0.35, ESTIMATE_STAYS},       /* turned back onto B */
+      {ESTIMATE_STAYS, y, -0.2, ESTIMATE_STAYS},       /* ... and came to rest */
+      {ESTIMATE_SLIDES, y, -0.08, ESTIMATE_STAYS},     /* ... far from its edge */
+      {ESTIMATE_INVALID, y, -0.05, ESTIMATE_STAYS},    /* ... by the horizon */
+      {ESTIMATE_INVALID, y, -0.005, ESTIMATE_INVALID}, /* barely moved */
+      {ESTIMATE_STAYS, y, 0.0, ESTIMATE_INVALID},      /* held still */
+      {ESTIMATE_TIPS, x, 0.35, ESTIMATE_INVALID},      /* rolled sideways off */
+      {ESTIMATE_SLIDES, y, 0.005, ESTIMATE_INVALID},   /* slid, no turn */
+      {ESTIMATE_INVALID, y, 0.05, ESTIMATE_TIPS},      /* turning outward at the horizon */
+      {ESTIMATE_STAYS, y, 0.005, ESTIMATE_INVALID},    /* rested, barely turned */
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+    cl_quat_from_axis_angle(axes[cases[i].axis], cases[i].angle, set.orientation_wxyz);
+    ck_assert_msg(estimate_pivot_outcome(cases[i].got, &rel, &set) == cases[i].want, "case %zu", i);
+  }
+  model_mesh_free(&hull);
+  model_mesh_free(&box);
+}
+END_TEST
+
+/* Pivots: components no resting face gives, found by balancing the object on B's edge line along
+ * a hull edge. Without pivots (max_pivots 0) a bowl on its side (rim 21 even, rim 91 uneven)
+ * leaves z not found, pebble 93 uneven x and y (every face tips when a support point leaves B),
+ * a torus lying flat (ring 6 uneven) z (no second resting pose at all); with them (the default)
+ * every component is found, inside its bound, from at least one verified pivot search whose
+ * premise holds at the truth (the CoM between the edge's ends, beyond the plane of the trial
+ * that tipped and short of the one that turned back), and what was found without pivots still
+ * is. Measured: 9-16 pivot trials each. */
+START_TEST(pivot_found) {
+  static const struct {
+    shapegen_family_t family;
+    uint64_t seed;
+    int uneven;
+    unsigned missing; /* bit k: component k not found without pivots */
+  } cases[] = {{SHAPEGEN_RIM, 21, 0, 4},
+               {SHAPEGEN_RIM, 91, 1, 4},
+               {SHAPEGEN_PEBBLE, 93, 1, 3},
+               {SHAPEGEN_RING, 6, 1, 4}};
+  estimate_result_t *r = malloc(sizeof *r), *none = malloc(sizeof *none);
+  ck_assert_ptr_nonnull(r);
+  ck_assert_ptr_nonnull(none);
+  estimate_config_t cfg;
+  estimate_config_default(&cfg);
+  cfg.max_pivots = 0;
+  for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+    char urdf[512], what[64];
+    shaped_urdf(cases[c].family, cases[c].seed, cases[c].uneven, urdf, sizeof urdf);
+    snprintf(what, sizeof what, "%s_s%d_%s", shapegen_family_name(cases[c].family),
+             (int)cases[c].seed, cases[c].uneven ? "uneven" : "even");
+    model_mass_t truth;
+    estimate_urdf_noisy(urdf, &cfg, 0, 0.0, 0.0, none, &truth);
+    for (int k = 0; k < 3; ++k)
+      ck_assert_msg(none->found[k] == !(cases[c].missing >> k & 1u), "%s: %c without pivots", what,
+                    "xyz"[k]);
+    for (size_t i = 0; i < none->search_count; ++i) ck_assert(!none->search[i].pivot);
+    estimate_urdf(urdf, r, &truth);
+    ck_assert_int_eq(check_covered(what, r, &truth), 3);
+    model_object_t obj = {0};
+    ck_assert_int_eq(model_object_load(urdf, NULL, &obj, NULL), MODEL_OK);
+    check_planes_exact(what, &obj, r, &truth);
+    model_object_free(&obj);
+    int pivots = 0, trials = 0;
+    for (size_t i = 0; i < r->search_count; ++i) {
+      const estimate_search_t *sr = &r->search[i];
+      if (!sr->pivot) continue;
+      ck_assert_int_eq(sr->face, -1);
+      pivots += sr->fed && sr->verified;
+      trials += (int)sr->trials;
+    }
+    ck_assert_msg(pivots >= 1, "%s: no verified pivot", what);
+    ck_assert_msg(trials >= 6 && trials <= 40, "%s: %d pivot trials", what, trials);
+    for (size_t i = 0; i < r->trial_count; ++i) {
+      const estimate_trial_t *t = &r->trial[i];
+      if (t->search < 0 || !r->search[t->search].pivot) continue;
+      ck_assert_int_eq(t->kind, ESTIMATE_TRIAL_EDGE);
+      ck_assert_int_eq(t->face, -1);
+      ck_assert_int_eq(t->flagged, t->counted == ESTIMATE_INVALID);
+    }
+    check_bookkeeping(r);
+  }
+  free(none);
+  free(r);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("estimate");
   TCase *tc = tcase_create("estimator");
@@ -1310,6 +1507,8 @@ int main(void) {
   tcase_add_test(tc, fall_steered);
   tcase_add_test(tc, settled_rough_face);
   tcase_add_test(tc, contact_limited_reason);
+  tcase_add_test(tc, pivot_geometry);
+  tcase_add_test(tc, pivot_found);
   tcase_add_test(tc, still_at_the_horizon_stays);
   tcase_add_test(tc, scanned_face_not_flat);
   tcase_add_test(tc, corner_bias_budget);

@@ -4,6 +4,7 @@ comlearn_add_check(check_estimate SOURCES check_estimate.c
        comlearn_rockgen comlearn_model_sim
   TIMEOUT 600)
 target_compile_definitions(check_estimate PRIVATE COMLEARN_BIN="$<TARGET_FILE:comlearn>")
+target_include_directories(check_estimate PRIVATE ${PROJECT_SOURCE_DIR}/lib/estimate/src) # pivot.h
 add_dependencies(check_estimate comlearn)
 # All six rocks and 48 generated objects in both presets: the suite takes ~6 s in the default
 # build, ~40 s under asan (-O0).

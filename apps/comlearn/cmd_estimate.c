@@ -49,6 +49,9 @@ static void usage(FILE *out) {
           "  --start S          where the searches start: uniform (the mesh's uniform-density\n"
           "                     CoM) | bbox (the bounding-box centre, the paper's state 0)\n"
           "                     (default: uniform)\n"
+          "  --pivots N         noiseless: at most N pivot searches (the object balanced on B's\n"
+          "                     edge line along a hull edge, tilted) for components the faces\n"
+          "                     leave not found, 0..8; 0: none (default: 4)\n"
           "  --noise-mm S       the noise model: std. dev. of the placement error along the edge\n"
           "                     normal, 0..100 mm; > 0 makes every interval a 95 %% interval\n"
           "                     (default: --placement-noise-mm with --direct, else 0: noiseless,\n"
@@ -162,9 +165,17 @@ static void json_searches(const estimate_result_t *r) {
     cli_json_number(stdout, isnan(s->verified_margin_m) ? NAN : s->verify_need_m);
     printf(
         ", \"trials\": %u, \"handover_trials\": %u, \"refines\": %u, \"retest_of\": %d, "
-        "\"mirror_of\": %d, \"added\": %s, \"fed\": %s, \"note\": ",
+        "\"mirror_of\": %d, \"added\": %s, \"pivot\": %s, ",
         s->trials, s->handover_trials, s->refines, s->retest_of, s->mirror_of,
-        s->added ? "true" : "false", s->fed ? "true" : "false");
+        s->added ? "true" : "false", s->pivot ? "true" : "false");
+    if (s->pivot) {
+      printf("\"pivot_link_m\": [");
+      cli_json_array(stdout, s->pivot_link_m[0], 3);
+      printf(", ");
+      cli_json_array(stdout, s->pivot_link_m[1], 3);
+      printf("], ");
+    }
+    printf("\"fed\": %s, \"note\": ", s->fed ? "true" : "false");
     cli_json_string(stdout, s->note, 0);
     printf("}");
   }
@@ -173,11 +184,16 @@ static void json_searches(const estimate_result_t *r) {
 static void json_trials(const estimate_result_t *r) {
   for (size_t i = 0; i < r->trial_count; ++i) {
     const estimate_trial_t *t = &r->trial[i];
+    const int pivot = t->search >= 0 && r->search[t->search].pivot;
     printf("%s{\"kind\": \"%s\", \"face\": %d, \"search\": %d, \"x_m\": ", i ? ", " : "",
-           t->kind == ESTIMATE_TRIAL_STABLE ? "stable" : "edge", t->face, t->search);
+           t->kind == ESTIMATE_TRIAL_STABLE ? "stable"
+           : pivot                          ? "pivot"
+                                            : "edge",
+           t->face, t->search);
     cli_json_number(stdout, t->x_m);
-    printf(", \"outcome\": \"%s\", \"regime\": \"%s\", \"flagged\": %s}",
-           trial_outcome_name(t->outcome), regime_name(t->regime), t->flagged ? "true" : "false");
+    printf(", \"outcome\": \"%s\", \"counted\": \"%s\", \"regime\": \"%s\", \"flagged\": %s}",
+           trial_outcome_name(t->outcome), trial_outcome_name(t->counted),
+           pivot ? "pivot" : regime_name(t->regime), t->flagged ? "true" : "false");
   }
 }
 
@@ -333,6 +349,17 @@ static int parse_option(int c, est_args_t *a) {
         return EXIT_USAGE;
       }
       return 0;
+    case 'K': {
+      char *end;
+      errno = 0;
+      const long v = strtol(optarg, &end, 10);
+      if (end == optarg || *end != '\0' || errno != 0 || v < 0 || v > 8) {
+        LOG_E("--pivots: '%s' is not a whole number in 0..8", optarg);
+        return EXIT_USAGE;
+      }
+      a->cfg.max_pivots = (uint32_t)v;
+      return 0;
+    }
     case 'n':
       a->noise_given = 1;
       return parse_mm("noise-mm", optarg, 0.0, 100.0, &a->cfg.noise_sigma_m) ? EXIT_USAGE : 0;
@@ -415,6 +442,7 @@ static int parse_args(int argc, char **argv, est_args_t *a) {
                                        {"verbose", no_argument, NULL, 'v'},
                                        {"quiet", no_argument, NULL, 'q'},
                                        {"start", required_argument, NULL, 'S'},
+                                       {"pivots", required_argument, NULL, 'K'},
                                        {"noise-mm", required_argument, NULL, 'n'},
                                        {"noise-stop-mm", required_argument, NULL, 'W'},
                                        {"noise-target-mm", required_argument, NULL, 'T'},

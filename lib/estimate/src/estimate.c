@@ -14,6 +14,7 @@
 #include "comlearn/model_outcome.h"
 #include "comlearn/model_support.h"
 #include "comlearn/qlearn_solve.h"
+#include "pivot.h"
 
 enum { FACE_CAP = 256, YAW_STEPS = 90, ESTIMATE_RETRIES = 3 }; /* 2-degree yaw sweep over [0, pi) */
 
@@ -132,6 +133,7 @@ void estimate_config_default(estimate_config_t *cfg) {
   cfg->noise_target_halfwidth_m = 5e-4;
   cfg->max_added_dirs = 3;
   cfg->fall_steering = 1;
+  cfg->max_pivots = 4;
 }
 
 typedef struct {
@@ -149,6 +151,7 @@ typedef struct {
   double q[4];   /* the resting orientation, yawed */
   double u[3];   /* the test direction, link frame */
   double lo, hi; /* its range */
+  int pivot;     /* a pivot search: its edge is est->pivot[si] */
 } search_ctx_t;
 
 typedef enum {
@@ -161,6 +164,7 @@ typedef enum {
   PHASE_RETEST,        /* a search again, from the check at the estimate */
   PHASE_REFINE,        /* a noisy search resumed: a component is wider than the target */
   PHASE_MORE,          /* a direction more on a face already searched (yaw_more) */
+  PHASE_PIVOT,         /* a pivot search (pivot_more) */
   PHASE_DONE,
   PHASE_FAILED
 } phase_t;
@@ -217,7 +221,9 @@ struct estimate {
   int line2;            /* face 2's faces along face 1's normal were listed (line_once) */
   int line_late;        /* ... only after the checks, for a component too wide (wide_more) */
   uint32_t more;        /* directions yaw_more added */
-  int more_si;          /* the search of the last, and the widest component not found before */
+  uint32_t pivots;      /* pivot searches started (pivot_more) */
+  estimate_pivot_t pivot[ESTIMATE_MAX_SEARCHES]; /* the edge of each pivot search */
+  int more_si; /* the search of the last, and the widest component not found before */
   double more_before_m;
   unsigned char rough[FACE_CAP]; /* faces[i] is searched as a rough face: by its stays bounds */
   int mirror_next;               /* the search about to start mirrors this one (-1: none) */
@@ -296,6 +302,13 @@ static estimate_status_t request(est_t *est, const estimate_trial_request_t *req
   return ESTIMATE_OK;
 }
 
+static estimate_outcome_t seen_outcome(const est_t *est, const estimate_trial_t *t);
+
+/* Search si is a pivot search (pivot_more). */
+static int search_pivot(const est_t *est, int si) {
+  return si >= 0 && (size_t)si < est->result.search_count && est->result.search[si].pivot;
+}
+
 /* Log the pending trial with its reply. */
 static estimate_trial_t *log_trial(est_t *est, const estimate_trial_reply_t *reply) {
   estimate_result_t *out = &est->result;
@@ -314,6 +327,12 @@ static estimate_trial_t *log_trial(est_t *est, const estimate_trial_reply_t *rep
   t->settled = reply->settled;
   if (req->kind == ESTIMATE_TRIAL_STABLE) {
     ++out->stable_trials;
+  } else if (search_pivot(est, req->search)) {
+    /* what it says depends only on which way it turned (estimate_pivot_outcome) */
+    t->chord_margin_m = estimate_pivot_side_margin(&est->pivot[req->search], est->guess_m);
+    t->flagged = estimate_pivot_outcome(reply->outcome, &reply->released, &reply->settled) ==
+                 ESTIMATE_INVALID;
+    if (t->flagged) ++out->flagged_trials;
   } else {
     /* Classify what was actually released, with the current estimate: only flat-patch trials
      * measure the CoM (docs/physics.md, "Where an edge test measures the CoM exactly"). */
@@ -329,6 +348,7 @@ static estimate_trial_t *log_trial(est_t *est, const estimate_trial_reply_t *rep
     if (t->flagged) ++out->flagged_trials;
   }
   est->pending = 0;
+  t->counted = req->kind == ESTIMATE_TRIAL_STABLE ? t->outcome : seen_outcome(est, t);
   return t;
 }
 
@@ -365,6 +385,8 @@ static int at_rest(const estimate_trial_t *t, int rough) {
  * (at_rest). (Counting every INVALID of a rough search as "did not tip" was tried: 2 fewer
  * components found over bench_coverage's 224 objects.) */
 static estimate_outcome_t seen_outcome(const est_t *est, const estimate_trial_t *t) {
+  if (search_pivot(est, t->search))
+    return estimate_pivot_outcome(t->outcome, &t->released, &t->settled);
   return at_rest(t, search_rough(est, t->search)) ? ESTIMATE_STAYS : t->outcome;
 }
 
@@ -527,6 +549,41 @@ static estimate_status_t edge_request(est_t *est, const search_ctx_t *sc, double
   return request(est, &req, sc->log_face, xa);
 }
 
+/* Plan pivot search sc's trial at x (the object tilted about its edge, the edge on B's +X edge
+ * line, touching: 1 um pre-penetrated) and ask for it: 0. 1 (nothing asked, *why says it) when
+ * the pose does not rest on the edge's two ends. */
+static int pivot_request(est_t *est, const search_ctx_t *sc, double xa, estimate_status_t *s,
+                         char *why, size_t why_size) {
+  const estimate_pivot_t *pv = &est->pivot[sc->si];
+  estimate_trial_request_t req;
+  memset(&req, 0, sizeof req);
+  req.kind = ESTIMATE_TRIAL_EDGE;
+  req.edge = MODEL_EDGE_PX;
+  double q[4];
+  estimate_pivot_orientation(pv, xa, q);
+  model_status_t ms = model_pose_over_edge(est->mesh, est->base_size_m, q, MODEL_EDGE_PX, pv->mid_m,
+                                           0.0, 1e-6, &req.release);
+  for (int i = 0; ms == MODEL_OK && i < 2; ++i) { /* both ends on B's edge line, touching */
+    double p[3];
+    cl_pose_apply(&req.release, i ? pv->p2_m : pv->p1_m, p);
+    if (fabs(p[2] + 1e-6) > 1e-7) ms = MODEL_E_POSE;
+  }
+  if (ms != MODEL_OK) {
+    snprintf(why, why_size, "at x = %.3f mm the object does not rest on its edge's ends (%s)",
+             1e3 * xa, model_status_str(ms));
+    return 1;
+  }
+  req.search = sc->si;
+  req.component = sc->comp;
+  req.direction = sc->u[sc->comp] >= 0.0 ? 1 : -1;
+  memcpy(req.target_link_m, pv->mid_m, sizeof req.target_link_m);
+  request_common(est, &req);
+  req.flat_patch = 0;
+  req.sideways_margin_m = estimate_pivot_side_margin(pv, est->guess_m);
+  *s = request(est, &req, -1, xa);
+  return 0;
+}
+
 /* Log an edge trial's reply; t->x_m becomes the x actually achieved. */
 static estimate_trial_t *edge_logged(est_t *est, const search_ctx_t *sc,
                                      const estimate_trial_reply_t *reply) {
@@ -534,9 +591,12 @@ static estimate_trial_t *edge_logged(est_t *est, const search_ctx_t *sc,
   estimate_trial_t *t = log_trial(est, reply);
   ++est->result.search[sc->si].trials;
   /* The placement actually achieved: its plane's offset along u (equal to xa when exact). */
-  double n_obj[3], d;
+  double n_obj[3], d, x_got;
   trial_plane(est, &t->released, n_obj, &d);
-  double x_got = cl_vec3_dot(n_obj, sc->u) > 0.99 ? d / cl_vec3_dot(n_obj, sc->u) : xa;
+  if (sc->pivot) /* its tilt about the edge */
+    x_got = estimate_pivot_x(&est->pivot[sc->si], t->released.orientation_wxyz);
+  else
+    x_got = cl_vec3_dot(n_obj, sc->u) > 0.99 ? d / cl_vec3_dot(n_obj, sc->u) : xa;
   if (!(x_got >= sc->lo && x_got <= sc->hi)) x_got = xa;
   t->x_m = x_got;
   return t;
@@ -582,6 +642,7 @@ static estimate_status_t walk_end(est_t *est);
 static estimate_status_t search_start(est_t *est, int face_index, int log_face, double yaw_rad,
                                       double margin_m, int retest_of);
 static void search_plane(est_t *est, const search_ctx_t *sc);
+static void pivot_plane(est_t *est, const search_ctx_t *sc);
 static void search_estimate(est_t *est, const search_ctx_t *sc, const qlearn_policy_t *pol);
 
 /* Ask for the walk's trial at its x, moved by a quarter of the resolution per retry. */
@@ -591,7 +652,9 @@ static estimate_status_t walk_request(est_t *est) {
   double xa = w->x + 0.25 * est->cfg.resolution_m * attempt * (attempt % 2 ? 1.0 : -1.0);
   if (xa < w->sc.lo) xa = w->sc.lo;
   if (xa > w->sc.hi) xa = w->sc.hi;
-  return edge_request(est, &w->sc, xa);
+  if (!w->sc.pivot) return edge_request(est, &w->sc, xa);
+  estimate_status_t s = ESTIMATE_OK;
+  return pivot_request(est, &w->sc, xa, &s, w->stopped, sizeof w->stopped) ? walk_end(est) : s;
 }
 
 /* The next trial the walking policy asks for, or the walk's end. */
@@ -816,7 +879,12 @@ static estimate_status_t walk_end(est_t *est) {
     snprintf(sr->note, sizeof sr->note, "%s", w->stopped);
   }
   search_estimate(est, &w->sc, w->pol);
-  if (!sr->note[0]) search_plane(est, &w->sc);
+  if (!sr->note[0]) {
+    if (w->sc.pivot)
+      pivot_plane(est, &w->sc);
+    else
+      search_plane(est, &w->sc);
+  }
   return search_done(est);
 }
 
@@ -876,6 +944,34 @@ static void search_plane(est_t *est, const search_ctx_t *sc) {
   sr->fed = 1;
 }
 
+/* The plane of pivot search sc: its bracketing trials' planes both pass through the edge, the CoM
+ * between them (beyond the one that tipped, short of the one that turned back); their bisector,
+ * with the half width that holds for every point of the hull between them (the farthest vertex
+ * from the edge line, reach r: r sin(angle / 2)). */
+static void pivot_plane(est_t *est, const search_ctx_t *sc) {
+  estimate_result_t *out = &est->result;
+  estimate_search_t *sr = &out->search[sc->si];
+  const estimate_pivot_t *pv = &est->pivot[sc->si];
+  if (sr->lo_trial < 0 || sr->hi_trial < 0) {
+    snprintf(sr->note, sizeof sr->note, "the threshold was not bracketed (all trials %s)",
+             sr->lo_trial < 0 ? "turned back" : "tipped");
+    return;
+  }
+  double a[3], b[3], n[3], d[3];
+  estimate_pivot_normal(out->trial[sr->lo_trial].released.orientation_wxyz, a);
+  estimate_pivot_normal(out->trial[sr->hi_trial].released.orientation_wxyz, b);
+  cl_vec3_add(a, b, n);
+  cl_vec3_sub(a, b, d);
+  const double half = atan2(cl_vec3_norm(d), cl_vec3_norm(n)); /* half the angle between them */
+  cl_vec3_normalize(n, n);
+  memcpy(sr->plane_n_obj, n, sizeof n);
+  memcpy(sr->dir_link, n, sizeof n);
+  sr->plane_d_m = sr->c_m = cl_vec3_dot(n, pv->mid_m);
+  sr->halfwidth_m = pv->reach_m * sin(half);
+  sr->bias_m = ESTIMATE_PIVOT_BIAS_M;
+  sr->fed = 1;
+}
+
 /* The estimate of a search: noiseless, the bracket of its clear trials (the largest x that
  * tipped, the smallest that stayed), whatever the policy; with a noise model, the policy's
  * posterior (PBA). */
@@ -926,13 +1022,12 @@ static void ctx_orient(const est_t *est, int face_index, double yaw_rad, search_
     if (fabs(sc->u[k]) > fabs(sc->u[sc->comp])) sc->comp = k;
 }
 
-/* Start a 1-D search along the test direction of face_index at yaw_rad; search_done follows
- * when its trials are over. */
-static estimate_status_t search_start(est_t *est, int face_index, int log_face, double yaw_rad,
-                                      double margin_m, int retest_of) {
+/* A new search in out->search and the walk that runs it, with nothing planned yet: NULL when the
+ * result has no room left. */
+static estimate_search_t *search_new(est_t *est, int log_face, double yaw_rad, double margin_m,
+                                     int retest_of) {
   estimate_result_t *out = &est->result;
-  if (out->search_count >= ESTIMATE_MAX_SEARCHES)
-    return fail(est, ESTIMATE_E_CAPACITY, "too many searches");
+  if (out->search_count >= ESTIMATE_MAX_SEARCHES) return NULL;
   walk_t *w = &est->walk;
   memset(w, 0, sizeof *w);
   search_ctx_t *sc = &w->sc;
@@ -948,8 +1043,46 @@ static estimate_status_t search_start(est_t *est, int face_index, int log_face, 
   sr->retest_of = retest_of;
   sr->mirror_of = est->mirror_next;
   sr->added = est->phase == PHASE_MORE;
-  est->search_rough[sc->si] = (unsigned char)(est->rough[face_index] || sr->mirror_of >= 0);
   est->mirror_next = -1;
+  return sr;
+}
+
+/* The walk over [sc->lo, sc->hi] (its range set) from `prior` to `resolution_m`: the policy's
+ * first trial. */
+static estimate_status_t walk_begin(est_t *est, double prior, double resolution_m) {
+  walk_t *w = &est->walk;
+  const search_ctx_t *sc = &w->sc;
+  qlearn_policy_config_t *pc = &w->pc;
+  qlearn_policy_config_default(est->cfg.policy, pc);
+  pc->range_lo_m = sc->lo;
+  pc->range_hi_m = sc->hi;
+  pc->prior_m = prior;
+  pc->resolution_m = resolution_m;
+  pc->seed = est->cfg.seed;
+  if (est->cfg.policy == QLEARN_POLICY_PBA) {
+    if (est->noisy)
+      probit_config(est, pc, 0.0);
+    else
+      pc->sigma_m = 0.0;
+  }
+  w->pol = &est->policy;
+  qlearn_status_t qs = qlearn_policy_init(w->pol, pc);
+  if (qs != QLEARN_OK) {
+    snprintf(est->result.msg, sizeof est->result.msg, "policy init: %s", qlearn_status_str(qs));
+    return ESTIMATE_E_LEARNER;
+  }
+  return walk_next(est);
+}
+
+/* Start a 1-D search along the test direction of face_index at yaw_rad; search_done follows
+ * when its trials are over. */
+static estimate_status_t search_start(est_t *est, int face_index, int log_face, double yaw_rad,
+                                      double margin_m, int retest_of) {
+  estimate_result_t *out = &est->result;
+  estimate_search_t *sr = search_new(est, log_face, yaw_rad, margin_m, retest_of);
+  if (!sr) return fail(est, ESTIMATE_E_CAPACITY, "too many searches");
+  search_ctx_t *sc = &est->walk.sc;
+  est->search_rough[sc->si] = (unsigned char)(est->rough[face_index] || sr->mirror_of >= 0);
   ctx_orient(est, face_index, yaw_rad, sc);
   memcpy(sr->dir_link, sc->u, sizeof sc->u);
   search_range(est, sc->u, &sc->lo, &sc->hi);
@@ -969,27 +1102,7 @@ static estimate_status_t search_start(est_t *est, int face_index, int log_face, 
                "its mirror search %d had no range", sc->si);
     return search_done(est);
   }
-
-  qlearn_policy_config_t *pc = &w->pc;
-  qlearn_policy_config_default(est->cfg.policy, pc);
-  pc->range_lo_m = sc->lo;
-  pc->range_hi_m = sc->hi;
-  pc->prior_m = prior;
-  pc->resolution_m = est->cfg.resolution_m;
-  pc->seed = est->cfg.seed;
-  if (est->cfg.policy == QLEARN_POLICY_PBA) {
-    if (est->noisy)
-      probit_config(est, pc, 0.0);
-    else
-      pc->sigma_m = 0.0;
-  }
-  w->pol = &est->policy;
-  qlearn_status_t qs = qlearn_policy_init(w->pol, pc);
-  if (qs != QLEARN_OK) {
-    snprintf(out->msg, sizeof out->msg, "policy init: %s", qlearn_status_str(qs));
-    return ESTIMATE_E_LEARNER;
-  }
-  return walk_next(est);
+  return walk_begin(est, prior, est->cfg.resolution_m);
 }
 
 /* A fed plane's sigma in the solve: the bracket's uniform spread h / sqrt 3 (noiseless) or the
@@ -1280,7 +1393,7 @@ static int face_allowed(const est_t *est, const model_face_t *f) {
   /* a new face 1 (face_redo): at an angle to every face whose search is kept */
   for (size_t j = 0; est->redo_face >= 0 && j < est->result.search_count; ++j) {
     const estimate_search_t *o = &est->result.search[j];
-    if (!o->fed || o->face == est->redo_face) continue;
+    if (!o->fed || o->face < 0 || o->face == est->redo_face) continue;
     if (fabs(cl_vec3_dot(f->normal_link, est->faces[est->face_src[o->face]].normal_link)) > cos_max)
       return 0;
   }
@@ -1747,6 +1860,15 @@ static double search_verified_margin(est_t *est, int si, const qlearn_solve_resu
   double worst = HUGE_VAL;
   *bounded = 1;
   if (search_rough(est, si)) return worst; /* its STAYS bounds need no regime */
+  if (sr->pivot) { /* the CoM between the edge's ends, the interval box included */
+    const estimate_pivot_t *pv = &est->pivot[si];
+    double ext = dir_halfwidth(est, res, pv->e);
+    if (!isfinite(ext)) {
+      ext = hull_extent(est, pv->e);
+      *bounded = 0;
+    }
+    return estimate_pivot_side_margin(pv, est->guess_m) - ext;
+  }
   for (size_t i = 0; i < out->trial_count; ++i) {
     const estimate_trial_t *t = &out->trial[i];
     if (t->search != si || !clear_outcome(est, t) || !deciding_trial(est, sr, i)) continue;
@@ -1905,6 +2027,7 @@ static int worst_search(est_t *est, const qlearn_solve_result_t *res, int *unver
     int bounded = 0;
     sr->verified_margin_m = search_verified_margin(est, (int)i, res, &bounded);
     sr->verify_need_m = search_rough(est, (int)i) ? 0.0
+                        : sr->pivot               ? ESTIMATE_PIVOT_SIDE_M
                         : est->noisy && face_is_closed(est, est->face_src[sr->face])
                             ? ESTIMATE_CLOSED_NOISY_MARGIN_M
                             : est->cfg.verify_margin_m;
@@ -2130,11 +2253,14 @@ static estimate_status_t yaw_more(est_t *est, int *started) {
   return search_start(est, est->face_src[best_face], best_face, best_yaw, best_margin, -1);
 }
 
-/* yaw_more's search is over: its plane is kept only when it narrowed the widest component not
- * found and left every found one within the limit (noiseless, a wide plane can widen the bound
- * of the others: a pebble whose other directions also tipped when a support point left B). */
-static estimate_status_t more_done(est_t *est) {
+/* An added search (yaw_more's, pivot_more's, est->more_si) is over: its plane is kept only when it
+ * narrowed the widest component not found (est->more_before_m) and left every found one within
+ * the limit (noiseless, a wide plane can widen the bound of the others: a pebble whose other
+ * directions also tipped when a support point left B). *dropped = 1 when it was fed and is not
+ * kept (a note says why). */
+static estimate_status_t added_check(est_t *est, int *dropped) {
   estimate_search_t *sr = &est->result.search[est->more_si];
+  *dropped = 0;
   if (!sr->fed) return ESTIMATE_OK;
   qlearn_solve_result_t res;
   estimate_status_t s = solve_all(est, &res);
@@ -2151,7 +2277,7 @@ static estimate_status_t more_done(est_t *est) {
   }
   if (!lost && after < est->more_before_m) return ESTIMATE_OK;
   sr->fed = 0;
-  est->more = UINT32_MAX; /* the half width it was chosen by was not reached: no more */
+  *dropped = 1;
   if (lost)
     snprintf(sr->note, sizeof sr->note, "added for a component not found, it widened a found one");
   else
@@ -2159,6 +2285,166 @@ static estimate_status_t more_done(est_t *est) {
              "added for a component not found, it did not narrow it (+-%.3f mm, +-%.3f mm before)",
              1e3 * after, 1e3 * est->more_before_m);
   return ESTIMATE_OK;
+}
+
+/* yaw_more's search is over (added_check); one that is dropped ends yaw_more: the half width it
+ * was chosen by was not reached. */
+static estimate_status_t more_done(est_t *est) {
+  int dropped = 0;
+  const estimate_status_t s = added_check(est, &dropped);
+  if (dropped) est->more = UINT32_MAX;
+  return s;
+}
+
+/* ---- pivots (docs/estimate.md, "Pivots") --------------------------------------------------- */
+
+/* Two pivot candidates whose scores differ by no more than this are equally good (pivot_choose). */
+#define ESTIMATE_TIE_M 1e-12
+
+/* How far the CoM can lie from the estimate along a (unit, link frame), for planning: a's part in
+ * the subspace the fed planes determine by the solve's bound, its part along each undetermined
+ * direction v by how far the mesh's bounding box reaches from the estimate (far[k] along link
+ * axis k, so sum_k |v_k| far[k] along v). */
+static double plan_extent(const est_t *est, const double far[3], const double a[3]) {
+  const qlearn_solve_result_t *res = &est->res;
+  const int rank = est->have_solve ? res->rank : 0;
+  double det[3] = {a[0], a[1], a[2]}, ext = 0.0;
+  for (int j = 0; j < 3 - rank; ++j) { /* the null eigenvectors come first */
+    const double *v = rank > 0 ? res->eigenvector[j] : (const double[3]){j == 0, j == 1, j == 2};
+    const double p = cl_vec3_dot(a, v);
+    for (int k = 0; k < 3; ++k) det[k] -= p * v[k];
+    ext += fabs(p) * (fabs(v[0]) * far[0] + fabs(v[1]) * far[1] + fabs(v[2]) * far[2]);
+  }
+  const double len = cl_vec3_norm(det);
+  if (rank > 0 && len > 1e-12) {
+    for (int k = 0; k < 3; ++k) det[k] /= len;
+    const double hw = dir_halfwidth(est, res, det);
+    ext +=
+        len *
+        (isfinite(hw) ? hw : fabs(det[0]) * far[0] + fabs(det[1]) * far[1] + fabs(det[2]) * far[2]);
+  }
+  return ext;
+}
+
+/* Was hull edge he the edge of a pivot search already? */
+static int pivot_tried(const est_t *est, const model_hull_edge_t *he) {
+  for (size_t j = 0; j < est->result.search_count; ++j) {
+    const estimate_pivot_t *pv = &est->pivot[j];
+    if (est->result.search[j].pivot && pv->v[0] + pv->v[1] == he->v[0] + he->v[1] &&
+        (pv->v[0] == he->v[0] || pv->v[0] == he->v[1]))
+      return 1;
+  }
+  return 0;
+}
+
+/* The pivot that would narrow the widest component not found most: over every hull edge not tried
+ * yet, both ways along B's edge line, whose tilt range holds the estimate balanced and whose ends
+ * hold the estimate with its box (ESTIMATE_PIVOT_SIDE_M), the one whose plane through the
+ * estimate, as wide as a search reaches, leaves the widest component narrowest; edges whose tilts
+ * cover where the CoM can lie along the test direction first. *found = 0 when none qualifies.
+ * Allocates the hull edges' array for the call. */
+static estimate_status_t pivot_choose(est_t *est, estimate_pivot_t *best, int *found) {
+  *found = 0;
+  const model_mesh_t *hull = NULL;
+  if (model_support_work_hull(est->work, est->mesh, &hull) != MODEL_OK)
+    return fail(est, ESTIMATE_E_GEOMETRY, "pivots: the convex hull of the mesh");
+  model_aabb_t box;
+  if (model_mesh_aabb(est->mesh, &box) != MODEL_OK)
+    return fail(est, ESTIMATE_E_GEOMETRY, "pivots: the bounding box of the mesh");
+  double far[3];
+  for (int k = 0; k < 3; ++k)
+    far[k] = fmax(est->guess_m[k] - box.min_m[k], box.max_m[k] - est->guess_m[k]);
+  const size_t cap = 3 * hull->triangle_count;
+  model_hull_edge_t *edges = malloc(cap * sizeof *edges);
+  if (!edges) return fail(est, ESTIMATE_E_NOMEM, "pivots: the hull's edges");
+  size_t n = 0;
+  if (model_hull_edges(hull, cos(1e-3), edges, cap, &n) != MODEL_OK) n = 0;
+  const double h_exp = 0.5 * est->cfg.resolution_m + ESTIMATE_PIVOT_BIAS_M;
+  double best_score = HUGE_VAL, best_side = 0.0;
+  int best_covers = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (pivot_tried(est, &edges[i])) continue;
+    for (int flip = 0; flip < 2; ++flip) {
+      estimate_pivot_t pv;
+      if (!estimate_pivot_plan(hull, &edges[i], flip, est->guess_m, ESTIMATE_PIVOT_WEDGE_RAD,
+                               ESTIMATE_PIVOT_HEIGHT_M, &pv))
+        continue;
+      const double side =
+          estimate_pivot_side_margin(&pv, est->guess_m) - plan_extent(est, far, pv.e);
+      if (!(side >= ESTIMATE_PIVOT_SIDE_M)) continue;
+      const double ext = plan_extent(est, far, pv.u) / pv.h_m; /* tan of the tilt to reach it */
+      const int covers = ext <= tan(-pv.beta_lo_rad) && ext <= tan(pv.beta_hi_rad);
+      const double score = widest_with(est, pv.u, h_exp);
+      /* Better by more than rounding (a mirror image scores the same but for the last bits, which
+       * differ between backends that agree to 1e-16 m): else the first in edge order stays. */
+      const int better =
+          covers > best_covers ||
+          (covers == best_covers &&
+           (score < best_score - ESTIMATE_TIE_M ||
+            (fabs(score - best_score) <= ESTIMATE_TIE_M && side > best_side + ESTIMATE_TIE_M)));
+      if (!better) continue;
+      *best = pv;
+      best_score = score;
+      best_side = side;
+      best_covers = covers;
+      *found = 1;
+    }
+  }
+  free(edges);
+  if (*found) estimate_pivot_reach(hull, best);
+  return ESTIMATE_OK;
+}
+
+/* Start a pivot search on pv: its tilt range as x, from the estimate balanced (x = u . g), to a
+ * resolution that makes its plane's half width (reach x tilt / 2) half cfg->resolution_m. */
+static estimate_status_t pivot_start(est_t *est, const estimate_pivot_t *pv) {
+  estimate_search_t *sr =
+      search_new(est, -1, 0.0, estimate_pivot_side_margin(pv, est->guess_m), -1);
+  if (!sr) return fail(est, ESTIMATE_E_CAPACITY, "too many searches");
+  search_ctx_t *sc = &est->walk.sc;
+  sc->pivot = 1;
+  est->pivot[sc->si] = *pv;
+  est->search_rough[sc->si] = 0;
+  sr->pivot = 1;
+  sr->retested = 1; /* no yaw to search again with: a failed check only unfeeds it */
+  memcpy(sr->pivot_link_m[0], pv->p1_m, sizeof pv->p1_m);
+  memcpy(sr->pivot_link_m[1], pv->p2_m, sizeof pv->p2_m);
+  memcpy(sc->u, pv->u, sizeof sc->u);
+  memcpy(sr->dir_link, pv->u, sizeof sc->u);
+  sc->comp = 0;
+  for (int k = 1; k < 3; ++k)
+    if (fabs(sc->u[k]) > fabs(sc->u[sc->comp])) sc->comp = k;
+  sc->lo = sr->range_lo_m = pv->gx_m - pv->h_m * tan(pv->beta_hi_rad);
+  sc->hi = sr->range_hi_m = pv->gx_m - pv->h_m * tan(pv->beta_lo_rad);
+  sr->prior_m = pv->gx_m;
+  const double res = est->cfg.resolution_m * fmin(1.0, pv->h_m / pv->reach_m);
+  return walk_begin(est, pv->gx_m, res);
+}
+
+/* Every check passed and nothing else is left, but a component is still not found: a pivot
+ * search (noiseless, at most cfg->max_pivots, pivot_choose). *started = 1 when one began. */
+static estimate_status_t pivot_more(est_t *est, int *started) {
+  estimate_result_t *out = &est->result;
+  *started = 0;
+  if (est->noisy || est->pivots >= est->cfg.max_pivots ||
+      out->search_count + 1 > ESTIMATE_MAX_SEARCHES)
+    return ESTIMATE_OK;
+  const double now = widest_with(est, NULL, 0.0);
+  if (!(now > 0.0)) return ESTIMATE_OK;
+  estimate_pivot_t pv;
+  int found = 0;
+  estimate_status_t s = pivot_choose(est, &pv, &found);
+  if (s != ESTIMATE_OK) return s;
+  if (!found) {
+    est->pivots = est->cfg.max_pivots; /* none qualifies now: none will */
+    return ESTIMATE_OK;
+  }
+  ++est->pivots;
+  *started = 1;
+  est->phase = PHASE_PIVOT;
+  est->more_si = (int)out->search_count;
+  est->more_before_m = now;
+  return pivot_start(est, &pv);
 }
 
 /* Solve; with a noise model, first resume a search while a component is wider than the target
@@ -2182,12 +2468,13 @@ static estimate_status_t verify_loop(est_t *est) {
     if (w < 0) {
       s = wide_more(est, &started);
       if (s == ESTIMATE_OK && !started) s = yaw_more(est, &started);
+      if (s == ESTIMATE_OK && !started) s = pivot_more(est, &started);
       return s != ESTIMATE_OK || started ? s : finish(est);
     }
     estimate_search_t *sw = &out->search[w];
     const double closed_gain = (1.0 - ESTIMATE_CLOSED_TARGET_SCALE) * sqrt(2.0) *
                                est->cfg.noise_target_halfwidth_m; /* what the narrower box adds */
-    if (est->noisy && est->target_scale == 1.0 && closed_gain > 0.0 &&
+    if (est->noisy && est->target_scale == 1.0 && closed_gain > 0.0 && !sw->pivot &&
         face_is_closed(est, est->face_src[sw->face]) && !search_rough(est, w) &&
         sw->verify_need_m - sw->verified_margin_m <= closed_gain) {
       est->target_scale = ESTIMATE_CLOSED_TARGET_SCALE; /* narrow the box, then check again */
@@ -2195,11 +2482,13 @@ static estimate_status_t verify_loop(est_t *est) {
     }
     if (unverified) {
       sw->fed = 0;
-      snprintf(
-          sw->note, sizeof sw->note, "at the estimate its %s by %.2f mm, under the %.2f mm needed",
-          face_is_closed(est, est->face_src[sw->face]) ? "patch holds the interval box"
-                                                       : "chord spans the interval along the edge",
-          1e3 * sw->verified_margin_m, 1e3 * sw->verify_need_m);
+      snprintf(sw->note, sizeof sw->note,
+               "at the estimate its %s by %.2f mm, under the %.2f mm needed",
+               sw->pivot ? "edge's ends hold the interval box"
+               : face_is_closed(est, est->face_src[sw->face])
+                   ? "patch holds the interval box"
+                   : "chord spans the interval along the edge",
+               1e3 * sw->verified_margin_m, 1e3 * sw->verify_need_m);
     }
     if (sw->retested || est->retests >= est->cfg.max_retests) {
       sw->retested = 1; /* no (more) retests: only unfeeding continues */
@@ -2225,7 +2514,7 @@ static estimate_status_t verify_begin(est_t *est) {
 static int face_two_fed(const est_t *est) {
   for (size_t j = 0; j < est->result.search_count; ++j) {
     const estimate_search_t *o = &est->result.search[j];
-    if (o->fed && est->face_src[o->face] != est->face1) return 1;
+    if (o->fed && o->face >= 0 && est->face_src[o->face] != est->face1) return 1;
   }
   return 0;
 }
@@ -2260,6 +2549,13 @@ static estimate_status_t search_done(est_t *est) {
       if (s != ESTIMATE_OK) return s;
       ++est->pass;
       return verify_loop(est);
+    case PHASE_PIVOT: {
+      int dropped = 0;
+      s = added_check(est, &dropped);
+      if (s != ESTIMATE_OK) return s;
+      ++est->pass;
+      return verify_loop(est);
+    }
     case PHASE_REFINE: ++est->pass; return verify_loop(est);
     default: return fail(est, ESTIMATE_E_ARG, "internal: a search ended in no search phase");
   }
@@ -2489,6 +2785,7 @@ static int config_ok(const estimate_config_t *cfg) {
          cfg->pose_noise_sigma_m <= 0.1 && cfg->noise_stop_width_m >= 0.0 &&
          cfg->noise_stop_width_m <= 0.01 && cfg->noise_target_halfwidth_m >= 0.0 &&
          cfg->noise_target_halfwidth_m <= 0.01 && cfg->max_added_dirs <= 6 &&
+         cfg->max_pivots <= 8 &&
          (cfg->start == ESTIMATE_START_UNIFORM || cfg->start == ESTIMATE_START_BBOX) &&
          (cfg->policy == QLEARN_POLICY_BISECT || cfg->policy == QLEARN_POLICY_PBA ||
           cfg->policy == QLEARN_POLICY_PAPER_QTABLE || cfg->policy == QLEARN_POLICY_PAPER_MLP);

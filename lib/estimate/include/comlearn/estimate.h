@@ -26,8 +26,9 @@
  * area inside that memory). The first estimate_next finds the mesh's hull faces, which allocates
  * temporary memory once and frees it; the hull itself stays in the work area. Objects without
  * flat faces allocate temporary memory too (docs/estimate.md): listing closed patches and rough
- * faces, a face from a settled pose, and at the end a reason that names a support point leaving B
- * (the outcome model's work area, per such component). The mesh is the
+ * faces, a face from a settled pose, planning a pivot search (the hull's edges), and at the end a
+ * reason that names a support point leaving B (the outcome model's work area, per such
+ * component). The mesh is the
  * caller's and must outlive the estimate. Nothing here prints or does I/O. One thread per estimate;
  * separate estimates are independent.
  */
@@ -203,6 +204,15 @@ typedef struct {
    * phase's candidates are listed again under it (docs/estimate.md, "Steered by falls"). Only
    * planning: a fall is never fed to the solve. 0: candidates under the mesh prior only. */
   int fall_steering;
+  /* Pivots (default 4, in [0, 8]; 0: none): when every check passed and nothing else is left but
+   * a component is still not found, up to this many pivot searches, noiseless only. The object is
+   * set down balanced on B's edge line along an edge of its convex hull, tilted about it, and
+   * turns back onto B or falls off as its CoM lies on B's side of the vertical plane through that
+   * edge or beyond it; a search over the tilt finds the plane through the edge that holds the CoM
+   * (a knife-edge balance, exact to a micron in lib/balance wherever the CoM projects between the
+   * edge's ends). The edge is the one whose plane would narrow the widest such component most; a
+   * search is kept only when it narrowed it (docs/estimate.md, "Pivots"). */
+  uint32_t max_pivots;
 } estimate_config_t;
 
 void estimate_config_default(estimate_config_t *cfg);
@@ -224,10 +234,14 @@ typedef struct {
   double target_link_m[3]; /* the link point the request placed over the edge (stable checks:
                                over B's centre); = the request's target_link_m */
   estimate_outcome_t outcome;
-  int regime;            /* model_regime_kind_t of the released pose (edge tests), -1 */
-  double chord_margin_m; /* of the released pose (edge tests) */
-  int flagged;           /* edge test outside the flat-patch regime, or an unclear outcome
-                               (INVALID / SLIDES: not observed, retried): not fed to the solve */
+  estimate_outcome_t counted; /* what the search took it for: the outcome, except that on a
+                                  rough face a barely creeping INVALID counts as STAYS, and that
+                                  a pivot trial counts as TIPS when it fell off, STAYS when it
+                                  turned back onto B, INVALID when neither is clear */
+  int regime;                 /* model_regime_kind_t of the released pose (edge tests), -1 */
+  double chord_margin_m;      /* of the released pose (edge tests) */
+  int flagged;                /* edge test outside the flat-patch regime, or an unclear outcome
+                                    (INVALID / SLIDES: not observed, retried): not fed to the solve */
   model_pose_t released;
   model_pose_t settled;
 } estimate_trial_t;
@@ -267,6 +281,16 @@ typedef struct {
   int verified;             /* fed and its check at the final estimate passed; a fed search
                                that the other planes cannot check stays fed for the solve but
                                the components it influences are not claimed */
+  /* A pivot search (estimate_config_t.max_pivots): face is -1, yaw_rad 0; the object balanced on
+   * the hull edge from pivot_link_m[0] to pivot_link_m[1] (link frame), which lay along B's edge
+   * line. Its trials' x_m, prior_m and range are the offset along the planned direction at which
+   * a CoM at the estimate's height over the edge would balance (the tilt, as a length); c_m,
+   * halfwidth_m and dir_link are its plane's (the bisector of its bracketing trials' planes, both
+   * through the edge; the half width covers every point of the hull between them).
+   * verified_margin_m: how far inside the edge's ends the estimate projects, less the interval
+   * box's extent along the edge. */
+  int pivot;
+  double pivot_link_m[2][3];
   char note[ESTIMATE_NOTE_SIZE]; /* why it is not fed ("" when fed) */
 } estimate_search_t;
 
