@@ -47,12 +47,8 @@ typedef struct {
 /* One pivot trial at x, read as the estimator reads it: ESTIMATE_TIPS / STAYS / INVALID, or -1
  * when lib/balance refused the pose. */
 static int pivot_trial(const sim_t *s, const estimate_pivot_t *pv, double x) {
-  double q[4];
-  estimate_pivot_orientation(pv, x, q);
   model_pose_t rel;
-  if (model_pose_over_edge(s->mesh, s->base, q, MODEL_EDGE_PX, pv->mid_m, 0.0, 1e-6, &rel) !=
-      MODEL_OK)
-    return -1;
+  if (!estimate_pivot_pose(pv, s->mesh, s->base, x, 1e-6, &rel)) return -1;
   balance_trial_result_t r;
   if (balance_trial_run(s->w, s->obj, &rel, NULL, &r) != BALANCE_OK) return -1;
   return (int)estimate_pivot_outcome((estimate_outcome_t)r.outcome, &r.released, &r.settled);

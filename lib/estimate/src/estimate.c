@@ -559,18 +559,8 @@ static int pivot_request(est_t *est, const search_ctx_t *sc, double xa, estimate
   memset(&req, 0, sizeof req);
   req.kind = ESTIMATE_TRIAL_EDGE;
   req.edge = MODEL_EDGE_PX;
-  double q[4];
-  estimate_pivot_orientation(pv, xa, q);
-  model_status_t ms = model_pose_over_edge(est->mesh, est->base_size_m, q, MODEL_EDGE_PX, pv->mid_m,
-                                           0.0, 1e-6, &req.release);
-  for (int i = 0; ms == MODEL_OK && i < 2; ++i) { /* both ends on B's edge line, touching */
-    double p[3];
-    cl_pose_apply(&req.release, i ? pv->p2_m : pv->p1_m, p);
-    if (fabs(p[2] + 1e-6) > 1e-7) ms = MODEL_E_POSE;
-  }
-  if (ms != MODEL_OK) {
-    snprintf(why, why_size, "at x = %.3f mm the object does not rest on its edge's ends (%s)",
-             1e3 * xa, model_status_str(ms));
+  if (!estimate_pivot_pose(pv, est->mesh, est->base_size_m, xa, 1e-6, &req.release)) {
+    snprintf(why, why_size, "at x = %.3f mm the object does not rest on its edge's ends", 1e3 * xa);
     return 1;
   }
   req.search = sc->si;
@@ -2162,10 +2152,16 @@ static estimate_status_t wide_more(est_t *est, int *started) {
  * fraction of its width (or under the claim limit). */
 #define ESTIMATE_MORE_GAIN 0.8
 
-/* The widest of the components not found (over the width limit or not determined), with the
- * fed planes and, when u is not NULL, one more plane along u of half width h through the
- * estimate: what a search along u would give if it reached h. 0 when every component is found. */
-static double widest_with(est_t *est, const double *u, double h) {
+/* A component the planes do not determine counts this wide in a sum of half widths (wide_with):
+ * more than any determined one, so that a plane that determines one more is progress. */
+#define ESTIMATE_UNDETERMINED_M 1e3
+
+/* How wide the components wider than wide_m are (est->halfwidth_m: INFINITY when not found; with
+ * wide_m the claim limit, the components not found): the widest of them, or with sum 1 the sum
+ * of their half widths (ESTIMATE_UNDETERMINED_M for one not determined), from the fed planes and,
+ * when u is not NULL, one more plane along u of half width h through the estimate: what a search
+ * along u would give if it reached h. 0 when no component is that wide. */
+static double wide_with(est_t *est, const double *u, double h, double wide_m, int sum) {
   estimate_result_t *out = &est->result;
   if (u) { /* a hypothetical fed search after the real ones, removed below */
     estimate_search_t *sr = &out->search[out->search_count++];
@@ -2179,14 +2175,20 @@ static double widest_with(est_t *est, const double *u, double h) {
   double widest = 0.0;
   if (solve_all(est, &res) == ESTIMATE_OK)
     for (int k = 0; k < 3; ++k) {
-      if (est->halfwidth_m[k] <= est->cfg.max_halfwidth_m) continue;
+      if (est->halfwidth_m[k] <= wide_m) continue;
       const double e[3] = {k == 0, k == 1, k == 2};
-      widest = fmax(widest, dir_halfwidth(est, &res, e));
+      const double w = dir_halfwidth(est, &res, e);
+      widest = sum ? widest + fmin(w, ESTIMATE_UNDETERMINED_M) : fmax(widest, w);
     }
   else
     widest = HUGE_VAL;
   if (u) --out->search_count;
   return widest;
+}
+
+/* The widest of the components not found (wide_with). */
+static double widest_with(est_t *est, const double *u, double h) {
+  return wide_with(est, u, h, est->cfg.max_halfwidth_m, 0);
 }
 
 /* Every check passed and no face is left to list, but a component is still too wide or not
@@ -2253,37 +2255,46 @@ static estimate_status_t yaw_more(est_t *est, int *started) {
   return search_start(est, est->face_src[best_face], best_face, best_yaw, best_margin, -1);
 }
 
-/* An added search (yaw_more's, pivot_more's, est->more_si) is over: its plane is kept only when it
- * narrowed the widest component not found (est->more_before_m) and left every found one within
- * the limit (noiseless, a wide plane can widen the bound of the others: a pebble whose other
- * directions also tipped when a support point left B). *dropped = 1 when it was fed and is not
- * kept (a note says why). */
-static estimate_status_t added_check(est_t *est, int *dropped) {
+/* An added search (yaw_more's, pivot_more's: est->more_si) is over: its plane is kept only when
+ * it narrowed the components wider than wide_m (est->more_before_m: the widest of them, or with
+ * sum 1 the sum of their half widths, as wide_with measures them) and widened no other over
+ * wide_m, nor a found one over the claim limit (noiseless, a wide plane can widen the bound of
+ * the others: a pebble whose other directions also tipped when a support point left B).
+ * *dropped = 1 when it was fed and is not kept (a note says why). */
+static estimate_status_t added_check(est_t *est, double wide_m, int sum, int *dropped) {
   estimate_search_t *sr = &est->result.search[est->more_si];
+  const double limit = est->cfg.max_halfwidth_m;
   *dropped = 0;
   if (!sr->fed) return ESTIMATE_OK;
   qlearn_solve_result_t res;
   estimate_status_t s = solve_all(est, &res);
   if (s != ESTIMATE_OK) return s;
   int lost = 0;
-  double after = 0.0; /* the widest not found, as widest_with measures it, from this solve */
+  double after = 0.0;
   for (int k = 0; k < 3; ++k) {
     const double e[3] = {k == 0, k == 1, k == 2};
-    const double w = dir_halfwidth(est, &res, e);
-    if (est->halfwidth_m[k] <= est->cfg.max_halfwidth_m)
-      lost |= !(w <= est->cfg.max_halfwidth_m);
-    else
-      after = fmax(after, w);
+    const double w = dir_halfwidth(est, &res, e), was = est->halfwidth_m[k];
+    if (was <= wide_m)
+      lost |= !(w <= wide_m);
+    else if (was <= limit)
+      lost |= !(w <= limit);
+    if (was > wide_m) after = sum ? after + fmin(w, ESTIMATE_UNDETERMINED_M) : fmax(after, w);
   }
   if (!lost && after < est->more_before_m) return ESTIMATE_OK;
   sr->fed = 0;
   *dropped = 1;
+  char what[48];
+  if (wide_m >= limit)
+    snprintf(what, sizeof what, "not found");
+  else
+    snprintf(what, sizeof what, "wider than +-%.3f mm", 1e3 * wide_m);
   if (lost)
-    snprintf(sr->note, sizeof sr->note, "added for a component not found, it widened a found one");
+    snprintf(sr->note, sizeof sr->note, "added for a component %s, it widened %s", what,
+             wide_m >= limit ? "a found one" : "another");
   else
     snprintf(sr->note, sizeof sr->note,
-             "added for a component not found, it did not narrow it (+-%.3f mm, +-%.3f mm before)",
-             1e3 * after, 1e3 * est->more_before_m);
+             "added for a component %s, it did not narrow it (+-%.3f mm, +-%.3f mm before%s)", what,
+             1e3 * after, 1e3 * est->more_before_m, sum ? ", summed" : "");
   return ESTIMATE_OK;
 }
 
@@ -2291,7 +2302,7 @@ static estimate_status_t added_check(est_t *est, int *dropped) {
  * was chosen by was not reached. */
 static estimate_status_t more_done(est_t *est) {
   int dropped = 0;
-  const estimate_status_t s = added_check(est, &dropped);
+  const estimate_status_t s = added_check(est, est->cfg.max_halfwidth_m, 0, &dropped);
   if (dropped) est->more = UINT32_MAX;
   return s;
 }
@@ -2300,6 +2311,13 @@ static estimate_status_t more_done(est_t *est) {
 
 /* Two pivot candidates whose scores differ by no more than this are equally good (pivot_choose). */
 #define ESTIMATE_TIE_M 1e-12
+
+/* Pivots narrow the components wider than this: twice the resolution (noiseless, a face search's
+ * bracket is one resolution wide; a rough pair's bounds can be far wider), at most the claim
+ * limit. */
+static double pivot_wide(const est_t *est) {
+  return fmin(2.0 * est->cfg.resolution_m, est->cfg.max_halfwidth_m);
+}
 
 /* How far the CoM can lie from the estimate along a (unit, link frame), for planning: a's part in
  * the subspace the fed planes determine by the solve's bound, its part along each undetermined
@@ -2341,9 +2359,10 @@ static int pivot_tried(const est_t *est, const model_hull_edge_t *he) {
  * yet, both ways along B's edge line, whose tilt range holds the estimate balanced and whose ends
  * hold the estimate with its box (ESTIMATE_PIVOT_SIDE_M), the one whose plane through the
  * estimate, as wide as a search reaches, leaves the widest component narrowest; edges whose tilts
- * cover where the CoM can lie along the test direction first. *found = 0 when none qualifies.
- * Allocates the hull edges' array for the call. */
-static estimate_status_t pivot_choose(est_t *est, estimate_pivot_t *best, int *found) {
+ * cover where the CoM can lie along the test direction first; *gets: that widest. *found = 0
+ * when none qualifies. Allocates the hull edges' array for the call. */
+static estimate_status_t pivot_choose(est_t *est, estimate_pivot_t *best, double *gets,
+                                      int *found) {
   *found = 0;
   const model_mesh_t *hull = NULL;
   if (model_support_work_hull(est->work, est->mesh, &hull) != MODEL_OK)
@@ -2374,7 +2393,7 @@ static estimate_status_t pivot_choose(est_t *est, estimate_pivot_t *best, int *f
       if (!(side >= ESTIMATE_PIVOT_SIDE_M)) continue;
       const double ext = plan_extent(est, far, pv.u) / pv.h_m; /* tan of the tilt to reach it */
       const int covers = ext <= tan(-pv.beta_lo_rad) && ext <= tan(pv.beta_hi_rad);
-      const double score = widest_with(est, pv.u, h_exp);
+      const double score = wide_with(est, pv.u, h_exp, pivot_wide(est), 1);
       /* Better by more than rounding (a mirror image scores the same but for the last bits, which
        * differ between backends that agree to 1e-16 m): else the first in edge order stays. */
       const int better =
@@ -2392,6 +2411,7 @@ static estimate_status_t pivot_choose(est_t *est, estimate_pivot_t *best, int *f
   }
   free(edges);
   if (*found) estimate_pivot_reach(hull, best);
+  *gets = best_score;
   return ESTIMATE_OK;
 }
 
@@ -2429,13 +2449,16 @@ static estimate_status_t pivot_more(est_t *est, int *started) {
   if (est->noisy || est->pivots >= est->cfg.max_pivots ||
       out->search_count + 1 > ESTIMATE_MAX_SEARCHES)
     return ESTIMATE_OK;
-  const double now = widest_with(est, NULL, 0.0);
+  const double now = wide_with(est, NULL, 0.0, pivot_wide(est), 1);
   if (!(now > 0.0)) return ESTIMATE_OK;
   estimate_pivot_t pv;
   int found = 0;
-  estimate_status_t s = pivot_choose(est, &pv, &found);
+  double gets = 0.0;
+  estimate_status_t s = pivot_choose(est, &pv, &gets, &found);
   if (s != ESTIMATE_OK) return s;
-  if (!found) {
+  /* worth a search as a direction more is: the wide components' half widths a fifth narrower in
+   * sum (one more determined counts as more) */
+  if (!found || !(gets < ESTIMATE_MORE_GAIN * now)) {
     est->pivots = est->cfg.max_pivots; /* none qualifies now: none will */
     return ESTIMATE_OK;
   }
@@ -2551,7 +2574,7 @@ static estimate_status_t search_done(est_t *est) {
       return verify_loop(est);
     case PHASE_PIVOT: {
       int dropped = 0;
-      s = added_check(est, &dropped);
+      s = added_check(est, pivot_wide(est), 1, &dropped);
       if (s != ESTIMATE_OK) return s;
       ++est->pass;
       return verify_loop(est);

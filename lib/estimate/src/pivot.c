@@ -11,6 +11,8 @@
 /* How far a tilt keeps from laying all of the object beyond the edge's vertical plane, or all of
  * it on B's side (estimate_pivot_plan). */
 #define PIVOT_STRADDLE_RAD 0.01
+/* The edge's ends must be the lowest of the object over B's top to this (estimate_pivot_pose). */
+#define PIVOT_TOUCH_TOL_M 1e-8
 /* A pivot trial that ended within this angle of its release, or turned about the edge line by
  * less, has not shown a direction (lib/balance calls a CoM beyond the edge within ~20 ms, turned
  * by 1e-7 to 1e-2 rad; one that turns back ends turned by 0.05-0.35 rad). */
@@ -97,6 +99,30 @@ void estimate_pivot_orientation(const estimate_pivot_t *pv, double x, double q_w
     r[2][k] = c * pv->up[k] - s * pv->u[k];
   }
   cl_quat_from_rot((const double(*)[3])r, q_wxyz);
+}
+
+int estimate_pivot_pose(const estimate_pivot_t *pv, const model_mesh_t *mesh,
+                        const double base_size_m[3], double x, double touch_m, model_pose_t *out) {
+  estimate_pivot_orientation(pv, x, out->orientation_wxyz);
+  double r[3][3], m[3];
+  cl_quat_to_rot(out->orientation_wxyz, r);
+  for (int i = 0; i < 3; ++i) m[i] = cl_vec3_dot(r[i], pv->mid_m);
+  out->position_m[0] = 0.5 * base_size_m[0] - m[0];
+  out->position_m[1] = -m[1];
+  /* lowered as every placement planner lowers (lib/placement's touch height): until the lowest
+   * point of the mesh over B's top touches, touch_m deep */
+  double low = 0.0;
+  if (!model_mesh_lowest_over_rect(mesh, (const double(*)[3])r, out->position_m[0],
+                                   out->position_m[1], 0.5 * base_size_m[0], 0.5 * base_size_m[1],
+                                   &low))
+    return 0;
+  out->position_m[2] = -touch_m - low;
+  for (int i = 0; i < 2; ++i) { /* that point is the edge: both its ends touch */
+    double p[3];
+    cl_pose_apply(out, i ? pv->p2_m : pv->p1_m, p);
+    if (!(fabs(p[2] + touch_m) <= PIVOT_TOUCH_TOL_M)) return 0;
+  }
+  return 1;
 }
 
 void estimate_pivot_normal(const double q_wxyz[4], double n[3]) {

@@ -64,6 +64,14 @@ double estimate_pivot_side_margin(const estimate_pivot_t *pv, const double c[3])
 /* The object's orientation (world from link) for search coordinate x. */
 void estimate_pivot_orientation(const estimate_pivot_t *pv, double x, double q_wxyz[4]);
 
+/* The release pose of a pivot trial at x: the orientation of estimate_pivot_orientation, the
+ * edge's midpoint over B's +X edge line (its middle), lowered as lib/placement's plans and
+ * model_mesh_lowest_over_rect lower an object, until the lowest point of the mesh over B's top
+ * (size base_size_m) is touch_m deep. 1 when that point is the edge (both its ends touch_m deep,
+ * to 1e-8 m); 0 when something else of the object over B is lower, or nothing is over B. */
+int estimate_pivot_pose(const estimate_pivot_t *pv, const model_mesh_t *mesh,
+                        const double base_size_m[3], double x, double touch_m, model_pose_t *out);
+
 /* The search coordinate of a released orientation (its tilt about the edge). */
 double estimate_pivot_x(const estimate_pivot_t *pv, const double q_wxyz[4]);
 
