@@ -8,7 +8,14 @@
  * edge (x = u . c). A row per family: edges, ends that did not bracket (both ends the same or
  * unclear), brackets that hold the truth, the worst distance of the truth outside a bracket, and
  * the bracket widths where bisection stopped. Reads the URDF inertial: a bench, never the
- * estimator. */
+ * estimator.
+ *
+ * --dump FILE also writes JSON lines for a second engine (bench/mujoco_pivots.py): a "config"
+ * line (balance_config_t, as bench/placements_dump's), an "object" line per object (as
+ * placements_dump's), a "pivot" line per edge (its geometry: ends, unit directions e, up, u, the
+ * midpoint, h, gx, the tilt range, the truth's x and lib/balance's final bracket) and 12
+ * "placement" lines per bracketed edge at the truth +- 1, 3, 10, 30, 100 and 300 um (release pose,
+ * lib/balance's outcome, what the estimator counts it as, turn and rotation). */
 #define _GNU_SOURCE
 
 #include <getopt.h>
@@ -44,14 +51,71 @@ typedef struct {
   const double *base;
 } sim_t;
 
+static FILE *dump; /* --dump FILE, or NULL */
+static int dump_object_id, dump_pivot_id;
+
+/* One pivot trial at x: 0 and *r, or -1 when the pose is not a pivot or lib/balance refused it. */
+static int pivot_run(const sim_t *s, const estimate_pivot_t *pv, double x,
+                     balance_trial_result_t *r) {
+  model_pose_t rel;
+  if (!estimate_pivot_pose(pv, s->mesh, s->base, x, 1e-6, &rel)) return -1;
+  return balance_trial_run(s->w, s->obj, &rel, NULL, r) == BALANCE_OK ? 0 : -1;
+}
+
 /* One pivot trial at x, read as the estimator reads it: ESTIMATE_TIPS / STAYS / INVALID, or -1
  * when lib/balance refused the pose. */
 static int pivot_trial(const sim_t *s, const estimate_pivot_t *pv, double x) {
-  model_pose_t rel;
-  if (!estimate_pivot_pose(pv, s->mesh, s->base, x, 1e-6, &rel)) return -1;
   balance_trial_result_t r;
-  if (balance_trial_run(s->w, s->obj, &rel, NULL, &r) != BALANCE_OK) return -1;
+  if (pivot_run(s, pv, x, &r) != 0) return -1;
   return (int)estimate_pivot_outcome((estimate_outcome_t)r.outcome, &r.released, &r.settled);
+}
+
+static void dump_arr(const char *key, const double *v, int n) {
+  fprintf(dump, ", \"%s\": [", key);
+  for (int i = 0; i < n; ++i) fprintf(dump, "%s%.17g", i ? ", " : "", v[i]);
+  fprintf(dump, "]");
+}
+
+static const char *outcome_name(int o) {
+  static const char *const names[] = {"INVALID", "STAYS", "TIPS", "SLIDES"};
+  return o >= 0 && o <= 3 ? names[o] : "?";
+}
+
+/* The pivot line of pv and, when bracketed, its 12 placements at the truth +- 1 .. 300 um. */
+static void dump_pivot(const sim_t *s, const estimate_pivot_t *pv, const double c[3], double lo,
+                       double hi, int bracketed) {
+  const int id = dump_pivot_id++;
+  const double truth = cl_vec3_dot(pv->u, c);
+  fprintf(dump, "{\"type\": \"pivot\", \"object\": %d, \"pivot\": %d", dump_object_id, id);
+  dump_arr("p1_m", pv->p1_m, 3);
+  dump_arr("p2_m", pv->p2_m, 3);
+  dump_arr("mid_m", pv->mid_m, 3);
+  dump_arr("e", pv->e, 3);
+  dump_arr("up", pv->up, 3);
+  dump_arr("u", pv->u, 3);
+  const double tilt[2] = {pv->beta_lo_rad, pv->beta_hi_rad}, br[2] = {lo, hi};
+  fprintf(dump, ", \"h_m\": %.17g, \"gx_m\": %.17g, \"truth_x_m\": %.17g, \"side_m\": %.17g",
+          pv->h_m, pv->gx_m, truth, estimate_pivot_side_margin(pv, c));
+  dump_arr("tilt_rad", tilt, 2);
+  dump_arr("balance_bracket_m", br, 2);
+  fprintf(dump, ", \"bracketed\": %s}\n", bracketed ? "true" : "false");
+  static const double off_um[] = {-300, -100, -30, -10, -3, -1, 1, 3, 10, 30, 100, 300};
+  for (size_t k = 0; bracketed && k < sizeof off_um / sizeof off_um[0]; ++k) {
+    balance_trial_result_t r;
+    const double x = truth + 1e-6 * off_um[k];
+    if (pivot_run(s, pv, x, &r) != 0) continue;
+    const int counted =
+        (int)estimate_pivot_outcome((estimate_outcome_t)r.outcome, &r.released, &r.settled);
+    fprintf(dump, "{\"type\": \"placement\", \"object\": %d, \"pivot\": %d, \"x_m\": %.17g",
+            dump_object_id, id, x);
+    dump_arr("release_p", r.released.position_m, 3);
+    dump_arr("release_q", r.released.orientation_wxyz, 4);
+    dump_arr("settled_q", r.settled.orientation_wxyz, 4);
+    fprintf(dump,
+            ", \"outcome\": \"%s\", \"counted\": \"%s\", \"rotation_rad\": %.17g, "
+            "\"steps\": %u}\n",
+            outcome_name(r.outcome), outcome_name(counted), r.rotation_rad, r.steps);
+  }
 }
 
 /* What the bisection of one pivot found. */
@@ -67,7 +131,10 @@ static bisect_t pivot_bisect(const sim_t *s, const estimate_pivot_t *pv, const d
   bisect_t b = {0};
   double lo = pv->gx_m - pv->h_m * tan(pv->beta_hi_rad);
   double hi = pv->gx_m - pv->h_m * tan(pv->beta_lo_rad);
-  if (pivot_trial(s, pv, lo) != ESTIMATE_TIPS || pivot_trial(s, pv, hi) != ESTIMATE_STAYS) return b;
+  if (pivot_trial(s, pv, lo) != ESTIMATE_TIPS || pivot_trial(s, pv, hi) != ESTIMATE_STAYS) {
+    if (dump) dump_pivot(s, pv, c, lo, hi, 0);
+    return b;
+  }
   b.bracketed = 1;
   for (int it = 0; it < 80 && hi - lo > 1e-9; ++it) {
     const double mid = 0.5 * (lo + hi);
@@ -81,6 +148,7 @@ static bisect_t pivot_bisect(const sim_t *s, const estimate_pivot_t *pv, const d
   }
   const double truth = cl_vec3_dot(pv->u, c); /* balanced straight over the edge */
   b.outside_m = fmax(lo - truth, truth - hi);
+  if (dump) dump_pivot(s, pv, c, lo, hi, 1);
   b.width_m = hi - lo;
   if (b.outside_m > 0.0)
     LOG_I(
@@ -125,6 +193,34 @@ static fam_t *family_of(const char *urdf, fam_t *fams, int *nf) {
   return f;
 }
 
+/* The object line of the dump (as bench/placements_dump's). */
+static void dump_object(const model_object_t *mo, const model_mass_t *truth) {
+  double r = 0.0;
+  for (size_t i = 0; i < mo->mesh.vertex_count; ++i)
+    r = fmax(r, cl_vec3_dist(mo->mesh.vertices_m[i], truth->com_m));
+  fprintf(dump, "{\"type\": \"object\", \"object\": %d, \"mesh\": \"%s\", \"name\": \"%s\"",
+          dump_object_id, mo->mesh_path, mo->robot_name);
+  fprintf(dump, ", \"mass_kg\": %.17g, \"radius_m\": %.17g", truth->mass_kg, r);
+  dump_arr("com_m", truth->com_m, 3);
+  dump_arr("inertia_kg_m2", &truth->inertia_kg_m2[0][0], 9);
+  fprintf(dump, "}\n");
+}
+
+/* The config line of the dump (as bench/placements_dump's). */
+static void dump_config(void) {
+  balance_config_t c;
+  balance_config_default(&c);
+  fprintf(dump, "{\"type\": \"config\"");
+  dump_arr("base_size_m", c.base_size_m, 3);
+  fprintf(dump,
+          ", \"gravity_m_s2\": %.17g, \"dt_s\": %.17g, \"friction\": %.17g, "
+          "\"rest_min_time_s\": %.17g, \"rest_lin_m_s\": %.17g, \"rest_ang_rad_s\": %.17g, "
+          "\"rest_steps\": %d, \"tip_grow_steps\": %d, \"horizon_s\": %.17g, "
+          "\"tip_angle_rad\": %.17g, \"slide_m\": %.17g, \"touch_depth_m\": 1e-06}\n",
+          c.gravity_m_s2, c.dt_s, c.friction, c.rest_min_time_s, c.rest_lin_m_s, c.rest_ang_rad_s,
+          c.rest_steps, c.tip_grow_steps, c.horizon_s, c.tip_angle_rad, c.slide_m);
+}
+
 /* Up to `per` edges per margin bucket of one object, recorded in its family f and the bucket's
  * row. 0, or -1 when it cannot be loaded. */
 static int object_run(const char *urdf, int per, uint64_t *rng, fam_t *f, fam_t *buckets) {
@@ -144,6 +240,7 @@ static int object_run(const char *urdf, int per, uint64_t *rng, fam_t *f, fam_t 
       balance_world_create(&bc, &s.w) != BALANCE_OK ||
       balance_object_create(s.w, &mo.mesh, &truth, &s.obj) != BALANCE_OK)
     goto done;
+  if (dump) dump_object(&mo, &truth);
   edges = malloc(3 * hull.triangle_count * sizeof *edges);
   if (!edges ||
       model_hull_edges(&hull, cos(1e-3), edges, 3 * hull.triangle_count, &n) != MODEL_OK || !n)
@@ -165,6 +262,7 @@ static int object_run(const char *urdf, int per, uint64_t *rng, fam_t *f, fam_t 
     record(&buckets[b], &r);
   }
   rc = 0;
+  ++dump_object_id;
 done:
   if (rc != 0) LOG_W("%s: %s", urdf, err.msg[0] ? err.msg : "not usable");
   free(edges);
@@ -184,11 +282,10 @@ static void print_row(fam_t *f) {
 
 int main(int argc, char **argv) {
   cli_log_init("bench_pivot");
-  static const struct option opts[] = {{"edges", required_argument, NULL, 'e'},
-                                       {"seed", required_argument, NULL, 's'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {"version", no_argument, NULL, 'V'},
-                                       {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {
+      {"edges", required_argument, NULL, 'e'}, {"seed", required_argument, NULL, 's'},
+      {"dump", required_argument, NULL, 'd'},  {"help", no_argument, NULL, 'h'},
+      {"version", no_argument, NULL, 'V'},     {NULL, 0, NULL, 0}};
   long per = 1;
   unsigned long long seed = 1;
   int c;
@@ -210,15 +307,24 @@ int main(int argc, char **argv) {
           return 2;
         }
         break;
+      case 'd':
+        dump = fopen(optarg, "w");
+        if (!dump) {
+          LOG_E("--dump: cannot write '%s'", optarg);
+          return 2;
+        }
+        break;
       case 'h':
         printf(
-            "usage: bench_pivot [--edges N] [--seed S] OBJECT.urdf...\n"
+            "usage: bench_pivot [--edges N] [--seed S] [--dump FILE] OBJECT.urdf...\n"
             "How exact a pivot trial (an object balanced on B's edge line along a hull edge,\n"
             "tilted) is in lib/balance: per object, N random hull edges (1..100, default 1) in\n"
             "each of six buckets of how far inside the edge's ends the true CoM projects\n"
             "(0.05, 0.2, 0.5, 1, 2, 5 mm and up), each bisected with trials read as the\n"
             "estimator reads them; a markdown row per family (the file name up to its first\n"
-            "'_'). --seed S picks the edges (default 1). Reads the URDF inertial (the truth).\n"
+            "'_'). --seed S picks the edges (default 1). --dump FILE: every edge and 12\n"
+            "placements around each threshold as JSON lines for bench/mujoco_pivots.py\n"
+            "(default: none). Reads the URDF inertial (the truth).\n"
             "See the comment at the top of bench/bench_pivot.c.\n");
         return 0;
       case 'V': cli_version_print(stdout, "bench_pivot"); return 0;
@@ -229,6 +335,7 @@ int main(int argc, char **argv) {
     LOG_E("no OBJECT.urdf (try --help)");
     return 2;
   }
+  if (dump) dump_config();
   static fam_t fams[MAX_FAMILIES], buckets[BUCKETS];
   int nf = 0, failed = 0;
   uint64_t rng = seed;
@@ -253,5 +360,9 @@ int main(int argc, char **argv) {
     print_row(&fams[i]);
   }
   print_row(&all);
+  if (dump && fclose(dump) != 0) {
+    LOG_E("--dump: write failed");
+    return 1;
+  }
   return failed ? 1 : 0;
 }

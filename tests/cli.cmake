@@ -8,7 +8,7 @@ comlearn_add_check(check_cli_common SOURCES check_cli_common.c LIBS comlearn_cli
 # bench/ is configured after tests/, always with it (generator expressions resolve later).
 set(comlearn_cli_programs comlearn comlearn-sim comlearn-rockgen comlearn-shapegen
     comlearn-rocks-svg comlearn-reach-svg bench_balance bench_regimes bench_qlearn bench_ik
-    bench_estimate bench_stack bench_coverage placements_dump bench_hull bench_outcome)
+    bench_estimate bench_stack bench_coverage placements_dump bench_hull bench_outcome bench_pivot)
 set(comlearn_cli_program_files)
 foreach(t IN LISTS comlearn_cli_programs)
   list(APPEND comlearn_cli_program_files $<TARGET_FILE:${t}>)
