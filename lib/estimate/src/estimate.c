@@ -77,6 +77,10 @@ enum {
 #define ESTIMATE_RING_BIAS_M 5e-5
 /* How far from the estimate (along the test direction) a planned edge line is checked. */
 #define ESTIMATE_PLAN_OFFSET_M 3e-3
+/* Two lengths that differ by no more than this are equal where a choice is made by them (the worst
+ * check, a pivot's score): the backends agree to rounding only (an LCM release is FK(q) * grasp,
+ * 1e-16 m off the one asked for), and a tie must break alike on every backend. */
+#define ESTIMATE_TIE_M 1e-12
 
 const char *estimate_policy_name(qlearn_policy_kind_t k) {
   switch (k) {
@@ -587,7 +591,9 @@ static estimate_trial_t *edge_logged(est_t *est, const search_ctx_t *sc,
     x_got = estimate_pivot_x(&est->pivot[sc->si], t->released.orientation_wxyz);
   else
     x_got = cl_vec3_dot(n_obj, sc->u) > 0.99 ? d / cl_vec3_dot(n_obj, sc->u) : xa;
-  if (!(x_got >= sc->lo && x_got <= sc->hi)) x_got = xa;
+  /* achieved to rounding (an LCM release is FK(q) * grasp: 1e-16 m off): the one asked for, so
+   * that ties later break alike on every backend */
+  if (!(x_got >= sc->lo && x_got <= sc->hi) || fabs(x_got - xa) <= 1e-12) x_got = xa;
   t->x_m = x_got;
   return t;
 }
@@ -2024,8 +2030,8 @@ static int worst_search(est_t *est, const qlearn_solve_result_t *res, int *unver
     const double slack = sr->verified_margin_m - sr->verify_need_m;
     sr->verified = bounded && slack >= 0.0;
     if (!bounded || sr->verified) continue;
-    if (worst < 0 ||
-        slack < out->search[worst].verified_margin_m - out->search[worst].verify_need_m)
+    if (worst < 0 || slack < out->search[worst].verified_margin_m -
+                                 out->search[worst].verify_need_m - ESTIMATE_TIE_M)
       worst = (int)i;
   }
   for (size_t i = 0; i < out->search_count; ++i)
@@ -2308,9 +2314,6 @@ static estimate_status_t more_done(est_t *est) {
 }
 
 /* ---- pivots (docs/estimate.md, "Pivots") --------------------------------------------------- */
-
-/* Two pivot candidates whose scores differ by no more than this are equally good (pivot_choose). */
-#define ESTIMATE_TIE_M 1e-12
 
 /* Pivots narrow the components wider than this: twice the resolution (noiseless, a face search's
  * bracket is one resolution wide; a rough pair's bounds can be far wider), at most the claim
