@@ -403,8 +403,8 @@ END_TEST
 
 /* A domino (48 x 24 x 7.5 mm, the CoM off-centre): one usable pair of faces, so the solve has
  * rank 2. The in-plane components are reported with the worst-case bound through the
- * pseudo-inverse (the plain statistical half width missed: 0.100 mm off at +-0.080), the third
- * not found with its reason. */
+ * pseudo-inverse (the plain statistical half width misses: x 0.094 mm off at +-0.076, inside the
+ * bound's +-0.104), the third not found with its reason. */
 START_TEST(domino_rank_two_bound) {
   char urdf[512];
   /* 2000 kg/m^3, the box's own inertia, the CoM where the statistical half width misses */
@@ -412,7 +412,7 @@ START_TEST(domino_rank_two_bound) {
   FILE *f = tmp_open("domino.urdf", urdf, sizeof urdf);
   fprintf(f,
           "<?xml version=\"1.0\"?>\n<robot name=\"domino\">\n <link name=\"body\">\n"
-          "  <inertial><origin xyz=\"0.005220728 -0.000354679 -0.000156485\"/>"
+          "  <inertial><origin xyz=\"-0.006659063 0.004238411 -0.000607191\"/>"
           "<mass value=\"%.17g\"/>\n   <inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" "
           "iyz=\"0\" izz=\"%.17g\"/></inertial>\n  <collision><geometry><box size=\"%g %g %g\"/>"
           "</geometry></collision>\n </link>\n</robot>\n",
@@ -448,8 +448,8 @@ START_TEST(domino_rank_two_bound) {
             1e3 * fabs(r->com_m[k] - truth.com_m[k]), 1e3 * r -> halfwidth_m[k],
             1e3 * sr.halfwidth_m[k]);
   }
-  /* y: the statistical interval would not hold the truth; the bound does */
-  ck_assert_double_gt(fabs(r->com_m[1] - truth.com_m[1]), sr.halfwidth_m[1]);
+  /* x: the statistical interval would not hold the truth; the bound does */
+  ck_assert_double_gt(fabs(r->com_m[0] - truth.com_m[0]), sr.halfwidth_m[0]);
   free(r);
 }
 END_TEST
@@ -579,10 +579,10 @@ END_TEST
  * estimate 20.8 mm outside the support left, measured), so without pivots (max_pivots 0; they
  * find it: pivot_found) its z stays +-15.5 mm wide: not found, and the reason says why, naming
  * the search. x and y come from its foot and are found, inside their bounds. With noise, on a
- * scanned box (seed 6, even; placement 0.5 mm, pose 0.2 mm, seed 1), y is too wide for the same
- * reason (a noise peak left B, the estimate 2.6 mm outside) but z
- * (+-1.002 mm) is too wide by noise alone: its reason must not blame a support point (without the
- * directions added after the checks, which find both: y +-0.86 mm, z +-0.86 mm). */
+ * lumpy rock (seed 2, even; placement 0.5 mm, pose 0.2 mm, seed 1), z is too wide for the same
+ * reason (+-1.99 mm: a support point left B, the estimate 4.5 mm outside) but x (+-1.06 mm) is
+ * too wide by noise alone: its reason must not blame a support point. (Until the bisect gallop, a
+ * scanned box, seed 6, showed the same; it now finds its z.) */
 START_TEST(contact_limited_reason) {
   estimate_result_t *r = malloc(sizeof *r);
   ck_assert_ptr_nonnull(r);
@@ -605,18 +605,19 @@ START_TEST(contact_limited_reason) {
   ck_assert_msg(outside_mm > 10.0, "z: %s", r->reason[2]);
   for (int k = 0; k < 2; ++k) ck_assert_str_eq(r->reason[k], "");
 
-  shaped_urdf(SHAPEGEN_SCANNED, 6, 0, urdf, sizeof urdf);
+  shaped_urdf(SHAPEGEN_LUMPY, 2, 0, urdf, sizeof urdf);
   estimate_config_t cfg; /* as comlearn estimate --direct sets it from the noise options */
   estimate_config_default(&cfg);
   cfg.noise_sigma_m = 0.5e-3;
   cfg.pose_noise_sigma_m = 0.2e-3;
-  cfg.max_added_dirs = 0; /* a direction more finds both (added_direction_found) */
   estimate_urdf_noisy(urdf, &cfg, 1, 0.5e-3, 0.2e-3, r, &truth);
-  ck_assert_msg(!r->found[1] && strstr(r->reason[1], "support point left B"), "y: %s",
-                r->reason[1]);
+  ck_assert_msg(!r->found[2] && strstr(r->reason[2], "support point left B"), "z: %s",
+                r->reason[2]);
   ck_assert_msg(
-      !r->found[2] && strstr(r->reason[2], "wider than") && !strstr(r->reason[2], "support point"),
-      "z: %s", r->reason[2]);
+      !r->found[0] && strstr(r->reason[0], "wider than") && !strstr(r->reason[0], "support point"),
+      "x: %s", r->reason[0]);
+  ck_assert(r->found[1]);
+  ck_assert_int_eq(check_covered("lumpy_s2_even", r, &truth), 1);
   free(r);
 }
 END_TEST
@@ -790,8 +791,8 @@ END_TEST
  * still be too wide (the planes meet at a narrow angle, or one pair is noisy). Once every check
  * passed and no face is left, one more yaw on a face already searched is tried: the one whose
  * plane would narrow the widest component most. Measured (placement 0.5 mm, pose 0.2 mm, noise
- * seed 1): scanned 26 uneven y, 29 uneven x, 25 uneven z were not found without it, each found
- * with it (+-0.63, +-0.06, +-0.71 mm) for 14 trials more, every component inside its interval. On
+ * seed 1): scanned 19 uneven y, 36 uneven x, 30 uneven z were not found without it, each found
+ * with it (+-0.57, +-0.74, +-0.69 mm), every component inside its interval. On
  * the noiseless pebble 93 (uneven), whose edge placements tip when a support point leaves B, the
  * added plane was 3.1 mm wide and widened x and y: it is dropped with a note, and the estimate is
  * the one without it. */
@@ -809,7 +810,7 @@ START_TEST(added_direction_found) {
   static const struct {
     uint64_t shape;
     int axis; /* not found without the added direction */
-  } cases[] = {{26, 1}, {29, 0}, {25, 2}};
+  } cases[] = {{19, 1}, {36, 0}, {30, 2}};
   for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
     char what[64];
     snprintf(what, sizeof what, "scanned_s%d_uneven", (int)cases[c].shape);
@@ -843,7 +844,12 @@ START_TEST(added_direction_found) {
   ck_assert_int_eq(check_covered("pebble_s93_uneven", r, &truth), 1);
   for (int k = 0; k < 3; ++k) {
     ck_assert_int_eq(r->found[k], none->found[k]);
-    ck_assert(r->com_m[k] == none->com_m[k]);
+    /* a component not found reports the planning guess, which the dropped search's trials left
+     * one rounding (2e-19 m) apart */
+    if (r->found[k])
+      ck_assert(r->com_m[k] == none->com_m[k]);
+    else
+      ck_assert_double_eq_tol(r->com_m[k], none->com_m[k], 1e-15);
     ck_assert(r->halfwidth_m[k] == none->halfwidth_m[k]);
   }
   free(none);

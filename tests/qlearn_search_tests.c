@@ -37,13 +37,30 @@ static int run_search(qlearn_policy_t *pol, oracle_kind_t kind, double c, double
   return -1;
 }
 
+/* The gallop's first step as docs/learner.md defines it: s0 = resolution * 2^k, the largest with
+ * s0 <= range / 64, at least the resolution. */
+static double bisect_s0(double range, double res) {
+  double k = floor(log2(range / (64.0 * res)));
+  return res * pow(2.0, fmax(0.0, k));
+}
+
+/* The bound of docs/learner.md: the prior, at most M = floor(log2(range / s0 + 1)) gallop steps
+ * (an offset (2^M - 1) s0 beyond the range cannot be placed), then halving a bracket narrower than
+ * the range. */
+static int bisect_bound(double range, double res) {
+  double s0 = bisect_s0(range, res);
+  return 1 + (int)floor(log2(range / s0 + 1.0)) + (int)ceil(log2(range / res));
+}
+
 START_TEST(test_bisect_bound_and_accuracy) {
-  /* Bound: ceil(log2(range / resolution)) + 2 = ceil(log2(1000)) + 2 = 12 for the defaults. */
+  /* Bound: 1 + floor(log2(100 / 0.8 + 1)) + ceil(log2(1000)) = 1 + 6 + 10 = 17 for the defaults
+   * (s0 = 0.8 mm). */
   qlearn_policy_config_t cfg;
   qlearn_policy_config_default(QLEARN_POLICY_BISECT, &cfg);
   const double range = cfg.range_hi_m - cfg.range_lo_m;
-  const int bound = (int)ceil(log2(range / cfg.resolution_m)) + 2;
-  ck_assert_int_eq(bound, 12);
+  ck_assert_double_eq_tol(bisect_s0(range, cfg.resolution_m), 8e-4, 1e-12);
+  const int bound = bisect_bound(range, cfg.resolution_m);
+  ck_assert_int_eq(bound, 17);
   rng_t r = {42};
   int worst = 0;
   for (int run = 0; run < 4000; ++run) {
@@ -75,17 +92,34 @@ START_TEST(test_bisect_bound_and_accuracy) {
 END_TEST
 
 START_TEST(test_bisect_close_prior_is_cheap) {
-  /* c within the probe step s0 = 3.2 mm of the prior: 2 + log2(s0 / resolution) = 7 trials. */
+  /* c at distance d from the prior, (2^(m-1) - 1) s0 < d <= (2^m - 1) s0: the prior, m gallop
+   * steps, then halving a bracket 2^(m-1) s0 wide, 2m + log2(s0 / resolution) trials in all:
+   * 5 within s0 = 0.8 mm, 7 within 2.4 mm, 9 within 5.6 mm, 11 within 12 mm (the old single
+   * probe of 3.2 mm: 7 within 3.2 mm, up to 12 beyond). */
   qlearn_policy_config_t cfg;
   qlearn_policy_config_default(QLEARN_POLICY_BISECT, &cfg);
+  const double s0 = 8e-4;
   rng_t r = {7};
-  for (int run = 0; run < 500; ++run) {
-    double c = 0.02 + 0.0031 * (2.0 * rng_uniform(&r) - 1.0);
+  int at_most[4] = {0, 0, 0, 0};
+  for (int run = 0; run < 2000; ++run) {
+    int m = 1 + run % 4;
+    double d_hi = (pow(2.0, m) - 1.0) * s0;
+    double d_lo = (pow(2.0, m - 1) - 1.0) * s0;
+    double d = d_lo + (d_hi - d_lo) * rng_uniform(&r);
+    double c = 0.02 + (run % 8 < 4 ? d : -d);
     cfg.prior_m = 0.02;
     qlearn_policy_t pol;
     ck_assert_int_eq(qlearn_policy_init(&pol, &cfg), QLEARN_OK);
-    ck_assert_int_le(run_search(&pol, ORACLE_EXACT, c, 0.0, &r), 7);
+    int n = run_search(&pol, ORACLE_EXACT, c, 0.0, &r);
+    ck_assert_int_le(n, 2 * m + 3);
+    if (n > at_most[m - 1]) at_most[m - 1] = n;
+    double est = 0.0;
+    double hw = 0.0;
+    ck_assert_int_eq(qlearn_policy_estimate(&pol, &est, &hw), QLEARN_OK);
+    ck_assert(fabs(c - est) <= hw + 1e-15 && 2.0 * hw <= cfg.resolution_m * (1.0 + 1e-9));
   }
+  /* the count is reached, not just bounded: each band's slowest run needs all of it */
+  for (int m = 1; m <= 4; ++m) ck_assert_int_eq(at_most[m - 1], 2 * m + 3);
 }
 END_TEST
 
@@ -99,7 +133,7 @@ START_TEST(test_bisect_other_resolutions) {
     cfg.range_lo_m = -0.03;
     cfg.range_hi_m = 0.07;
     cfg.resolution_m = res[i];
-    int bound = (int)ceil(log2(0.1 / res[i])) + 2;
+    int bound = bisect_bound(0.1, res[i]);
     for (int run = 0; run < 500; ++run) {
       double c = -0.03 + 0.1 * rng_uniform(&r);
       cfg.prior_m = -0.03 + 0.1 * rng_uniform(&r);

@@ -1,4 +1,4 @@
-/* bisect: two probes from the prior, then plain bisection (comlearn/qlearn_search.h). */
+/* bisect: the prior, a gallop away from it, then plain bisection (comlearn/qlearn_search.h). */
 #include <math.h>
 #include <stddef.h>
 
@@ -19,11 +19,14 @@ static qlearn_status_t cfg_check(const qlearn_policy_config_t *c) {
   return QLEARN_OK;
 }
 
-/* The trial after an outcome at the prior: one probe step toward c, or the midpoint when that
- * step leaves the bracket (or lands on its end). */
-static void plan_next(qlearn_bisect_t *b, double prior_m, qlearn_outcome_t last) {
+/* The trial after an outcome: while galloping, the prior +- (2 last_off + s0) toward c (offsets
+ * s0, 3 s0, 7 s0, ...: each bracket a gallop leaves is s0 times a power of two), or the midpoint
+ * once that leaves the bracket (or lands on its end) and for every trial after the gallop. */
+static void plan_next(qlearn_bisect_t *b, double prior_m, qlearn_outcome_t last,
+                      double last_off_m) {
   if (b->phase == QLEARN_BISECT_PROBE) {
-    double probe = last == QLEARN_TIPS ? prior_m + b->probe_m : prior_m - b->probe_m;
+    double off = 2.0 * last_off_m + b->probe_m;
+    double probe = last == QLEARN_TIPS ? prior_m + off : prior_m - off;
     if (probe > b->lo_m && probe < b->hi_m) {
       b->next_m = probe;
       return;
@@ -41,8 +44,8 @@ qlearn_status_t qlearn_bisect_init(qlearn_bisect_t *bisect, const qlearn_policy_
   b.lo_m = cfg->range_lo_m;
   b.hi_m = cfg->range_hi_m;
   b.trials = 0;
-  /* s0 = resolution * 2^k, the largest with s0 <= range / 16 (k < 64: a bounded loop). */
-  double ratio = (cfg->range_hi_m - cfg->range_lo_m) / (16.0 * cfg->resolution_m);
+  /* s0 = resolution * 2^k, the largest with s0 <= range / 64 (k < 64: a bounded loop). */
+  double ratio = (cfg->range_hi_m - cfg->range_lo_m) / (64.0 * cfg->resolution_m);
   double step = cfg->resolution_m;
   for (int k = 0; k < 64 && 2.0 * step <= ratio * cfg->resolution_m; ++k) step *= 2.0;
   b.probe_m = step;
@@ -51,7 +54,7 @@ qlearn_status_t qlearn_bisect_init(qlearn_bisect_t *bisect, const qlearn_policy_
     b.next_m = cfg->prior_m;
   } else { /* a prior on a bound tells nothing: probe inward from it */
     b.phase = QLEARN_BISECT_PROBE;
-    plan_next(&b, cfg->prior_m, cfg->prior_m <= b.lo_m ? QLEARN_TIPS : QLEARN_STAYS);
+    plan_next(&b, cfg->prior_m, cfg->prior_m <= b.lo_m ? QLEARN_TIPS : QLEARN_STAYS, 0.0);
   }
   *bisect = b;
   return QLEARN_OK;
@@ -93,10 +96,13 @@ qlearn_status_t qlearn_bisect_observe(qlearn_bisect_t *bisect, const qlearn_poli
   b.trials++;
   if (b.phase == QLEARN_BISECT_PRIOR) {
     b.phase = QLEARN_BISECT_PROBE;
-    plan_next(&b, cfg->prior_m, outcome);
+    plan_next(&b, cfg->prior_m, outcome, 0.0);
+  } else if (b.phase == QLEARN_BISECT_PROBE &&
+             (outcome == QLEARN_TIPS ? x_m > cfg->prior_m : x_m < cfg->prior_m)) {
+    plan_next(&b, cfg->prior_m, outcome, fabs(x_m - cfg->prior_m)); /* c lies farther out */
   } else {
     b.phase = QLEARN_BISECT_HALVE;
-    plan_next(&b, cfg->prior_m, outcome);
+    plan_next(&b, cfg->prior_m, outcome, 0.0);
   }
   *bisect = b;
   return QLEARN_OK;

@@ -21,27 +21,32 @@ extern "C" {
 #endif
 
 /* ---- bisect ----------------------------------------------------------------------------------
- * Trial 1 at the prior p (skipped when p lies on a range bound); trial 2 one probe step s0 toward
- * the CoM (p + s0 after TIPS, p - s0 after STAYS; skipped when that leaves the bracket); then plain
- * bisection of the bracket [lo, hi] that the outcomes leave, until hi - lo <= resolution (with
- * a relative slack of 1e-9 for rounding of the bracket ends).
- * s0 = resolution * 2^floor(log2(range / (16 resolution))) (at least the resolution), so a CoM
- * within s0 of the prior costs 2 + log2(s0 / resolution) trials.
+ * Trial 1 at the prior p (skipped when p lies on a range bound); then a gallop toward the CoM:
+ * p + s0, p + 3 s0, p + 7 s0, ... after TIPS (p - s0, ... after STAYS), (2^m - 1) s0 away at step
+ * m, for as long as the outcome repeats and the step stays inside the bracket; then plain bisection
+ * of the bracket [lo, hi] that the outcomes leave, until hi - lo <= resolution (with a relative
+ * slack of 1e-9 for rounding of the bracket ends).
+ * s0 = resolution * 2^floor(log2(range / (64 resolution))) (at least the resolution). A CoM d from
+ * the prior, (2^(m-1) - 1) s0 < d <= (2^m - 1) s0, costs 2m + log2(s0 / resolution) trials: a good
+ * prior is cheap (5 within 0.8 mm at 0.1 mm over 10 cm), a poor one costs about two trials per
+ * doubling of d.
  * Bound (proved in docs/learner.md, checked by tests/qlearn_search_tests.c): with the prior in the
- * range and noiseless outcomes, at most ceil(log2(range / resolution)) + 2 trials, since after the
- * two probes the bracket is at most the range wide. The final bracket contains c (noiseless).
+ * range and noiseless outcomes, at most 1 + floor(log2(range / s0 + 1)) + ceil(log2(range /
+ * resolution)) trials (17 for 10 cm at 0.1 mm, at most 8 over the information limit), since a
+ * gallop step beyond the range is not taken and the bracket it leaves is narrower than the range.
+ * The final bracket contains c (noiseless).
  * An outcome that contradicts the bracket (STAYS at x < lo, TIPS at x > hi: noisy data) is
  * rejected with QLEARN_E_RANGE; outcomes exactly at a bracket end collapse it (knife edge). */
 typedef enum {
   QLEARN_BISECT_PRIOR = 0, /* next trial: the prior */
-  QLEARN_BISECT_PROBE = 1, /* next trial: the prior +- one probe step */
+  QLEARN_BISECT_PROBE = 1, /* next trial: the prior +- a gallop step */
   QLEARN_BISECT_HALVE = 2  /* next trial: the bracket's midpoint */
 } qlearn_bisect_phase_t;
 
 typedef struct {
   double lo_m; /* c is known to lie in [lo_m, hi_m] */
   double hi_m;
-  double probe_m; /* the probe step s0 (> 0) */
+  double probe_m; /* the gallop's first step s0 (> 0) */
   double next_m;  /* the next trial (valid while not done) */
   qlearn_bisect_phase_t phase;
   uint32_t trials; /* outcomes accepted */
