@@ -2,6 +2,7 @@
  * whether a stack stands. */
 #include <check.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -103,6 +104,10 @@ START_TEST(two_boxes_centered_stand) {
     ck_assert(per[i].rotation_rad < 1e-3);
     ck_assert(per[i].moved_at_s == -1.0);
     ck_assert_double_eq_tol(per[i].final_pose.position_m[2], t.pose[i].position_m[2], 1e-4);
+    /* at rest: nothing moves in the last second (fprintf: what "rest" is on this machine) */
+    fprintf(stderr, "two boxes at rest: object %d moved %.3g m, %.3g rad in the last second\n", i,
+            per[i].late_displacement_m, per[i].late_rotation_rad);
+    ck_assert(per[i].late_displacement_m < 1e-6 && per[i].late_rotation_rad < 1e-5);
   }
   two_boxes_free(&t);
 }
@@ -129,6 +134,16 @@ START_TEST(top_box_beyond_edge_falls) {
   ck_assert(per[1].displacement_m > cfg.max_displacement_m ||
             per[1].rotation_rad > cfg.max_rotation_rad);
   ck_assert(r.steps < 1000);
+  /* stopped before the last second began: the late motion is measured from the release */
+  double d[3];
+  cl_vec3_sub(per[1].final_pose.position_m, t.pose[1].position_m, d);
+  ck_assert_double_eq_tol(per[1].late_displacement_m, sqrt(cl_vec3_dot(d, d)), 1e-6);
+  ck_assert_double_eq_tol(
+      per[1].late_rotation_rad,
+      cl_quat_angle(per[1].final_pose.orientation_wxyz, t.pose[1].orientation_wxyz), 1e-6);
+  /* the run stopped on the step that took it past a threshold: so did its late motion */
+  ck_assert(per[1].late_displacement_m > cfg.max_displacement_m ||
+            per[1].late_rotation_rad > cfg.max_rotation_rad);
   /* Run to the end: it has tipped off the lower box's edge and leans against it with a corner on
    * B (rotated ~37 degrees, its CoM beyond the edge and below where it started). Until the
    * object-object friction bound became Coulomb (lib/balance/src/world.c) it ended inside the
@@ -140,6 +155,12 @@ START_TEST(top_box_beyond_edge_falls) {
   ck_assert(per[1].final_pose.position_m[0] > 0.03);
   ck_assert(per[1].final_pose.position_m[2] < t.pose[1].position_m[2] - 0.005);
   ck_assert(per[1].rotation_rad > 0.5);
+  /* the last second (1-2 s) is measured from the pose at 1 s, after the fall: much less than the
+   * whole way from the release */
+  fprintf(stderr, "fallen box: %.3g m, %.3g rad in the last second, %.3g m, %.3g rad at most\n",
+          per[1].late_displacement_m, per[1].late_rotation_rad, per[1].displacement_m,
+          per[1].rotation_rad);
+  ck_assert(per[1].late_rotation_rad < 0.5 * per[1].rotation_rad);
   two_boxes_free(&t);
 }
 END_TEST

@@ -58,8 +58,9 @@ static void usage(FILE *out) {
       "  --mass-uncertainty U  relative mass uncertainty; plans hold for masses in\n"
       "                     m*[1/(1+U), 1+U], m = mesh volume x 2650 kg/m^3 (default: 0.3)\n"
       "  --max-tilt-deg D   steepest contact plane of the first plan, 1..45 (default: 20);\n"
-      "                     a plan that falls in rehearsal is replaced by one with\n"
-      "                     contacts at most 4 degrees flatter, down to 4 degrees;\n"
+      "                     a plan that falls in rehearsal, or still moves in its last\n"
+      "                     second (creeps), is replaced by one with contacts at most\n"
+      "                     4 degrees flatter, down to 4 degrees;\n"
       "                     with no plan at all at D, steeper ones, up to D + 12\n"
       "  --no-rehearse      build the first plan without rehearsing it on the beliefs\n"
       "                     (default: rehearse each plan in simulation on the believed\n"
@@ -504,6 +505,16 @@ static int plan_at_slope(const stack_object_t *in, size_t n, const stack_args_t 
   LOG_I("rehearsal on the beliefs (contacts up to %.0f deg): %s", tilt_deg,
         ss->rr->run.stands ? "stands" : "falls");
   if (!ss->rr->run.stands) return 0;
+  for (size_t i = 0; i < n; ++i) {
+    const balance_stack_object_t *o = &ss->rr->object[i];
+    if (o->late_displacement_m > STACK_REST_DISPLACEMENT_M ||
+        o->late_rotation_rad > STACK_REST_ROTATION_RAD) {
+      LOG_I(
+          "  but it creeps: object %zu (input order) moved %.3f mm and %.4f rad in the last %.0f s",
+          i, 1e3 * o->late_displacement_m, o->late_rotation_rad, BALANCE_STACK_REST_WINDOW_S);
+      return 0;
+    }
+  }
   memcpy(plan, ss->cand, sizeof *plan);
   reh->stood = 1;
   reh->tilt_deg = tilt_deg;

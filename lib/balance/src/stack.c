@@ -49,23 +49,34 @@ static balance_status_t stack_inputs_check(const balance_world_t *world,
 }
 
 /* Per object: the pose at release and the largest displacement and rotation from it so far, and
- * when it first moved beyond the thresholds (-1 if not yet). */
+ * when it first moved beyond the thresholds (-1 if not yet); the pose at the start of the rest
+ * window (late), taken at step late_step. */
 typedef struct {
-  model_pose_t *released;
+  model_pose_t *released, *late;
   double *disp, *rot, *moved;
   double first_moved;
+  uint32_t late_step;
 } stack_track_t;
+
+static void stack_poses_get(balance_object_t *const *objects, size_t count, model_pose_t *out) {
+  for (size_t i = 0; i < count; ++i) balance_object_pose_get(objects[i], &out[i]);
+}
+
+/* How far pose p lies from pose q: the distance of the link origins and the rotation angle. */
+static void pose_apart(const model_pose_t *p, const model_pose_t *q, double *d_m, double *a_rad) {
+  double d[3];
+  cl_vec3_sub(p->position_m, q->position_m, d);
+  *d_m = sqrt(cl_vec3_dot(d, d));
+  *a_rad = cl_quat_angle(p->orientation_wxyz, q->orientation_wxyz);
+}
 
 static void stack_track_update(balance_object_t *const *objects, size_t count,
                                const balance_stack_config_t *sc, double t, stack_track_t *tr) {
   for (size_t i = 0; i < count; ++i) {
     model_pose_t p;
+    double d, a;
     balance_object_pose_get(objects[i], &p);
-    const double dx = p.position_m[0] - tr->released[i].position_m[0];
-    const double dy = p.position_m[1] - tr->released[i].position_m[1];
-    const double dz = p.position_m[2] - tr->released[i].position_m[2];
-    const double d = sqrt(dx * dx + dy * dy + dz * dz);
-    const double a = cl_quat_angle(p.orientation_wxyz, tr->released[i].orientation_wxyz);
+    pose_apart(&p, &tr->released[i], &d, &a);
     if (d > tr->disp[i]) tr->disp[i] = d;
     if (a > tr->rot[i]) tr->rot[i] = a;
     if (tr->moved[i] < 0.0 && (d > sc->max_displacement_m || a > sc->max_rotation_rad)) {
@@ -83,8 +94,11 @@ static balance_status_t stack_simulate(balance_world_t *world, balance_object_t 
   balance_status_t st = BALANCE_OK;
   const double dt = balance_world_config(world)->dt_s;
   const uint32_t steps = (uint32_t)ceil(sc->duration_s / dt - 1e-9);
+  const uint32_t window = (uint32_t)ceil(BALANCE_STACK_REST_WINDOW_S / dt - 1e-9);
+  tr->late_step = steps > window ? steps - window : 0;
   uint32_t s = 0;
   for (; s < steps; ++s) {
+    if (s == tr->late_step) stack_poses_get(objects, count, tr->late);
     st = balance_world_step(world);
     if (st != BALANCE_OK) break;
     stack_track_update(objects, count, sc, balance_world_time(world), tr);
@@ -105,11 +119,15 @@ static void stack_result_fill(balance_world_t *world, balance_object_t *const *o
   result->seconds_standing = tr->first_moved < 0.0 ? sc->duration_s : tr->first_moved;
   result->sim_time_s = balance_world_time(world);
   result->steps = steps;
+  /* A run stopped before its rest window began (an object moved) measures from the release. */
+  const model_pose_t *from = steps > tr->late_step ? tr->late : tr->released;
   for (size_t i = 0; per_object != NULL && i < count; ++i) {
     balance_object_pose_get(objects[i], &per_object[i].final_pose);
     per_object[i].displacement_m = tr->disp[i];
     per_object[i].rotation_rad = tr->rot[i];
     per_object[i].moved_at_s = tr->moved[i];
+    pose_apart(&per_object[i].final_pose, &from[i], &per_object[i].late_displacement_m,
+               &per_object[i].late_rotation_rad);
   }
 }
 
@@ -133,7 +151,7 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
     balance_world_reset(world);
     return st;
   }
-  model_pose_t *released = malloc(count * sizeof *released);
+  model_pose_t *released = malloc(2 * count * sizeof *released);
   double *track = malloc(3 * count * sizeof *track);
   if (released == NULL || track == NULL) {
     free(released);
@@ -142,6 +160,7 @@ balance_status_t balance_stack_run(balance_world_t *world, balance_object_t *con
     return BALANCE_E_NOMEM;
   }
   stack_track_t tr = {.released = released,
+                      .late = released + count,
                       .disp = track,
                       .rot = track + count,
                       .moved = track + 2 * count,

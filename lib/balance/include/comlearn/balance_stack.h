@@ -38,7 +38,14 @@ typedef struct {
   double displacement_m;   /* largest |link origin - released| seen during the run */
   double rotation_rad;     /* largest angle from the released orientation seen */
   double moved_at_s;       /* first time it passed a threshold; -1 if it never did */
+  /* How far it went in the last BALANCE_STACK_REST_WINDOW_S of the run (the whole run when it was
+   * shorter): a stack at rest does not move there, one that creeps does. */
+  double late_displacement_m;
+  double late_rotation_rad;
 } balance_stack_object_t;
+
+/* The window at the end of a run over which balance_stack_object_t's late motion is measured. */
+#define BALANCE_STACK_REST_WINDOW_S 1.0
 
 typedef struct {
   int stands;              /* no object moved during duration_s */

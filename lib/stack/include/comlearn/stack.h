@@ -108,6 +108,14 @@ stack_status_t stack_run_bodies(const model_mesh_t *const *meshes_link, const mo
                                 size_t count, const stack_plan_t *plan, const balance_config_t *cfg,
                                 const balance_stack_config_t *scfg, stack_sim_result_t *out);
 
+/* `comlearn stack` keeps a plan only when its rehearsal stands and comes to rest: no object moves
+ * more than these in the run's last BALANCE_STACK_REST_WINDOW_S (1 s). A stack that creeps on a
+ * steep contact can stay inside the 5 mm / 0.05 rad thresholds for 5 s on the beliefs and cross
+ * them for real (the bundled uneven stack's top rock on its 16-degree contact: 0.2-0.6 mm and
+ * 2-4 mrad in the last second of rehearsal; a stack at rest: under 1 um). */
+#define STACK_REST_DISPLACEMENT_M 2e-5
+#define STACK_REST_ROTATION_RAD 5e-4
+
 /* Rehearse a plan in simulation on the planner's beliefs (src/rehearse.c; no URDF inertial):
  * every object with its mass guess, its believed CoM and its mesh's uniform-density inertia moved
  * to that CoM, released at plan->pose and run like stack_simulate. A plan that falls here falls
